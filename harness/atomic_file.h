@@ -1,0 +1,13 @@
+// Files are replaced atomically (write a sibling temporary, then rename), so a reader, or a run
+// that is interrupted, never sees a half-written file.
+#pragma once
+
+#include <filesystem>
+#include <string_view>
+
+namespace nurbs {
+
+// Throws std::runtime_error naming the path when it cannot write.
+void write_file_atomically(const std::filesystem::path& path, std::string_view content);
+
+}  // namespace nurbs

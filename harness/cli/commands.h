@@ -1,0 +1,64 @@
+// The verbs of the `nurbsbench` CLI. Each returns the process exit code: 0 success, 1 a
+// check/gate failed, 2 bad usage or bad input (one line on stderr naming what and where).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "reference/sampling.h"
+#include "reference/scalar.h"
+
+namespace nurbs::cli {
+
+struct ListOptions {
+  bool json = false;
+};
+int list_command(const ListOptions& options);
+
+struct SceneOptions {
+  std::string scene;
+  std::string out;
+};
+int scene_command(const SceneOptions& options);
+
+struct EvalOptions {
+  std::string scene, strategy;
+  std::string samples = "64x64";
+  int span_samples = 0;
+  std::string uv_file;
+  bool normals = false;
+  std::string precision = "f32";
+  std::string reference = "long-double";
+  std::string out;
+  int threads = 0;
+};
+int eval_command(const EvalOptions& options);
+
+struct RunOptions {
+  std::string scenes = "default";
+  std::string strategies = "all";
+  std::string samples = "64x64,256x256";
+  std::string span_samples;
+  std::string precision = "f32";
+  bool normals = false;
+  int repetitions = 5;
+  std::string out = "results/latest";
+  int threads = 0;
+};
+int run_command(const RunOptions& options);
+
+struct CheckOptions {
+  std::string gates;
+  std::string results = "results/latest";
+};
+int check_command(const CheckOptions& options);
+
+// Shared parsing of CLI values; each throws InputError naming the option and the value.
+std::vector<Sampling> parse_grid_list(std::string_view option, std::string_view text);
+std::vector<Sampling> parse_span_list(std::string_view option, std::string_view text);
+Precision parse_precision(std::string_view text);
+std::vector<std::string> split_list(std::string_view text);
+// The thread setting shared by OpenMP, llvmpipe/lavapipe and PoCL; returns the count in force.
+int apply_thread_setting(int threads);
+
+}  // namespace nurbs::cli

@@ -1,0 +1,147 @@
+#include <fmt/format.h>
+
+#include <fstream>
+#include <iostream>
+
+#include "harness/atomic_file.h"
+#include "harness/cli/commands.h"
+#include "harness/metrics.h"
+#include "harness/runner.h"
+#include "reference/validation.h"
+#include "scenes/builtin_scenes.h"
+#include "strategies/registry.h"
+
+namespace nurbs::cli {
+
+namespace {
+
+double parse_double(std::string_view text, bool& ok) {
+  std::string copy(text);
+  char* end = nullptr;
+  const double value = std::strtod(copy.c_str(), &end);
+  ok = !copy.empty() && end == copy.c_str() + copy.size() && std::isfinite(value);
+  return value;
+}
+
+// --uv FILE: CSV lines "surface,u,v" (surface = index or name; '#' comments and a header line
+// allowed). Every (u, v) must lie in that surface's domain.
+Sampling read_uv_file(const std::string& path, const Scene& scene) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot open (u,v) file", path));
+  Sampling sampling;
+  sampling.mode = SamplingMode::explicit_list;
+  sampling.explicit_uv.resize(scene.surfaces.size());
+  std::string line;
+  std::size_t line_number = 0, count = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.empty() || line[0] == '#' || (line_number == 1 && line.starts_with("surface"))) continue;
+    const std::vector<std::string> fields = split_list(line);
+    auto fail = [&](const std::string& field, const std::string& value, const std::string& rule) {
+      throw InputError(fmt::format("{}: line {}: {} = '{}': {}", path, line_number, field, value, rule));
+    };
+    if (fields.size() != 3 || std::count(line.begin(), line.end(), ',') != 2)
+      fail("(line)", line, "expected surface,u,v");
+    int surface = -1;
+    for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
+      if (scene.surfaces[i].name == fields[0]) surface = static_cast<int>(i);
+    bool ok = false;
+    if (surface < 0) {
+      const double index = parse_double(fields[0], ok);
+      if (!ok || index != std::floor(index) || index < 0 || index >= static_cast<double>(scene.surfaces.size()))
+        fail("surface", fields[0], fmt::format("not a surface name or an index in 0..{}", scene.surfaces.size() - 1));
+      surface = static_cast<int>(index);
+    }
+    const Surface& s = scene.surfaces[surface];
+    const double u = parse_double(fields[1], ok);
+    if (!ok || u < s.u_min() || u > s.u_max())
+      fail("u", fields[1], fmt::format("must be a number in [{}, {}]", s.u_min(), s.u_max()));
+    const double v = parse_double(fields[2], ok);
+    if (!ok || v < s.v_min() || v > s.v_max())
+      fail("v", fields[2], fmt::format("must be a number in [{}, {}]", s.v_min(), s.v_max()));
+    if (++count > kMaxSamplesPerRequest) fail("(line)", line, "too many samples");
+    sampling.explicit_uv[surface].push_back({u, v});
+  }
+  if (count == 0) throw InputError(fmt::format("{}: no (u,v) samples in file", path));
+  return sampling;
+}
+
+template <typename T>
+std::string coordinate_text(T x) {
+  return fmt::format("{}", x);  // shortest round-trip at the precision it was computed in
+}
+
+std::string point_text(const PointArray& a, std::size_t k) {
+  if (a.precision() == Precision::f32)
+    return fmt::format("{},{},{}", coordinate_text(a.f32()[3 * k]), coordinate_text(a.f32()[3 * k + 1]),
+                       coordinate_text(a.f32()[3 * k + 2]));
+  return fmt::format("{},{},{}", coordinate_text(a.f64()[3 * k]), coordinate_text(a.f64()[3 * k + 1]),
+                     coordinate_text(a.f64()[3 * k + 2]));
+}
+
+}  // namespace
+
+int eval_command(const EvalOptions& options) {
+  apply_thread_setting(options.threads);
+  const Scene scene = load_scene(options.scene);
+  const StrategyEntry* entry = find_strategy(options.strategy);
+  if (!entry)
+    throw InputError(fmt::format("--strategy = '{}': unknown strategy (known: {})", options.strategy,
+                                 fmt::join(strategy_names(), ", ")));
+  ReferencePrecision reference_precision;
+  if (!parse_reference_precision(options.reference, reference_precision))
+    throw InputError(fmt::format("--reference = '{}': must be long-double or float128", options.reference));
+
+  EvalRequest request;
+  request.precision = parse_precision(options.precision);
+  request.normals = options.normals;
+  if (!options.uv_file.empty())
+    request.sampling = read_uv_file(options.uv_file, scene);
+  else if (options.span_samples > 0)
+    request.sampling = parse_span_list("--span-samples", std::to_string(options.span_samples)).front();
+  else
+    request.sampling = parse_grid_list("--samples", options.samples).front();
+  sample_parameters(scene, request.sampling);  // size checks before the strategy allocates
+
+  const Availability availability = entry->probe();
+  if (!availability.available)
+    throw InputError(fmt::format("strategy {} is unavailable: {}", entry->name, availability.reason));
+  if (auto refused = refusal_reason(entry->capabilities(), scene, request))
+    throw InputError(fmt::format("strategy {} refuses scene {}: {}", entry->name, scene.name, *refused));
+
+  std::unique_ptr<Strategy> strategy = entry->create(StrategyOptions{options.threads, {}});
+  strategy->prepare(scene, request);
+  strategy->evaluate();
+  const EvalResult result = strategy->read_back();
+
+  const Accuracy accuracy = measure_accuracy(
+      scene, result,
+      evaluate_reference(scene, sample_parameters(scene, request.sampling), request.normals, reference_precision));
+  std::cerr << fmt::format(
+      "{} on {} ({}, {}, {} samples): max_abs {:.3g}, rms_abs {:.3g}, max_rel {:.3g}, max_ulp {:.3g}{} "
+      "against the {} reference\n",
+      entry->name, scene.name, options.precision, request.sampling.label(), total_samples(sample_parameters(scene, request.sampling)),
+      accuracy.max_abs, accuracy.rms_abs, accuracy.max_rel, accuracy.max_ulp,
+      accuracy.max_normal_angle_deg ? fmt::format(", normals within {:.3g} deg", *accuracy.max_normal_angle_deg) : "",
+      options.reference);
+
+  std::string csv = options.normals ? "surface,u,v,x,y,z,nx,ny,nz\n" : "surface,u,v,x,y,z\n";
+  for (std::size_t i = 0; i < result.surfaces.size(); ++i) {
+    const SurfaceResult& r = result.surfaces[i];
+    for (std::size_t k = 0; k < r.positions.size(); ++k) {
+      csv += fmt::format("{},{:.17g},{:.17g},{}", i, r.samples.u_of(k), r.samples.v_of(k), point_text(r.positions, k));
+      if (options.normals) {
+        csv += ',';
+        csv += point_text(r.normals, k);
+      }
+      csv += "\n";
+    }
+  }
+  if (options.out.empty() || options.out == "-")
+    std::cout << csv;
+  else
+    write_file_atomically(options.out, csv);
+  return 0;
+}
+
+}  // namespace nurbs::cli

@@ -1,0 +1,112 @@
+#include "harness/gates.h"
+
+#include <fmt/format.h>
+#include <fnmatch.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+
+#include "reference/validation.h"
+
+namespace nurbs {
+
+namespace {
+
+std::optional<double> metric_value(const Record& r, std::string_view metric) {
+  if (metric == "max_abs") return r.accuracy.max_abs;
+  if (metric == "rms_abs") return r.accuracy.rms_abs;
+  if (metric == "max_rel") return r.accuracy.max_rel;
+  if (metric == "max_ulp") return r.accuracy.max_ulp;
+  if (metric == "max_normal_angle_deg") return r.accuracy.max_normal_angle_deg;
+  return std::nullopt;
+}
+
+bool glob_match(const std::string& pattern, const std::string& text) {
+  return ::fnmatch(pattern.c_str(), text.c_str(), 0) == 0;
+}
+
+}  // namespace
+
+bool is_known_metric(std::string_view metric) {
+  return metric == "max_abs" || metric == "rms_abs" || metric == "max_rel" || metric == "max_ulp" ||
+         metric == "max_normal_angle_deg";
+}
+
+std::vector<Gate> load_gates(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot open gates file", path.string()));
+  std::ostringstream text;
+  text << in.rdbuf();
+  nlohmann::json document;
+  try {
+    document = nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
+  }
+  if (!document.is_array())
+    throw InputError(fmt::format("{}: (document): must be a JSON list of gates", path.string()));
+  std::vector<Gate> gates;
+  for (std::size_t i = 0; i < document.size(); ++i) {
+    const auto& entry = document[i];
+    auto fail = [&](const std::string& field, const std::string& value, const std::string& rule) {
+      throw InputError(fmt::format("{}: gate [{}]: {} = {}: {}", path.string(), i, field, value, rule));
+    };
+    if (!entry.is_object()) fail("(entry)", entry.dump(), "must be an object");
+    for (const auto& [key, value] : entry.items())
+      if (key != "strategy" && key != "scene" && key != "metric" && key != "max" && key != "note")
+        fail(key, value.dump(), "unknown key (expected strategy, scene, metric, max, note)");
+    Gate g;
+    for (const char* field : {"strategy", "scene", "metric"}) {
+      if (!entry.contains(field) || !entry[field].is_string())
+        fail(field, entry.contains(field) ? entry[field].dump() : "(missing)", "must be a string");
+    }
+    g.strategy = entry["strategy"];
+    g.scene = entry["scene"];
+    g.metric = entry["metric"];
+    if (!is_known_metric(g.metric))
+      fail("metric", g.metric, "unknown metric (max_abs, rms_abs, max_rel, max_ulp, max_normal_angle_deg)");
+    if (!entry.contains("max") || !entry["max"].is_number())
+      fail("max", entry.contains("max") ? entry["max"].dump() : "(missing)", "must be a number");
+    g.max = entry["max"].get<double>();
+    gates.push_back(g);
+  }
+  return gates;
+}
+
+std::vector<std::string> check_gates(const std::vector<Gate>& gates, const std::vector<Record>& records) {
+  std::vector<std::string> violations;
+  for (const Gate& g : gates) {
+    int matched = 0;
+    for (const Record& r : records) {
+      if (!glob_match(g.strategy, r.strategy) || !glob_match(g.scene, r.scene)) continue;
+      ++matched;
+      const std::string where = fmt::format("{} on {} ({}, {})", r.strategy, r.scene, r.precision, r.samples);
+      if (r.status != Status::ok) {
+        // A refusal is the strategy saying "not my case"; anything else means no measurement.
+        if (r.status != Status::refused)
+          violations.push_back(fmt::format("{}: {} <= {} not measured: {}: {}", where, g.metric, g.max,
+                                           to_string(r.status), r.reason));
+        else
+          --matched;
+        continue;
+      }
+      const auto value = metric_value(r, g.metric);
+      if (!value) {
+        violations.push_back(fmt::format("{}: {} was not measured (run with --normals?)", where, g.metric));
+        continue;
+      }
+      if (!(*value <= g.max))
+        violations.push_back(fmt::format(
+            "{}: {} = {:.6g} exceeds {} (worst sample: surface {}, u = {:.17g}, v = {:.17g})", where,
+            g.metric, *value, g.max, r.accuracy.worst_surface, r.accuracy.worst_u, r.accuracy.worst_v));
+    }
+    if (matched == 0)
+      violations.push_back(fmt::format("gate {{strategy: {}, scene: {}, metric: {}}} matched no measured result",
+                                       g.strategy, g.scene, g.metric));
+  }
+  return violations;
+}
+
+}  // namespace nurbs

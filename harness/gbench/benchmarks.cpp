@@ -1,0 +1,68 @@
+// nurbsbench_gbench: every available strategy x a few scenes x grid sizes as Google Benchmark
+// cases, so the usual --benchmark_filter / --benchmark_format=json / compare.py work. Each case
+// times evaluate() alone (prepare outside the loop) and reports points/s and max_ulp against the
+// reference.
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include "harness/metrics.h"
+#include "harness/runner.h"
+#include "scenes/builtin_scenes.h"
+#include "strategies/registry.h"
+
+namespace {
+
+using namespace nurbs;
+
+void evaluate_benchmark(benchmark::State& state, const StrategyEntry* entry, const Scene* scene,
+                        Sampling sampling, Precision precision) {
+  const EvalRequest request{sampling, precision, false};
+  if (auto refused = refusal_reason(entry->capabilities(), *scene, request)) {
+    state.SkipWithError(("refused: " + *refused).c_str());
+    return;
+  }
+  std::unique_ptr<Strategy> strategy;
+  try {
+    strategy = entry->create(StrategyOptions{});
+    strategy->prepare(*scene, request);
+    strategy->evaluate();  // warm-up
+  } catch (const std::exception& e) {
+    state.SkipWithError((std::string("failed: ") + e.what()).c_str());
+    return;
+  }
+  for (auto _ : state) strategy->evaluate();
+  const std::size_t points = total_samples(sample_parameters(*scene, sampling));
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(points),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+  const Accuracy accuracy = measure_accuracy(
+      *scene, strategy->read_back(), evaluate_reference(*scene, sample_parameters(*scene, sampling), false));
+  state.counters["max_ulp"] = accuracy.max_ulp;
+  state.SetLabel(strategy->device().name);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  static std::vector<Scene> scenes;
+  for (const char* name : {"patch144", "tan64", "sphere", "degree-5"}) scenes.push_back(*make_builtin_scene(name));
+  for (const StrategyEntry& entry : strategy_registry()) {
+    if (!entry.probe().available) continue;
+    for (const Scene& scene : scenes)
+      for (int n : {64, 256, 1024})
+        for (Precision precision : {Precision::f32, Precision::f64}) {
+          if (!entry.capabilities().supports(precision)) continue;
+          Sampling sampling;
+          sampling.grid_u = sampling.grid_v = n;
+          benchmark::RegisterBenchmark(
+              fmt::format("{}/{}/{}x{}/{}", entry.name, scene.name, n, n, to_string(precision)).c_str(),
+              evaluate_benchmark, &entry, &scene, sampling, precision)
+              ->Unit(benchmark::kMillisecond)
+              ->UseRealTime();
+        }
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

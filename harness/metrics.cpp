@@ -1,0 +1,76 @@
+#include "harness/metrics.h"
+
+#include <cfloat>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+namespace nurbs {
+
+double ulps_of_largest_coordinate(double error, double largest_coordinate) {
+  // A scene at the origin with all-zero coordinates still has a scale: one float ulp of 1.
+  const double scale = FLT_EPSILON * (largest_coordinate > 0 ? largest_coordinate : 1.0);
+  return error / scale;
+}
+
+namespace {
+
+double normal_angle_deg(const std::array<double, 3>& a, const Point3& b) {
+  const double na = std::hypot(a[0], a[1], a[2]), nb = std::hypot(b[0], b[1], b[2]);
+  if (!(na > 0) || !(nb > 0)) return 180.0;  // a missing normal is as wrong as it gets
+  // atan2 of |a x b| and a.b is accurate for tiny angles, where acos of the dot product is not.
+  const double cx = a[1] * b[2] - a[2] * b[1], cy = a[2] * b[0] - a[0] * b[2],
+               cz = a[0] * b[1] - a[1] * b[0];
+  const double dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  return std::atan2(std::hypot(cx, cy, cz), dot) * 180.0 / std::numbers::pi;
+}
+
+}  // namespace
+
+Accuracy measure_accuracy(const Scene& scene, const EvalResult& result,
+                          const std::vector<ReferenceSurface>& reference) {
+  if (result.surfaces.size() != scene.surfaces.size() || reference.size() != scene.surfaces.size())
+    throw std::runtime_error("result has a different number of surfaces than the scene");
+  Accuracy acc;
+  double sum_squares = 0;
+  std::size_t count = 0;
+  bool with_normals = false;
+  double max_angle = 0;
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+    const SurfaceResult& r = result.surfaces[i];
+    const ReferenceSurface& ref = reference[i];
+    if (r.positions.size() != ref.positions.size())
+      throw std::runtime_error("result has a different number of samples than requested");
+    for (std::size_t k = 0; k < r.positions.size(); ++k) {
+      const auto p = r.positions[k];
+      const double error = std::hypot(p[0] - ref.positions[k][0], p[1] - ref.positions[k][1],
+                                      p[2] - ref.positions[k][2]);
+      if (!std::isfinite(error)) ++acc.non_finite;
+      // !(error <= max) so that NaN (and the first sample) is taken as the worst.
+      if (!(error <= acc.max_abs) || count == 0) {
+        acc.max_abs = std::isfinite(error) ? error : std::numeric_limits<double>::infinity();
+        acc.worst_surface = static_cast<int>(i);
+        acc.worst_u = r.samples.u_of(k);
+        acc.worst_v = r.samples.v_of(k);
+      }
+      sum_squares += std::isfinite(error) ? error * error : std::numeric_limits<double>::infinity();
+      ++count;
+    }
+    if (!r.normals.empty() && !ref.normals.empty()) {
+      with_normals = true;
+      for (std::size_t k = 0; k < r.normals.size(); ++k) {
+        const double angle = normal_angle_deg(r.normals[k], ref.normals[k]);
+        if (!(angle <= max_angle)) max_angle = std::isfinite(angle) ? angle : 180.0;
+      }
+    }
+  }
+  acc.rms_abs = count ? std::sqrt(sum_squares / static_cast<double>(count)) : 0;
+  const double diagonal = scene.bounding_box_diagonal();
+  acc.max_rel = diagonal > 0 ? acc.max_abs / diagonal : acc.max_abs;
+  acc.max_ulp = ulps_of_largest_coordinate(acc.max_abs, scene.largest_coordinate());
+  if (with_normals) acc.max_normal_angle_deg = max_angle;
+  return acc;
+}
+
+}  // namespace nurbs

@@ -1,0 +1,158 @@
+#include "harness/record.h"
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+namespace nurbs {
+
+using nlohmann::json;
+
+std::string_view to_string(Status s) {
+  switch (s) {
+    case Status::ok:
+      return "ok";
+    case Status::unavailable:
+      return "unavailable";
+    case Status::failed:
+      return "failed";
+    case Status::refused:
+      return "refused";
+  }
+  return "failed";
+}
+
+bool parse_status(std::string_view text, Status& out) {
+  for (Status s : {Status::ok, Status::unavailable, Status::failed, Status::refused})
+    if (to_string(s) == text) {
+      out = s;
+      return true;
+    }
+  return false;
+}
+
+namespace {
+
+json phase_to_json(const PhaseStats& p) {
+  return {{"min_s", p.min_s}, {"median_s", p.median_s}, {"max_s", p.max_s}};
+}
+PhaseStats phase_from_json(const json& j) {
+  return {j.value("min_s", 0.0), j.value("median_s", 0.0), j.value("max_s", 0.0)};
+}
+// JSON has no Inf/NaN: non-finite metrics are written as null and read back as +Inf.
+json finite_or_null(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+double number_or_inf(const json& j, const char* key) {
+  if (!j.contains(key) || j[key].is_null()) return std::numeric_limits<double>::infinity();
+  return j[key].get<double>();
+}
+
+// CSV fields: numbers in shortest round-trip form; text quoted when it needs to be (RFC 4180).
+std::string csv_text(std::string_view text) {
+  if (text.find_first_of(",\"\n\r") == std::string_view::npos) return std::string(text);
+  std::string quoted = "\"";
+  for (char c : text) {
+    if (c == '"') quoted += '"';
+    quoted += c == '\n' || c == '\r' ? ' ' : c;
+  }
+  return quoted + "\"";
+}
+
+}  // namespace
+
+json record_to_json(const Record& r) {
+  json accuracy = {{"max_abs", finite_or_null(r.accuracy.max_abs)},
+                   {"rms_abs", finite_or_null(r.accuracy.rms_abs)},
+                   {"max_rel", finite_or_null(r.accuracy.max_rel)},
+                   {"max_ulp", finite_or_null(r.accuracy.max_ulp)},
+                   {"non_finite", r.accuracy.non_finite},
+                   {"worst", {{"surface", r.accuracy.worst_surface},
+                              {"u", r.accuracy.worst_u},
+                              {"v", r.accuracy.worst_v}}}};
+  if (r.accuracy.max_normal_angle_deg)
+    accuracy["max_normal_angle_deg"] = finite_or_null(*r.accuracy.max_normal_angle_deg);
+  json j = {{"scene", r.scene},
+            {"strategy", r.strategy},
+            {"role", r.role},
+            {"device", {{"name", r.device.name}, {"kind", r.device.kind}, {"details", r.device.details}}},
+            {"precision", r.precision},
+            {"sampling", r.sampling},
+            {"samples", r.samples},
+            {"points", r.points},
+            {"surfaces", r.surfaces},
+            {"repetitions", r.repetitions},
+            {"setup_s", r.setup_s},
+            {"upload", phase_to_json(r.upload)},
+            {"evaluate", phase_to_json(r.evaluate)},
+            {"read_back", phase_to_json(r.read_back)},
+            {"end_to_end", phase_to_json(r.end_to_end)},
+            {"throughput_pts_per_s", r.throughput_pts_per_s},
+            {"accuracy", accuracy},
+            {"status", to_string(r.status)},
+            {"reason", r.reason}};
+  if (r.device_evaluate_median_s) j["device_evaluate_median_s"] = *r.device_evaluate_median_s;
+  return j;
+}
+
+Record record_from_json(const json& j) {
+  Record r;
+  r.scene = j.at("scene").get<std::string>();
+  r.strategy = j.at("strategy").get<std::string>();
+  r.role = j.value("role", "");
+  if (j.contains("device")) {
+    r.device.name = j["device"].value("name", "");
+    r.device.kind = j["device"].value("kind", "");
+    if (j["device"].contains("details"))
+      r.device.details = j["device"]["details"].get<std::map<std::string, std::string>>();
+  }
+  r.precision = j.value("precision", "");
+  r.sampling = j.value("sampling", "");
+  r.samples = j.value("samples", "");
+  r.points = j.value("points", std::size_t{0});
+  r.surfaces = j.value("surfaces", std::size_t{0});
+  r.repetitions = j.value("repetitions", 0);
+  r.setup_s = j.value("setup_s", 0.0);
+  if (j.contains("upload")) r.upload = phase_from_json(j["upload"]);
+  if (j.contains("evaluate")) r.evaluate = phase_from_json(j["evaluate"]);
+  if (j.contains("read_back")) r.read_back = phase_from_json(j["read_back"]);
+  if (j.contains("end_to_end")) r.end_to_end = phase_from_json(j["end_to_end"]);
+  if (j.contains("device_evaluate_median_s")) r.device_evaluate_median_s = j["device_evaluate_median_s"].get<double>();
+  r.throughput_pts_per_s = j.value("throughput_pts_per_s", 0.0);
+  if (j.contains("accuracy")) {
+    const json& a = j["accuracy"];
+    r.accuracy.max_abs = number_or_inf(a, "max_abs");
+    r.accuracy.rms_abs = number_or_inf(a, "rms_abs");
+    r.accuracy.max_rel = number_or_inf(a, "max_rel");
+    r.accuracy.max_ulp = number_or_inf(a, "max_ulp");
+    r.accuracy.non_finite = a.value("non_finite", std::size_t{0});
+    if (a.contains("worst")) {
+      r.accuracy.worst_surface = a["worst"].value("surface", 0);
+      r.accuracy.worst_u = a["worst"].value("u", 0.0);
+      r.accuracy.worst_v = a["worst"].value("v", 0.0);
+    }
+    if (a.contains("max_normal_angle_deg")) r.accuracy.max_normal_angle_deg = number_or_inf(a, "max_normal_angle_deg");
+  }
+  if (!parse_status(j.value("status", "failed"), r.status)) r.status = Status::failed;
+  r.reason = j.value("reason", "");
+  return r;
+}
+
+std::string csv_header() {
+  return "scene,strategy,device,precision,sampling,samples,points,setup_s,upload_median_s,"
+         "evaluate_min_s,evaluate_median_s,evaluate_max_s,readback_median_s,end_to_end_median_s,"
+         "throughput_pts_per_s,max_abs,rms_abs,max_rel,max_ulp,status,reason";
+}
+
+std::string csv_row(const Record& r) {
+  const bool measured = r.status == Status::ok;
+  auto number = [measured](double x) { return measured ? fmt::format("{}", x) : std::string(); };
+  return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                     csv_text(r.scene), csv_text(r.strategy), csv_text(r.device.name), r.precision,
+                     r.sampling, r.samples, r.points, number(r.setup_s), number(r.upload.median_s),
+                     number(r.evaluate.min_s), number(r.evaluate.median_s), number(r.evaluate.max_s),
+                     number(r.read_back.median_s), number(r.end_to_end.median_s),
+                     number(r.throughput_pts_per_s), number(r.accuracy.max_abs),
+                     number(r.accuracy.rms_abs), number(r.accuracy.max_rel),
+                     number(r.accuracy.max_ulp), to_string(r.status), csv_text(r.reason));
+}
+
+}  // namespace nurbs

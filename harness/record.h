@@ -1,0 +1,48 @@
+// One measurement: a (scene, strategy, precision, sampling) with its timings, its accuracy and
+// its status. The runner emits these; the writers, `check` and later `report` read them.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "harness/metrics.h"
+#include "harness/timing.h"
+#include "strategies/strategy.h"
+
+namespace nurbs {
+
+enum class Status { ok, unavailable, failed, refused };
+std::string_view to_string(Status s);
+bool parse_status(std::string_view text, Status& out);
+
+struct Record {
+  std::string scene;
+  std::string strategy;
+  std::string role;  // strategy / baseline / peer
+  DeviceInfo device;
+  std::string precision;  // f32 / f64
+  std::string sampling;   // grid / span_grid / explicit
+  std::string samples;    // "1024x1024", "span4"
+  std::size_t points = 0;
+  std::size_t surfaces = 0;
+  int repetitions = 0;
+  double setup_s = 0;
+  PhaseStats upload, evaluate, read_back, end_to_end;
+  std::optional<double> device_evaluate_median_s;
+  double throughput_pts_per_s = 0;
+  Accuracy accuracy;
+  Status status = Status::ok;
+  std::string reason;
+};
+
+nlohmann::json record_to_json(const Record& r);
+Record record_from_json(const nlohmann::json& j);
+
+// The CSV of DESIGN.md / the foundation issue: the columns are fixed, in this order.
+std::string csv_header();
+std::string csv_row(const Record& r);
+
+}  // namespace nurbs

@@ -1,0 +1,128 @@
+#include "harness/runner.h"
+
+#include <fmt/format.h>
+
+#include <exception>
+
+namespace nurbs {
+
+std::string sampling_mode_name(SamplingMode mode) {
+  switch (mode) {
+    case SamplingMode::grid:
+      return "grid";
+    case SamplingMode::span_grid:
+      return "span_grid";
+    case SamplingMode::explicit_list:
+      break;
+  }
+  return "explicit";
+}
+
+const std::vector<ReferenceSurface>& ReferenceCache::get(const Scene& scene,
+                                                         const EvalRequest& request) {
+  // Explicit lists differ per call; never cache them under a shared key.
+  const std::string key = fmt::format("{}|{}|{}", scene.name, request.sampling.label(), request.normals);
+  if (request.sampling.mode == SamplingMode::explicit_list) cache_.erase(key);
+  auto it = cache_.find(key);
+  if (it == cache_.end())
+    it = cache_.emplace(key, evaluate_reference(scene, sample_parameters(scene, request.sampling),
+                                                request.normals, precision_))
+             .first;
+  return it->second;
+}
+
+std::optional<std::string> refusal_reason(const Capabilities& caps, const Scene& scene,
+                                          const EvalRequest& request) {
+  if (!caps.supports(request.precision))
+    return fmt::format("precision {} not supported", to_string(request.precision));
+  if (!caps.sampling.supports(request.sampling.mode))
+    return fmt::format("sampling mode {} not supported", sampling_mode_name(request.sampling.mode));
+  if (request.normals && !caps.normals) return std::string("normals not supported");
+  for (const Surface& s : scene.surfaces) {
+    if (std::max(s.degree_u, s.degree_v) > caps.max_degree)
+      return fmt::format("surface '{}' has degree {}x{}, the strategy supports at most {}", s.name,
+                         s.degree_u, s.degree_v, caps.max_degree);
+    if (!caps.rational && s.is_rational())
+      return fmt::format("surface '{}' is rational, the strategy is polynomial only", s.name);
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+Record skeleton(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
+                const std::vector<SurfaceSamples>& samples) {
+  Record r;
+  r.scene = scene.name;
+  r.strategy = entry.name;
+  r.role = entry.role;
+  r.precision = std::string(to_string(request.precision));
+  r.sampling = sampling_mode_name(request.sampling.mode);
+  r.samples = request.sampling.label();
+  r.points = total_samples(samples);
+  r.surfaces = scene.surfaces.size();
+  return r;
+}
+
+}  // namespace
+
+Record measure(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
+               const EvalRequest& request, int repetitions, ReferenceCache& references) {
+  Record r = skeleton(entry, scene, request, sample_parameters(scene, request.sampling));
+  r.repetitions = repetitions;
+  const Availability availability = entry.probe();
+  if (!availability.available) {
+    r.status = Status::unavailable;
+    r.reason = availability.reason;
+    return r;
+  }
+  if (auto refused = refusal_reason(entry.capabilities(), scene, request)) {
+    r.status = Status::refused;
+    r.reason = *refused;
+    return r;
+  }
+  try {
+    std::unique_ptr<Strategy> strategy;
+    // setup: context, compilation and the first (cold) prepare; paid once.
+    r.setup_s = time_seconds([&] {
+      strategy = entry.create(options);
+      strategy->prepare(scene, request);
+    });
+    r.device = strategy->device();
+    strategy->evaluate();  // warm-up
+
+    std::vector<double> evaluate_s, device_evaluate_s;
+    for (int i = 0; i < repetitions; ++i) {
+      evaluate_s.push_back(time_seconds([&] { strategy->evaluate(); }));
+      if (auto device = strategy->device_times().evaluate_s) device_evaluate_s.push_back(*device);
+    }
+    // The full path, each phase timed where it runs, as a user pays it per update.
+    std::vector<double> upload_s, read_back_s, end_to_end_s;
+    EvalResult result;
+    for (int i = 0; i < repetitions; ++i) {
+      const double upload = time_seconds([&] { strategy->prepare(scene, request); });
+      const double evaluate = time_seconds([&] { strategy->evaluate(); });
+      const double read_back = time_seconds([&] { result = strategy->read_back(); });
+      upload_s.push_back(upload);
+      read_back_s.push_back(read_back);
+      end_to_end_s.push_back(upload + evaluate + read_back);
+    }
+    r.evaluate = PhaseStats::of(evaluate_s);
+    r.upload = PhaseStats::of(upload_s);
+    r.read_back = PhaseStats::of(read_back_s);
+    r.end_to_end = PhaseStats::of(end_to_end_s);
+    if (!device_evaluate_s.empty()) r.device_evaluate_median_s = PhaseStats::of(device_evaluate_s).median_s;
+    r.throughput_pts_per_s = r.evaluate.median_s > 0 ? static_cast<double>(r.points) / r.evaluate.median_s : 0;
+    r.accuracy = measure_accuracy(scene, result, references.get(scene, request));
+    r.status = Status::ok;
+  } catch (const RefusedError& e) {
+    r.status = Status::refused;
+    r.reason = e.what();
+  } catch (const std::exception& e) {
+    r.status = Status::failed;
+    r.reason = e.what();
+  }
+  return r;
+}
+
+}  // namespace nurbs

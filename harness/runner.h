@@ -1,0 +1,38 @@
+// Runs one strategy on one scene and request: prepare -> warm-up -> repetitions of evaluate ->
+// read back -> compare with the reference at the requested (u, v). Whatever happens (unavailable,
+// refused, a throw) comes back as a Record; the caller's run goes on.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/record.h"
+#include "reference/reference_evaluator.h"
+#include "strategies/registry.h"
+
+namespace nurbs {
+
+// Reference results per (scene, sampling, normals), computed once and shared by every strategy.
+class ReferenceCache {
+ public:
+  explicit ReferenceCache(ReferencePrecision precision = ReferencePrecision::long_double)
+      : precision_(precision) {}
+  const std::vector<ReferenceSurface>& get(const Scene& scene, const EvalRequest& request);
+
+ private:
+  ReferencePrecision precision_;
+  std::map<std::string, std::vector<ReferenceSurface>> cache_;
+};
+
+// Why `request` on `scene` is outside what a strategy with `caps` can do, if it is.
+std::optional<std::string> refusal_reason(const Capabilities& caps, const Scene& scene,
+                                          const EvalRequest& request);
+
+std::string sampling_mode_name(SamplingMode mode);
+
+Record measure(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
+               const EvalRequest& request, int repetitions, ReferenceCache& references);
+
+}  // namespace nurbs

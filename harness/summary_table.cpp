@@ -1,0 +1,43 @@
+#include "harness/summary_table.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+
+namespace nurbs {
+
+namespace {
+std::string seconds_text(double s) {
+  if (s >= 1) return fmt::format("{:.3f} s", s);
+  if (s >= 1e-3) return fmt::format("{:.3f} ms", s * 1e3);
+  return fmt::format("{:.1f} us", s * 1e6);
+}
+}  // namespace
+
+std::string summary_table(const std::vector<Record>& records) {
+  constexpr std::size_t kColumns = 9;
+  using Row = std::array<std::string, kColumns>;
+  std::vector<Row> rows = {{"scene", "strategy", "on", "prec", "samples", "evaluate (median)",
+                            "points/s", "max_ulp", "status"}};
+  for (const Record& r : records) {
+    const bool ok = r.status == Status::ok;
+    rows.push_back({r.scene, r.strategy, r.device.kind.empty() ? "-" : r.device.kind, r.precision,
+                    r.samples, ok ? seconds_text(r.evaluate.median_s) : "",
+                    ok ? fmt::format("{:.3g}", r.throughput_pts_per_s) : "",
+                    ok ? fmt::format("{:.3g}", r.accuracy.max_ulp) : "",
+                    ok ? "ok" : fmt::format("{}: {}", to_string(r.status), r.reason)});
+  }
+  std::array<std::size_t, kColumns> width{};
+  for (const Row& row : rows)
+    for (std::size_t c = 0; c + 1 < kColumns; ++c) width[c] = std::max(width[c], row[c].size());
+  std::string out;
+  for (const Row& row : rows) {
+    for (std::size_t c = 0; c < kColumns; ++c)
+      out += c + 1 < kColumns ? fmt::format("{:<{}}  ", row[c], width[c]) : row[c];
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace nurbs

@@ -1,0 +1,14 @@
+// The console summary of a run: one row per record, aligned columns, CPU/GPU device kind shown so
+// a software-rasterizer figure is never read as a GPU figure.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "harness/record.h"
+
+namespace nurbs {
+
+std::string summary_table(const std::vector<Record>& records);
+
+}  // namespace nurbs

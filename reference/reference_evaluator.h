@@ -1,0 +1,29 @@
+// The reference: every sample of a request evaluated in extended precision (long double by
+// default, __float128 on request) with the Piegl & Tiller algorithms of nurbs_math.h, then
+// rounded to double. Everything a strategy returns is compared with this, at the strategy's own
+// requested (u, v).
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+#include "reference/sampling.h"
+#include "reference/surface.h"
+
+namespace nurbs {
+
+enum class ReferencePrecision { long_double, float128 };
+
+bool parse_reference_precision(std::string_view text, ReferencePrecision& out);
+std::string_view to_string(ReferencePrecision p);
+
+struct ReferenceSurface {
+  std::vector<Point3> positions;  // one per sample, in SurfaceSamples order
+  std::vector<Point3> normals;    // unit normals (empty unless requested)
+};
+
+std::vector<ReferenceSurface> evaluate_reference(
+    const Scene& scene, const std::vector<SurfaceSamples>& samples, bool with_normals,
+    ReferencePrecision precision = ReferencePrecision::long_double);
+
+}  // namespace nurbs

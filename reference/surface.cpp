@@ -1,0 +1,41 @@
+#include "reference/surface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace nurbs {
+
+bool Surface::is_rational() const {
+  return std::any_of(weights.begin(), weights.end(), [](double w) { return w != 1.0; });
+}
+
+double Scene::largest_coordinate() const {
+  double largest = 0;
+  for (const Surface& s : surfaces)
+    for (const Point3& p : s.points)
+      for (double c : p) largest = std::max(largest, std::fabs(c));
+  return largest;
+}
+
+double Scene::bounding_box_diagonal() const {
+  Point3 lo{}, hi{};
+  lo.fill(std::numeric_limits<double>::infinity());
+  hi.fill(-std::numeric_limits<double>::infinity());
+  for (const Surface& s : surfaces)
+    for (const Point3& p : s.points)
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = std::min(lo[c], p[c]);
+        hi[c] = std::max(hi[c], p[c]);
+      }
+  if (!(lo[0] <= hi[0])) return 0;
+  return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+}
+
+std::size_t Scene::control_point_count() const {
+  std::size_t n = 0;
+  for (const Surface& s : surfaces) n += s.points.size();
+  return n;
+}
+
+}  // namespace nurbs

@@ -1,0 +1,261 @@
+#include "scenes/builtin_scenes.h"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <map>
+
+#include "reference/validation.h"
+#include "scenes/scene_json.h"
+
+namespace nurbs {
+namespace embedded {
+extern const std::string_view teapot_json;
+extern const std::string_view duck_json;
+}  // namespace embedded
+
+namespace {
+
+// Clamped knots with `count - degree - 1` uniformly spaced interior knots on [0, 1].
+std::vector<double> uniform_clamped_knots(int count, int degree) {
+  std::vector<double> knots(static_cast<std::size_t>(count + degree + 1));
+  const int spans = count - degree;
+  for (std::size_t k = 0; k < knots.size(); ++k) {
+    const int t = std::clamp(static_cast<int>(k) - degree, 0, spans);
+    knots[k] = static_cast<double>(t) / spans;
+  }
+  return knots;
+}
+
+// A smooth, non-planar height field over [0, extent]^2 with a slight in-plane wobble, so neither
+// coordinate is trivially linear in the parameters. Deterministic: no RNG.
+Surface wavy_surface(std::string name, int count_u, int count_v, int degree_u, int degree_v,
+                     double extent, double phase) {
+  Surface s;
+  s.name = std::move(name);
+  s.degree_u = degree_u;
+  s.degree_v = degree_v;
+  s.count_u = count_u;
+  s.count_v = count_v;
+  s.knots_u = uniform_clamped_knots(count_u, degree_u);
+  s.knots_v = uniform_clamped_knots(count_v, degree_v);
+  s.points.resize(static_cast<std::size_t>(count_u) * count_v);
+  s.weights.assign(s.points.size(), 1.0);
+  for (int i = 0; i < count_u; ++i)
+    for (int j = 0; j < count_v; ++j) {
+      const double x = extent * i / (count_u - 1), y = extent * j / (count_v - 1);
+      const double a = 6.0 * i / (count_u - 1), b = 6.0 * j / (count_v - 1);
+      s.points[static_cast<std::size_t>(i) * count_v + j] = {
+          x + 0.02 * extent * std::sin(b + phase), y + 0.02 * extent * std::cos(a - phase),
+          0.15 * extent * std::sin(a + phase) * std::cos(0.7 * b) + 0.05 * extent * std::cos(1.3 * a * b / 6.0)};
+    }
+  return s;
+}
+
+Scene single(std::string name, std::string description, Surface surface) {
+  Scene scene{std::move(name), std::move(description), {}};
+  scene.surfaces.push_back(std::move(surface));
+  return scene;
+}
+
+Surface patch144_surface() {
+  Surface s = wavy_surface("patch", 12, 12, 3, 3, 10.0, 0.3);
+  s.knots_u = {0, 0, 0, 0, 0.1, 0.25, 0.3, 0.5, 0.55, 0.7, 0.8, 0.9, 1, 1, 1, 1};
+  s.knots_v = {0, 0, 0, 0, 0.15, 0.2, 0.35, 0.45, 0.6, 0.65, 0.85, 0.95, 1, 1, 1, 1};
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) s.weights[i * 12 + j] = 1.0 + 0.4 * std::sin(1.3 * i + 0.7 * j);
+  return s;
+}
+
+// The 9-point rational quadratic circle (P&T §7.5): unit radius, weights 1, sqrt(2)/2 at corners.
+struct CircleNet {
+  std::vector<std::array<double, 2>> points;
+  std::vector<double> weights;
+  std::vector<double> knots{0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1};
+};
+CircleNet unit_circle() {
+  const double c = std::sqrt(0.5);
+  return {{{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}, {1, 0}},
+          {1, c, 1, c, 1, c, 1, c, 1}};
+}
+
+// Surface of revolution about z of a profile given in (radius, z) with weights (P&T A8.1).
+Surface revolve(std::string name, const std::vector<std::array<double, 2>>& profile,
+                const std::vector<double>& profile_weights, std::vector<double> profile_knots) {
+  const CircleNet circle = unit_circle();
+  Surface s;
+  s.name = std::move(name);
+  s.degree_u = 2;
+  s.degree_v = 2;
+  s.count_u = 9;
+  s.count_v = static_cast<int>(profile.size());
+  s.knots_u = circle.knots;
+  s.knots_v = std::move(profile_knots);
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < s.count_v; ++j) {
+      s.points.push_back({circle.points[i][0] * profile[j][0], circle.points[i][1] * profile[j][0],
+                          profile[j][1]});
+      s.weights.push_back(circle.weights[i] * profile_weights[j]);
+    }
+  return s;
+}
+
+Scene sphere_scene() {
+  // Half circle of radius 2 from the south pole to the north pole; u = longitude, v = latitude,
+  // so Su x Sv points outward.
+  const double c = std::sqrt(0.5), r = 2.0;
+  return single("sphere", "exact rational biquadratic sphere, radius 2, centre 0 (poles at v = 0, 1)",
+                revolve("sphere", {{0, -r}, {r, -r}, {r, 0}, {r, r}, {0, r}}, {1, c, 1, c, 1},
+                        {0, 0, 0, 0.5, 0.5, 1, 1, 1}));
+}
+
+Scene torus_scene() {
+  // Tube circle of radius 1 around the core circle of radius 3 in the xz half-plane.
+  const CircleNet circle = unit_circle();
+  std::vector<std::array<double, 2>> profile;
+  for (const auto& p : circle.points) profile.push_back({3.0 + p[0], p[1]});
+  return single("torus", "exact rational biquadratic torus, major radius 3, minor radius 1, axis z",
+                revolve("torus", profile, circle.weights, circle.knots));
+}
+
+Scene degree_scene(int degree) {
+  Surface s = wavy_surface(fmt::format("degree{}", degree), 16, 16, degree, degree, 10.0, 0.1);
+  return single(fmt::format("degree-{}", degree),
+                fmt::format("the same 16x16 control net at degree {} in u and v, uniform clamped knots", degree),
+                std::move(s));
+}
+
+Scene creases_scene() {
+  // Interior knots of full multiplicity (= degree) make the surface only C0 there: the control
+  // point at the crease is interpolated and the tangent jumps (a folded sheet).
+  Surface s = wavy_surface("creased", 10, 10, 3, 3, 10.0, 0.5);
+  s.knots_u = {0, 0, 0, 0, 1.0 / 3, 1.0 / 3, 1.0 / 3, 2.0 / 3, 2.0 / 3, 2.0 / 3, 1, 1, 1, 1};
+  s.knots_v = {0, 0, 0, 0, 0.25, 0.25, 0.25, 0.625, 0.625, 0.625, 1, 1, 1, 1};
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) s.points[i * 10 + j][2] += 2.0 * ((i == 3 || i == 6) ? 1.0 : 0.0) - 1.5 * (j == 6 ? 1.0 : 0.0);
+  return single("creases", "bicubic with triple interior knots (C0 creases) in u and v", std::move(s));
+}
+
+Scene clustered_scene() {
+  Surface s = patch144_surface();
+  s.name = "clustered";
+  s.knots_u = {0, 0, 0, 0, 0.499, 0.4995, 0.5, 0.5005, 0.501, 0.6, 0.8, 0.9, 1, 1, 1, 1};
+  s.knots_v = {0, 0, 0, 0, 0.1, 0.2, 0.3, 0.3001, 0.3002, 0.3003, 0.7, 0.9, 1, 1, 1, 1};
+  return single("clustered", "bicubic rational 12x12 whose interior knots cluster within 1e-3 and 1e-4 (float span stress)",
+                std::move(s));
+}
+
+Scene far_origin_scene() {
+  Surface s = patch144_surface();
+  s.name = "far";
+  for (Point3& p : s.points)
+    for (double& c : p) c += 1e4;
+  return single("far-origin", "patch144 translated by (1e4, 1e4, 1e4): float32 stress", std::move(s));
+}
+
+Scene many_scene(int n) {
+  Scene scene{fmt::format("many-{}", n),
+              fmt::format("{} bicubic Bezier patches (4x4 control points each) tiled in a square", n), {}};
+  const int columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+  for (int k = 0; k < n; ++k) {
+    Surface s = wavy_surface(fmt::format("patch{}", k), 4, 4, 3, 3, 1.0, 0.37 * k);
+    for (Point3& p : s.points) {
+      p[0] += 1.1 * (k % columns);
+      p[1] += 1.1 * (k / columns);
+    }
+    scene.surfaces.push_back(std::move(s));
+  }
+  return scene;
+}
+
+Scene embedded_scene(std::string_view name, std::string_view json) {
+  Scene scene = parse_scene_json(json, fmt::format("built-in scene {}", name));
+  scene.name = std::string(name);
+  return scene;
+}
+
+using Generator = std::function<Scene()>;
+
+const std::vector<std::pair<BuiltinSceneInfo, Generator>>& generators() {
+  static const std::vector<std::pair<BuiltinSceneInfo, Generator>> list = [] {
+    std::vector<std::pair<BuiltinSceneInfo, Generator>> g;
+    auto add = [&g](std::string name, std::string description, Generator make) {
+      g.push_back({{std::move(name), std::move(description)}, std::move(make)});
+    };
+    add("patch144", "one bicubic patch, 12x12 control points, non-uniform knots, non-unit weights (000 §5)",
+        [] { return single("patch144", "one bicubic rational patch, 12x12 control points, non-uniform knots", patch144_surface()); });
+    // Tan 2012 §5 says "order 3" without saying whether order means degree+1 (quadratic) or the
+    // degree; we take bicubic, the degree the rest of their paper and 000 use.
+    for (int n : {16, 64, 256})
+      add(fmt::format("tan{}", n), fmt::format("{0}x{0} control points, bicubic, uniform knots (002 §5 Fig 14)", n),
+          [n] { return single(fmt::format("tan{}", n), fmt::format("{0}x{0} bicubic (002 §5)", n),
+                              wavy_surface("tan", n, n, 3, 3, 10.0, 0.2)); });
+    add("tan21x23", "21x23 control points, bicubic (002 §5 Fig 15, the LOD experiment)",
+        [] { return single("tan21x23", "21x23 bicubic (002 §5 Fig 15)", wavy_surface("tan", 21, 23, 3, 3, 10.0, 0.2)); });
+    add("sphere", "exact rational biquadratic sphere (poles: degenerate normals)", sphere_scene);
+    add("torus", "exact rational biquadratic torus", torus_scene);
+    for (int p = 1; p <= 9; ++p)
+      add(fmt::format("degree-{}", p), fmt::format("16x16 control net at degree {}", p), [p] { return degree_scene(p); });
+    add("creases", "bicubic with full-multiplicity interior knots (C0 creases)", creases_scene);
+    add("clustered", "bicubic rational with interior knots clustered within 1e-4", clustered_scene);
+    add("far-origin", "patch144 translated by 1e4 (float32 stress)", far_origin_scene);
+    add("teapot", "the Utah teapot: 32 bicubic Bezier patches (real data, collapsed edges)",
+        [] { return embedded_scene("teapot", embedded::teapot_json); });
+    add("duck", "the classic three-surface NURBS duck (real data: rational, seams, poles)",
+        [] { return embedded_scene("duck", embedded::duck_json); });
+    return g;
+  }();
+  return list;
+}
+
+std::optional<int> parse_many(std::string_view name) {
+  if (!name.starts_with("many-")) return std::nullopt;
+  const std::string_view digits = name.substr(5);
+  int n = 0;
+  const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), n);
+  if (error != std::errc() || end != digits.data() + digits.size() || n < 1 || n > kMaxManyPatches)
+    return std::nullopt;
+  return n;
+}
+
+}  // namespace
+
+std::vector<BuiltinSceneInfo> builtin_scenes() {
+  std::vector<BuiltinSceneInfo> out;
+  for (const auto& [info, make] : generators()) out.push_back(info);
+  for (int n : {1, 64, 4096})
+    out.push_back({fmt::format("many-{}", n),
+                   fmt::format("{} bicubic Bezier patches (any many-N, N = 1..{})", n, kMaxManyPatches)});
+  return out;
+}
+
+std::optional<Scene> make_builtin_scene(std::string_view name) {
+  for (const auto& [info, make] : generators())
+    if (info.name == name) {
+      Scene scene = make();
+      validate_scene(scene, fmt::format("built-in scene {}", name));
+      return scene;
+    }
+  if (const auto n = parse_many(name)) {
+    Scene scene = many_scene(*n);
+    validate_scene(scene, fmt::format("built-in scene {}", name));
+    return scene;
+  }
+  return std::nullopt;
+}
+
+Scene load_scene(std::string_view name_or_path) {
+  if (auto scene = make_builtin_scene(name_or_path)) return std::move(*scene);
+  const std::filesystem::path path(name_or_path);
+  std::error_code error;
+  if (std::filesystem::is_regular_file(path, error)) return load_scene_file(path);
+  std::vector<std::string> names;
+  for (const BuiltinSceneInfo& info : builtin_scenes()) names.push_back(info.name);
+  throw InputError(fmt::format("scene '{}': neither a file nor a built-in scene (built-in: {}, many-N for N = 1..{})",
+                               name_or_path, fmt::join(names, ", "), kMaxManyPatches));
+}
+
+}  // namespace nurbs

@@ -1,0 +1,97 @@
+#include "strategies/cpu_coxdeboor/cpu_coxdeboor.h"
+
+#include <variant>
+
+#include "reference/nurbs_math.h"
+
+namespace nurbs {
+namespace {
+
+Capabilities coxdeboor_capabilities() {
+  Capabilities c;
+  c.max_degree = kMaxDegree;
+  return c;
+}
+
+class CpuCoxDeBoor final : public Strategy {
+ public:
+  std::string_view name() const override { return "cpu-coxdeboor"; }
+  Capabilities capabilities() const override { return coxdeboor_capabilities(); }
+  DeviceInfo device() const override { return {"host CPU, 1 thread", "cpu", {}}; }
+
+  void prepare(const Scene& scene, const EvalRequest& request) override {
+    request_ = request;
+    samples_ = sample_parameters(scene, request.sampling);
+    if (request.precision == Precision::f32)
+      nets_ = make_nets<float>(scene);
+    else
+      nets_ = make_nets<double>(scene);
+    results_.assign(scene.surfaces.size(), {});
+    for (std::size_t i = 0; i < results_.size(); ++i) {
+      results_[i].positions = PointArray(request.precision, samples_[i].count());
+      if (request.normals) results_[i].normals = PointArray(request.precision, samples_[i].count());
+    }
+  }
+
+  void evaluate() override {
+    std::visit([this](const auto& nets) { evaluate_all(nets); }, nets_);
+  }
+
+  EvalResult read_back() override {
+    EvalResult out;
+    out.surfaces.resize(results_.size());
+    for (std::size_t i = 0; i < results_.size(); ++i) {
+      out.surfaces[i].samples = samples_[i];
+      out.surfaces[i].positions = results_[i].positions;
+      out.surfaces[i].normals = results_[i].normals;
+    }
+    return out;
+  }
+
+ private:
+  struct Output {
+    PointArray positions, normals;
+  };
+
+  template <typename T>
+  static std::vector<SurfaceNet<T>> make_nets(const Scene& scene) {
+    std::vector<SurfaceNet<T>> nets;
+    nets.reserve(scene.surfaces.size());
+    for (const Surface& s : scene.surfaces) nets.emplace_back(s);
+    return nets;
+  }
+
+  template <typename T>
+  void evaluate_all(const std::vector<SurfaceNet<T>>& nets) {
+    for (std::size_t i = 0; i < nets.size(); ++i) {
+      const SurfaceSamples& samples = samples_[i];
+      Output& out = results_[i];
+      const std::size_t n = samples.count();
+      for (std::size_t k = 0; k < n; ++k) {
+        const T u = T(samples.u_of(k)), v = T(samples.v_of(k));
+        out.positions.set(k, surface_point(nets[i], u, v));
+        if (request_.normals) out.normals.set(k, surface_normal(nets[i], u, v));
+      }
+    }
+  }
+
+  EvalRequest request_;
+  std::vector<SurfaceSamples> samples_;
+  std::variant<std::vector<SurfaceNet<float>>, std::vector<SurfaceNet<double>>> nets_;
+  std::vector<Output> results_;
+};
+
+}  // namespace
+
+StrategyEntry cpu_coxdeboor_entry() {
+  return {"cpu-coxdeboor",
+          "Piegl & Tiller A2.1/A2.2/A4.3, the CPU baseline of 000 §5 and 002 §5",
+          "strategy",
+          [] { return Availability{true, ""}; },
+          coxdeboor_capabilities,
+          [](const StrategyOptions&) -> std::unique_ptr<Strategy> {
+            return std::make_unique<CpuCoxDeBoor>();
+          }};
+}
+
+}  // namespace nurbs

@@ -1,0 +1,101 @@
+// The whole contract between the harness and an evaluation strategy (DESIGN.md, "The strategy
+// interface"). A strategy builds and uploads in prepare(), does only the measured work in
+// evaluate() (returning when the device is done), and copies results to the host in read_back().
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "reference/point_array.h"
+#include "reference/sampling.h"
+#include "reference/surface.h"
+
+namespace nurbs {
+
+struct SamplingModes {
+  bool grid = true;
+  bool span_grid = true;
+  bool explicit_list = true;
+  bool supports(SamplingMode mode) const {
+    return mode == SamplingMode::grid        ? grid
+           : mode == SamplingMode::span_grid ? span_grid
+                                             : explicit_list;
+  }
+};
+
+struct Capabilities {
+  int max_degree = 15;
+  bool rational = true;
+  bool normals = true;
+  bool fp32 = true;
+  bool fp64 = true;
+  SamplingModes sampling;
+  bool supports(Precision p) const { return p == Precision::f32 ? fp32 : fp64; }
+};
+
+// What the strategy ran on, for the record: "cpu" / "gpu" / "cpu (software rasterizer)" etc. in
+// `kind`, free-form key/values (renderer, driver, versions) in `details`.
+struct DeviceInfo {
+  std::string name;  // e.g. "host CPU", "llvmpipe (LLVM 15.0.6, 256 bits)"
+  std::string kind;  // "cpu" or "gpu"; software GPU drivers are "cpu"
+  std::map<std::string, std::string> details;
+};
+
+struct EvalRequest {
+  Sampling sampling;
+  Precision precision = Precision::f32;
+  bool normals = false;
+};
+
+struct SurfaceResult {
+  SurfaceSamples samples;  // the parameters the strategy was asked to evaluate
+  PointArray positions;
+  PointArray normals;  // empty unless requested
+};
+
+struct EvalResult {
+  std::vector<SurfaceResult> surfaces;
+};
+
+// Device-side timings of the last evaluate(), where the API has timers.
+struct DeviceTimes {
+  std::optional<double> evaluate_s;
+};
+
+class Strategy {
+ public:
+  virtual ~Strategy() = default;
+  virtual std::string_view name() const = 0;
+  virtual Capabilities capabilities() const = 0;
+  virtual DeviceInfo device() const = 0;
+  virtual void prepare(const Scene& scene, const EvalRequest& request) = 0;
+  virtual void evaluate() = 0;
+  virtual EvalResult read_back() = 0;
+  virtual void update_control_points(const Scene&) {}
+  virtual DeviceTimes device_times() const { return {}; }
+};
+
+// Options a user can pass to any strategy's factory; each strategy reads what concerns it.
+struct StrategyOptions {
+  int threads = 0;  // 0: every core
+  std::map<std::string, std::string> extra;
+};
+
+// A strategy that cannot run here says why; this is a result, not a crash.
+struct Availability {
+  bool available = false;
+  std::string reason;  // empty when available
+};
+
+// A strategy's request is refused before it runs (unsupported degree, sampling, precision...).
+class RefusedError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace nurbs
