@@ -140,7 +140,7 @@ Scene parse_scene_json(std::string_view text, std::string_view origin) {
   json document;
   try {
     document = json::parse(text.begin(), text.end());
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, and out_of_range for 1e999
     // nlohmann's message carries the byte offset and what it expected.
     std::string message = e.what();
     if (auto pos = message.find("] "); pos != std::string::npos) message = message.substr(pos + 2);

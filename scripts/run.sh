@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The main job: installs what is needed, builds, runs the default benchmark (every built-in scene
+# x every available strategy) and prints the summary table. Results: results/latest/results.json
+# and results.csv. Extra arguments go to `nurbsbench run` (e.g. --samples 1024x1024).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+cmake --preset release >/dev/null
+cmake --build --preset release -j "$(nproc)"
+exec build/release/harness/nurbsbench run --out results/latest "$@"

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The test command: installs what is needed, builds, runs every test (CTest labels unit,
+# accuracy, gpu-sw, slow, plus the accuracy gates of results/gates.json), then builds the CPU
+# parts with ASan+UBSan and runs their unit and accuracy tests. Exit status 0 only if all pass.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+
+jobs=$(nproc)
+echo "== sanitizer build (ASan + UBSan, CPU parts)"
+cmake --preset asan >/dev/null
+cmake --build --preset asan -j "$jobs"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --preset asan
+
+echo "== release build"
+cmake --preset release >/dev/null
+cmake --build --preset release -j "$jobs"
+# On the project's machines every strategy must be available (DESIGN.md).
+NURBSBENCH_REQUIRE_ALL_STRATEGIES=1 ctest --preset release

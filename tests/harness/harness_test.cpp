@@ -1,0 +1,187 @@
+// Metrics, timing statistics, records and gates, on hand-made inputs whose answers are known.
+#include <gtest/gtest.h>
+
+#include <cfloat>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "harness/atomic_file.h"
+#include "harness/gates.h"
+#include "harness/metrics.h"
+#include "harness/record.h"
+#include "harness/timing.h"
+#include "scenes/builtin_scenes.h"
+
+namespace nurbs {
+namespace {
+
+// A scene of one bilinear patch with corners at (0,0,0)..(3,4,0): largest coordinate 4,
+// bounding-box diagonal 5.
+Scene flat_scene() {
+  Surface s;
+  s.name = "flat";
+  s.degree_u = s.degree_v = 1;
+  s.count_u = s.count_v = 2;
+  s.knots_u = s.knots_v = {0, 0, 1, 1};
+  s.points = {{0, 0, 0}, {0, 4, 0}, {3, 0, 0}, {3, 4, 0}};
+  s.weights = {1, 1, 1, 1};
+  return Scene{"flat", "", {s}};
+}
+
+EvalResult result_with(const std::vector<Point3>& points, Precision precision) {
+  EvalResult r;
+  r.surfaces.resize(1);
+  r.surfaces[0].samples.tensor = false;
+  r.surfaces[0].positions = PointArray(precision, points.size());
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    r.surfaces[0].samples.u.push_back(0.25 * k);
+    r.surfaces[0].samples.v.push_back(0.5);
+    r.surfaces[0].positions.set(k, points[k]);
+  }
+  return r;
+}
+
+TEST(Metrics, KnownErrors) {
+  const Scene scene = flat_scene();
+  std::vector<ReferenceSurface> reference(1);
+  reference[0].positions = {{0, 0, 0}, {1, 1, 0}, {2, 2, 0}};
+  // errors 0, 0.3 (along x), 0.4 (along z)
+  const EvalResult result = result_with({{0, 0, 0}, {1.3, 1, 0}, {2, 2, 0.4}}, Precision::f64);
+  const Accuracy acc = measure_accuracy(scene, result, reference);
+  EXPECT_NEAR(acc.max_abs, 0.4, 1e-15);
+  EXPECT_NEAR(acc.rms_abs, std::sqrt((0.09 + 0.16) / 3), 1e-15);
+  EXPECT_NEAR(acc.max_rel, 0.4 / 5, 1e-15);
+  EXPECT_NEAR(acc.max_ulp, 0.4 / (FLT_EPSILON * 4), 1e-6);
+  EXPECT_EQ(acc.worst_surface, 0);
+  EXPECT_EQ(acc.worst_u, 0.5);
+  EXPECT_EQ(acc.non_finite, 0u);
+}
+
+TEST(Metrics, NaNIsTheWorstError) {
+  const Scene scene = flat_scene();
+  std::vector<ReferenceSurface> reference(1);
+  reference[0].positions = {{0, 0, 0}, {1, 1, 0}, {2, 2, 0}};
+  const EvalResult result = result_with({{0, 0, 0.1}, {NAN, 1, 0}, {2, 2, 0.2}}, Precision::f32);
+  const Accuracy acc = measure_accuracy(scene, result, reference);
+  EXPECT_TRUE(std::isinf(acc.max_abs));
+  EXPECT_EQ(acc.non_finite, 1u);
+  EXPECT_EQ(acc.worst_u, 0.25);
+}
+
+TEST(Metrics, NormalAngles) {
+  const Scene scene = flat_scene();
+  std::vector<ReferenceSurface> reference(1);
+  reference[0].positions = {{0, 0, 0}, {1, 1, 0}};
+  reference[0].normals = {{0, 0, 1}, {0, 0, 1}};
+  EvalResult result = result_with({{0, 0, 0}, {1, 1, 0}}, Precision::f64);
+  result.surfaces[0].normals = PointArray(Precision::f64, 2);
+  result.surfaces[0].normals.set(0, std::array<double, 3>{0, 0, 1});
+  const double a = 1e-7;  // radians: atan2-based angle must resolve it, acos would not
+  result.surfaces[0].normals.set(1, std::array<double, 3>{std::sin(a), 0, std::cos(a)});
+  const Accuracy acc = measure_accuracy(scene, result, reference);
+  ASSERT_TRUE(acc.max_normal_angle_deg);
+  EXPECT_NEAR(*acc.max_normal_angle_deg, a * 180 / M_PI, 1e-15);
+}
+
+TEST(Timing, MedianMinMax) {
+  const PhaseStats odd = PhaseStats::of({3, 1, 2});
+  EXPECT_EQ(odd.min_s, 1);
+  EXPECT_EQ(odd.median_s, 2);
+  EXPECT_EQ(odd.max_s, 3);
+  EXPECT_EQ(PhaseStats::of({4, 1, 2, 3}).median_s, 2.5);
+}
+
+Record sample_record() {
+  Record r;
+  r.scene = "patch144";
+  r.strategy = "cpu-coxdeboor";
+  r.role = "strategy";
+  r.device = {"host CPU, 1 thread", "cpu", {{"threads", "1"}}};
+  r.precision = "f32";
+  r.sampling = "grid";
+  r.samples = "64x64";
+  r.points = 4096;
+  r.evaluate = {0.1, 0.2, 0.3};
+  r.throughput_pts_per_s = 4096 / 0.2;
+  r.accuracy.max_ulp = 1.5;
+  r.accuracy.max_normal_angle_deg = 0.01;
+  r.reason = "a, \"quoted\" reason";
+  return r;
+}
+
+TEST(Record, JsonRoundTrip) {
+  const Record r = sample_record();
+  const Record back = record_from_json(nlohmann::json::parse(record_to_json(r).dump()));
+  EXPECT_EQ(back.scene, r.scene);
+  EXPECT_EQ(back.device.details, r.device.details);
+  EXPECT_EQ(back.evaluate.median_s, 0.2);
+  EXPECT_EQ(back.accuracy.max_ulp, 1.5);
+  EXPECT_EQ(back.accuracy.max_normal_angle_deg, 0.01);
+  EXPECT_EQ(back.reason, r.reason);
+}
+
+TEST(Record, InfiniteErrorsSurviveJson) {
+  Record r = sample_record();
+  r.accuracy.max_abs = r.accuracy.max_ulp = INFINITY;
+  const Record back = record_from_json(nlohmann::json::parse(record_to_json(r).dump()));
+  EXPECT_TRUE(std::isinf(back.accuracy.max_ulp));
+}
+
+TEST(Record, CsvHasTheIssueColumnsAndQuotes) {
+  const std::string header = csv_header();
+  EXPECT_EQ(header,
+            "scene,strategy,device,precision,sampling,samples,points,setup_s,upload_median_s,"
+            "evaluate_min_s,evaluate_median_s,evaluate_max_s,readback_median_s,end_to_end_median_s,"
+            "throughput_pts_per_s,max_abs,rms_abs,max_rel,max_ulp,status,reason");
+  const std::string row = csv_row(sample_record());
+  EXPECT_NE(row.find("\"a, \"\"quoted\"\" reason\""), std::string::npos) << row;
+  EXPECT_NE(row.find(",ok,"), std::string::npos);
+}
+
+TEST(Gates, ViolationsAreListedWithValues) {
+  std::vector<Record> records = {sample_record(), sample_record()};
+  records[1].scene = "sphere";
+  records[1].accuracy.max_ulp = 40;
+  Record failed = sample_record();
+  failed.strategy = "gl-pingpong";
+  failed.status = Status::failed;
+  failed.reason = "shader did not compile";
+  records.push_back(failed);
+  Record refused = sample_record();
+  refused.strategy = "gl-pingpong";
+  refused.scene = "degree-12";
+  refused.status = Status::refused;
+  records.push_back(refused);
+
+  EXPECT_TRUE(check_gates({{"cpu-*", "patch*", "max_ulp", 2}}, records).empty());
+  const auto over = check_gates({{"cpu-coxdeboor", "*", "max_ulp", 32}}, records);
+  ASSERT_EQ(over.size(), 1u);
+  EXPECT_NE(over[0].find("sphere"), std::string::npos);
+  EXPECT_NE(over[0].find("40"), std::string::npos);
+  const auto failed_gate = check_gates({{"gl-pingpong", "patch144", "max_ulp", 64}}, records);
+  ASSERT_EQ(failed_gate.size(), 1u);
+  EXPECT_NE(failed_gate[0].find("shader did not compile"), std::string::npos);
+  EXPECT_EQ(check_gates({{"gl-pingpong", "degree-12", "max_ulp", 64}}, records).size(), 1u)
+      << "a gate matching only refusals matches nothing measured";
+  EXPECT_EQ(check_gates({{"nothing", "*", "max_ulp", 1}}, records).size(), 1u);
+  EXPECT_EQ(check_gates({{"*", "*", "max_normal_angle_deg", 1}}, {sample_record()}).size(), 0u);
+}
+
+TEST(AtomicFile, ReplacesWholeAndLeavesNoTemporary) {
+  const auto dir = std::filesystem::temp_directory_path() / "nurbsbench_atomic_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  write_file_atomically(dir / "f.txt", "first");
+  write_file_atomically(dir / "f.txt", "second");
+  std::ifstream in(dir / "f.txt");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_EQ(text, "second");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
+  EXPECT_THROW(write_file_atomically(dir / "missing" / "f.txt", "x"), std::runtime_error);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace nurbs
