@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "reference/validation.h"
+#include "scenes/json_error.h"
 
 namespace nurbs {
 
@@ -42,8 +43,8 @@ std::vector<Gate> load_gates(const std::filesystem::path& path) {
   nlohmann::json document;
   try {
     document = nlohmann::json::parse(text.str());
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
+    throw InputError(fmt::format("{}: not valid JSON: {}", path.string(), json_error_text(e)));
   }
   if (!document.is_array())
     throw InputError(fmt::format("{}: (document): must be a JSON list of gates", path.string()));
@@ -51,7 +52,8 @@ std::vector<Gate> load_gates(const std::filesystem::path& path) {
   for (std::size_t i = 0; i < document.size(); ++i) {
     const auto& entry = document[i];
     auto fail = [&](const std::string& field, const std::string& value, const std::string& rule) {
-      throw InputError(fmt::format("{}: gate [{}]: {} = {}: {}", path.string(), i, field, value, rule));
+      throw InputError(
+          fmt::format("{}: gate [{}]: {} = {}: {}", path.string(), i, field, value, rule));
     };
     if (!entry.is_object()) fail("(entry)", entry.dump(), "must be an object");
     for (const auto& [key, value] : entry.items())
@@ -66,7 +68,8 @@ std::vector<Gate> load_gates(const std::filesystem::path& path) {
     g.scene = entry["scene"];
     g.metric = entry["metric"];
     if (!is_known_metric(g.metric))
-      fail("metric", g.metric, "unknown metric (max_abs, rms_abs, max_rel, max_ulp, max_normal_angle_deg)");
+      fail("metric", g.metric,
+           "unknown metric (max_abs, rms_abs, max_rel, max_ulp, max_normal_angle_deg)");
     if (!entry.contains("max") || !entry["max"].is_number())
       fail("max", entry.contains("max") ? entry["max"].dump() : "(missing)", "must be a number");
     g.max = entry["max"].get<double>();
@@ -75,36 +78,41 @@ std::vector<Gate> load_gates(const std::filesystem::path& path) {
   return gates;
 }
 
-std::vector<std::string> check_gates(const std::vector<Gate>& gates, const std::vector<Record>& records) {
+std::vector<std::string> check_gates(const std::vector<Gate>& gates,
+                                     const std::vector<Record>& records) {
   std::vector<std::string> violations;
   for (const Gate& g : gates) {
     int matched = 0;
     for (const Record& r : records) {
       if (!glob_match(g.strategy, r.strategy) || !glob_match(g.scene, r.scene)) continue;
       ++matched;
-      const std::string where = fmt::format("{} on {} ({}, {})", r.strategy, r.scene, r.precision, r.samples);
+      const std::string where =
+          fmt::format("{} on {} ({}, {})", r.strategy, r.scene, r.precision, r.samples);
       if (r.status != Status::ok) {
         // A refusal is the strategy saying "not my case"; anything else means no measurement.
         if (r.status != Status::refused)
-          violations.push_back(fmt::format("{}: {} <= {} not measured: {}: {}", where, g.metric, g.max,
-                                           to_string(r.status), r.reason));
+          violations.push_back(fmt::format("{}: {} <= {} not measured: {}: {}", where, g.metric,
+                                           g.max, to_string(r.status), r.reason));
         else
           --matched;
         continue;
       }
       const auto value = metric_value(r, g.metric);
       if (!value) {
-        violations.push_back(fmt::format("{}: {} was not measured (run with --normals?)", where, g.metric));
+        violations.push_back(
+            fmt::format("{}: {} was not measured (run with --normals?)", where, g.metric));
         continue;
       }
       if (!(*value <= g.max))
         violations.push_back(fmt::format(
-            "{}: {} = {:.6g} exceeds {} (worst sample: surface {}, u = {:.17g}, v = {:.17g})", where,
-            g.metric, *value, g.max, r.accuracy.worst_surface, r.accuracy.worst_u, r.accuracy.worst_v));
+            "{}: {} = {:.6g} exceeds {} (worst sample: surface {}, u = {:.17g}, v = {:.17g})",
+            where, g.metric, *value, g.max, r.accuracy.worst_surface, r.accuracy.worst_u,
+            r.accuracy.worst_v));
     }
     if (matched == 0)
-      violations.push_back(fmt::format("gate {{strategy: {}, scene: {}, metric: {}}} matched no measured result",
-                                       g.strategy, g.scene, g.metric));
+      violations.push_back(
+          fmt::format("gate {{strategy: {}, scene: {}, metric: {}}} matched no measured result",
+                      g.strategy, g.scene, g.metric));
   }
   return violations;
 }

@@ -21,6 +21,7 @@ std::vector<Gate> load_gates(const std::filesystem::path& path);
 // Metric names: max_abs, rms_abs, max_rel, max_ulp, max_normal_angle_deg.
 bool is_known_metric(std::string_view metric);
 // One line per violation; empty when every gate holds.
-std::vector<std::string> check_gates(const std::vector<Gate>& gates, const std::vector<Record>& records);
+std::vector<std::string> check_gates(const std::vector<Gate>& gates,
+                                     const std::vector<Record>& records);
 
 }  // namespace nurbs

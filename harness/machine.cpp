@@ -49,7 +49,9 @@ std::string utc_now() {
 
 }  // namespace
 
-std::string cpu_model() { return first_value("/proc/cpuinfo", "model name", ':'); }
+std::string cpu_model() {
+  return first_value("/proc/cpuinfo", "model name", ':');
+}
 
 nlohmann::json machine_record(int threads) {
   utsname uts{};
@@ -64,7 +66,8 @@ nlohmann::json machine_record(int threads) {
       {"build_type", build_info().build_type},
       {"git_commit", build_info().git_commit},
       {"libraries",
-       {{"fmt", fmt::format("{}.{}.{}", FMT_VERSION / 10000, FMT_VERSION / 100 % 100, FMT_VERSION % 100)},
+       {{"fmt",
+         fmt::format("{}.{}.{}", FMT_VERSION / 10000, FMT_VERSION / 100 % 100, FMT_VERSION % 100)},
         {"nlohmann_json", fmt::format("{}.{}.{}", NLOHMANN_JSON_VERSION_MAJOR,
                                       NLOHMANN_JSON_VERSION_MINOR, NLOHMANN_JSON_VERSION_PATCH)},
         {"openmp", fmt::format("{}", _OPENMP)}}},

@@ -40,7 +40,9 @@ PhaseStats phase_from_json(const json& j) {
   return {j.value("min_s", 0.0), j.value("median_s", 0.0), j.value("max_s", 0.0)};
 }
 // JSON has no Inf/NaN: non-finite metrics are written as null and read back as +Inf.
-json finite_or_null(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+json finite_or_null(double x) {
+  return std::isfinite(x) ? json(x) : json(nullptr);
+}
 double number_or_inf(const json& j, const char* key) {
   if (!j.contains(key) || j[key].is_null()) return std::numeric_limits<double>::infinity();
   return j[key].get<double>();
@@ -65,30 +67,32 @@ json record_to_json(const Record& r) {
                    {"max_rel", finite_or_null(r.accuracy.max_rel)},
                    {"max_ulp", finite_or_null(r.accuracy.max_ulp)},
                    {"non_finite", r.accuracy.non_finite},
-                   {"worst", {{"surface", r.accuracy.worst_surface},
-                              {"u", r.accuracy.worst_u},
-                              {"v", r.accuracy.worst_v}}}};
+                   {"worst",
+                    {{"surface", r.accuracy.worst_surface},
+                     {"u", r.accuracy.worst_u},
+                     {"v", r.accuracy.worst_v}}}};
   if (r.accuracy.max_normal_angle_deg)
     accuracy["max_normal_angle_deg"] = finite_or_null(*r.accuracy.max_normal_angle_deg);
-  json j = {{"scene", r.scene},
-            {"strategy", r.strategy},
-            {"role", r.role},
-            {"device", {{"name", r.device.name}, {"kind", r.device.kind}, {"details", r.device.details}}},
-            {"precision", r.precision},
-            {"sampling", r.sampling},
-            {"samples", r.samples},
-            {"points", r.points},
-            {"surfaces", r.surfaces},
-            {"repetitions", r.repetitions},
-            {"setup_s", r.setup_s},
-            {"upload", phase_to_json(r.upload)},
-            {"evaluate", phase_to_json(r.evaluate)},
-            {"read_back", phase_to_json(r.read_back)},
-            {"end_to_end", phase_to_json(r.end_to_end)},
-            {"throughput_pts_per_s", r.throughput_pts_per_s},
-            {"accuracy", accuracy},
-            {"status", to_string(r.status)},
-            {"reason", r.reason}};
+  json j = {
+      {"scene", r.scene},
+      {"strategy", r.strategy},
+      {"role", r.role},
+      {"device", {{"name", r.device.name}, {"kind", r.device.kind}, {"details", r.device.details}}},
+      {"precision", r.precision},
+      {"sampling", r.sampling},
+      {"samples", r.samples},
+      {"points", r.points},
+      {"surfaces", r.surfaces},
+      {"repetitions", r.repetitions},
+      {"setup_s", r.setup_s},
+      {"upload", phase_to_json(r.upload)},
+      {"evaluate", phase_to_json(r.evaluate)},
+      {"read_back", phase_to_json(r.read_back)},
+      {"end_to_end", phase_to_json(r.end_to_end)},
+      {"throughput_pts_per_s", r.throughput_pts_per_s},
+      {"accuracy", accuracy},
+      {"status", to_string(r.status)},
+      {"reason", r.reason}};
   if (r.device_evaluate_median_s) j["device_evaluate_median_s"] = *r.device_evaluate_median_s;
   return j;
 }
@@ -115,7 +119,8 @@ Record record_from_json(const json& j) {
   if (j.contains("evaluate")) r.evaluate = phase_from_json(j["evaluate"]);
   if (j.contains("read_back")) r.read_back = phase_from_json(j["read_back"]);
   if (j.contains("end_to_end")) r.end_to_end = phase_from_json(j["end_to_end"]);
-  if (j.contains("device_evaluate_median_s")) r.device_evaluate_median_s = j["device_evaluate_median_s"].get<double>();
+  if (j.contains("device_evaluate_median_s"))
+    r.device_evaluate_median_s = j["device_evaluate_median_s"].get<double>();
   r.throughput_pts_per_s = j.value("throughput_pts_per_s", 0.0);
   if (j.contains("accuracy")) {
     const json& a = j["accuracy"];
@@ -129,7 +134,8 @@ Record record_from_json(const json& j) {
       r.accuracy.worst_u = a["worst"].value("u", 0.0);
       r.accuracy.worst_v = a["worst"].value("v", 0.0);
     }
-    if (a.contains("max_normal_angle_deg")) r.accuracy.max_normal_angle_deg = number_or_inf(a, "max_normal_angle_deg");
+    if (a.contains("max_normal_angle_deg"))
+      r.accuracy.max_normal_angle_deg = number_or_inf(a, "max_normal_angle_deg");
   }
   if (!parse_status(j.value("status", "failed"), r.status)) r.status = Status::failed;
   r.reason = j.value("reason", "");
@@ -145,14 +151,14 @@ std::string csv_header() {
 std::string csv_row(const Record& r) {
   const bool measured = r.status == Status::ok;
   auto number = [measured](double x) { return measured ? fmt::format("{}", x) : std::string(); };
-  return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                     csv_text(r.scene), csv_text(r.strategy), csv_text(r.device.name), r.precision,
-                     r.sampling, r.samples, r.points, number(r.setup_s), number(r.upload.median_s),
-                     number(r.evaluate.min_s), number(r.evaluate.median_s), number(r.evaluate.max_s),
-                     number(r.read_back.median_s), number(r.end_to_end.median_s),
-                     number(r.throughput_pts_per_s), number(r.accuracy.max_abs),
-                     number(r.accuracy.rms_abs), number(r.accuracy.max_rel),
-                     number(r.accuracy.max_ulp), to_string(r.status), csv_text(r.reason));
+  return fmt::format(
+      "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_text(r.scene),
+      csv_text(r.strategy), csv_text(r.device.name), r.precision, r.sampling, r.samples, r.points,
+      number(r.setup_s), number(r.upload.median_s), number(r.evaluate.min_s),
+      number(r.evaluate.median_s), number(r.evaluate.max_s), number(r.read_back.median_s),
+      number(r.end_to_end.median_s), number(r.throughput_pts_per_s), number(r.accuracy.max_abs),
+      number(r.accuracy.rms_abs), number(r.accuracy.max_rel), number(r.accuracy.max_ulp),
+      to_string(r.status), csv_text(r.reason));
 }
 
 }  // namespace nurbs

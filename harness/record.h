@@ -2,11 +2,10 @@
 // its status. The runner emits these; the writers, `check` and later `report` read them.
 #pragma once
 
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json_fwd.hpp>
 
 #include "harness/metrics.h"
 #include "harness/timing.h"

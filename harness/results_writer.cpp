@@ -7,12 +7,15 @@
 
 #include "harness/atomic_file.h"
 #include "reference/validation.h"
+#include "scenes/json_error.h"
 
 namespace nurbs {
 
 ResultsWriter::ResultsWriter(std::filesystem::path directory, nlohmann::json machine,
                              nlohmann::json settings)
-    : directory_(std::move(directory)), machine_(std::move(machine)), settings_(std::move(settings)) {
+    : directory_(std::move(directory)),
+      machine_(std::move(machine)),
+      settings_(std::move(settings)) {
   std::filesystem::create_directories(directory_);
   flush();
 }
@@ -53,9 +56,11 @@ ResultsFile read_results(const std::filesystem::path& directory_or_file) {
     out.machine = document.value("machine", nlohmann::json::object());
     out.settings = document.value("settings", nlohmann::json::object());
     const auto& records = document.at("records");
-    for (std::size_t i = 0; i < records.size(); ++i) out.records.push_back(record_from_json(records[i]));
+    for (std::size_t i = 0; i < records.size(); ++i)
+      out.records.push_back(record_from_json(records[i]));
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(fmt::format("{}: not a nurbsbench results file: {}", path.string(), e.what()));
+    throw InputError(
+        fmt::format("{}: not a nurbsbench results file: {}", path.string(), json_error_text(e)));
   }
   return out;
 }

@@ -21,12 +21,14 @@ std::string sampling_mode_name(SamplingMode mode) {
 const std::vector<ReferenceSurface>& ReferenceCache::get(const Scene& scene,
                                                          const EvalRequest& request) {
   // Explicit lists differ per call; never cache them under a shared key.
-  const std::string key = fmt::format("{}|{}|{}", scene.name, request.sampling.label(), request.normals);
+  const std::string key =
+      fmt::format("{}|{}|{}", scene.name, request.sampling.label(), request.normals);
   if (request.sampling.mode == SamplingMode::explicit_list) cache_.erase(key);
   auto it = cache_.find(key);
   if (it == cache_.end())
-    it = cache_.emplace(key, evaluate_reference(scene, sample_parameters(scene, request.sampling),
-                                                request.normals, precision_))
+    it = cache_
+             .emplace(key, evaluate_reference(scene, sample_parameters(scene, request.sampling),
+                                              request.normals, precision_))
              .first;
   return it->second;
 }
@@ -111,8 +113,10 @@ Record measure(const StrategyEntry& entry, const StrategyOptions& options, const
     r.upload = PhaseStats::of(upload_s);
     r.read_back = PhaseStats::of(read_back_s);
     r.end_to_end = PhaseStats::of(end_to_end_s);
-    if (!device_evaluate_s.empty()) r.device_evaluate_median_s = PhaseStats::of(device_evaluate_s).median_s;
-    r.throughput_pts_per_s = r.evaluate.median_s > 0 ? static_cast<double>(r.points) / r.evaluate.median_s : 0;
+    if (!device_evaluate_s.empty())
+      r.device_evaluate_median_s = PhaseStats::of(device_evaluate_s).median_s;
+    r.throughput_pts_per_s =
+        r.evaluate.median_s > 0 ? static_cast<double>(r.points) / r.evaluate.median_s : 0;
     r.accuracy = measure_accuracy(scene, result, references.get(scene, request));
     r.status = Status::ok;
   } catch (const RefusedError& e) {

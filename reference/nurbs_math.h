@@ -126,7 +126,9 @@ struct SurfaceNet {
       homogeneous[k] = {T(s.points[k][0]) * w, T(s.points[k][1]) * w, T(s.points[k][2]) * w, w};
     }
   }
-  const Vec4<T>& at(int i, int j) const { return homogeneous[static_cast<std::size_t>(i) * count_v + j]; }
+  const Vec4<T>& at(int i, int j) const {
+    return homogeneous[static_cast<std::size_t>(i) * count_v + j];
+  }
   int span_u(T u) const { return find_span(degree_u, count_u, knots_u.data(), u); }
   int span_v(T v) const { return find_span(degree_v, count_v, knots_v.data(), v); }
 };
@@ -193,12 +195,15 @@ SurfaceDerivatives<T> surface_derivatives(const SurfaceNet<T>& s, T u, T v, int 
     for (int l = 0; l <= order - k; ++l) {
       Vec3<T> v3{aders[k][l][0], aders[k][l][1], aders[k][l][2]};
       for (int j = 1; j <= l; ++j)
-        for (int c = 0; c < 3; ++c) v3[c] -= T(binomial[l][j]) * aders[0][j][3] * out.skl[k][l - j][c];
+        for (int c = 0; c < 3; ++c)
+          v3[c] -= T(binomial[l][j]) * aders[0][j][3] * out.skl[k][l - j][c];
       for (int i = 1; i <= k; ++i) {
-        for (int c = 0; c < 3; ++c) v3[c] -= T(binomial[k][i]) * aders[i][0][3] * out.skl[k - i][l][c];
+        for (int c = 0; c < 3; ++c)
+          v3[c] -= T(binomial[k][i]) * aders[i][0][3] * out.skl[k - i][l][c];
         for (int j = 1; j <= l; ++j)
           for (int c = 0; c < 3; ++c)
-            v3[c] -= T(binomial[k][i]) * T(binomial[l][j]) * aders[i][j][3] * out.skl[k - i][l - j][c];
+            v3[c] -=
+                T(binomial[k][i]) * T(binomial[l][j]) * aders[i][j][3] * out.skl[k - i][l - j][c];
       }
       for (int c = 0; c < 3; ++c) out.skl[k][l][c] = v3[c] / w;
     }

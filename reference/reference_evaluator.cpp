@@ -59,9 +59,9 @@ ReferenceSurface evaluate_surface(const Surface& surface, const SurfaceSamples& 
 #pragma omp parallel for schedule(static)
     for (std::size_t a = 0; a < nu; ++a)
       for (std::size_t b = 0; b < nv; ++b)
-        out.positions[a * nv + b] = to_point(surface_point_from_basis(
-            net, rows_u.spans[a], &rows_u.values[a * (net.degree_u + 1)], rows_v.spans[b],
-            &rows_v.values[b * (net.degree_v + 1)]));
+        out.positions[a * nv + b] = to_point(
+            surface_point_from_basis(net, rows_u.spans[a], &rows_u.values[a * (net.degree_u + 1)],
+                                     rows_v.spans[b], &rows_v.values[b * (net.degree_v + 1)]));
   } else {
 #pragma omp parallel for schedule(static)
     for (std::size_t k = 0; k < n; ++k)

@@ -33,8 +33,9 @@ std::vector<double> span_grid_parameters(const std::vector<double>& knots, int d
   for (int s = degree; s < count; ++s) {
     if (!(knots[s] < knots[s + 1])) continue;
     for (int k = 0; k <= steps; ++k)
-      t.push_back(k == steps ? knots[s + 1]
-                             : knots[s] + (knots[s + 1] - knots[s]) * (static_cast<double>(k) / steps));
+      t.push_back(k == steps
+                      ? knots[s + 1]
+                      : knots[s] + (knots[s + 1] - knots[s]) * (static_cast<double>(k) / steps));
   }
   return t;
 }
@@ -45,9 +46,8 @@ std::vector<SurfaceSamples> sample_parameters(const Scene& scene, const Sampling
     case SamplingMode::grid:
       if (sampling.grid_u < 2 || sampling.grid_v < 2 || sampling.grid_u > kMaxGridPerDirection ||
           sampling.grid_v > kMaxGridPerDirection)
-        throw InputError(
-            fmt::format("grid {}x{}: each side must be in 2..{}", sampling.grid_u, sampling.grid_v,
-                        kMaxGridPerDirection));
+        throw InputError(fmt::format("grid {}x{}: each side must be in 2..{}", sampling.grid_u,
+                                     sampling.grid_v, kMaxGridPerDirection));
       for (std::size_t i = 0; i < out.size(); ++i) {
         const Surface& s = scene.surfaces[i];
         out[i].u = grid_parameters(s.u_min(), s.u_max(), sampling.grid_u);
@@ -56,8 +56,8 @@ std::vector<SurfaceSamples> sample_parameters(const Scene& scene, const Sampling
       break;
     case SamplingMode::span_grid:
       if (sampling.span_steps < 1 || sampling.span_steps > kMaxSpanSteps)
-        throw InputError(fmt::format("span samples {}: must be in 1..{}",
-                                                sampling.span_steps, kMaxSpanSteps));
+        throw InputError(
+            fmt::format("span samples {}: must be in 1..{}", sampling.span_steps, kMaxSpanSteps));
       for (std::size_t i = 0; i < out.size(); ++i) {
         const Surface& s = scene.surfaces[i];
         out[i].u = span_grid_parameters(s.knots_u, s.degree_u, s.count_u, sampling.span_steps);
@@ -67,7 +67,7 @@ std::vector<SurfaceSamples> sample_parameters(const Scene& scene, const Sampling
     case SamplingMode::explicit_list:
       if (sampling.explicit_uv.size() != out.size())
         throw InputError(fmt::format("explicit samples given for {} surfaces, scene has {}",
-                                                sampling.explicit_uv.size(), out.size()));
+                                     sampling.explicit_uv.size(), out.size()));
       for (std::size_t i = 0; i < out.size(); ++i) {
         out[i].tensor = false;
         for (const auto& uv : sampling.explicit_uv[i]) {
@@ -81,8 +81,9 @@ std::vector<SurfaceSamples> sample_parameters(const Scene& scene, const Sampling
   std::size_t total = 0;
   for (const SurfaceSamples& s : out) total += s.count();
   if (total > kMaxSamplesPerRequest)
-    throw InputError(fmt::format("{} samples over {} surfaces: more than the limit of {} per request",
-                                 total, out.size(), kMaxSamplesPerRequest));
+    throw InputError(
+        fmt::format("{} samples over {} surfaces: more than the limit of {} per request", total,
+                    out.size(), kMaxSamplesPerRequest));
   return out;
 }
 

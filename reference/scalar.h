@@ -56,6 +56,8 @@ constexpr float128 scalar_epsilon<float128>() {
 // The precision a strategy computes in (positions are returned in it too).
 enum class Precision { f32, f64 };
 
-inline std::string_view to_string(Precision p) { return p == Precision::f32 ? "f32" : "f64"; }
+inline std::string_view to_string(Precision p) {
+  return p == Precision::f32 ? "f32" : "f64";
+}
 
 }  // namespace nurbs

@@ -22,7 +22,9 @@ struct Surface {
   std::vector<Point3> points;   // point (i, j) at i*count_v + j, NOT pre-multiplied by the weight
   std::vector<double> weights;  // same order; all 1 for a non-rational surface
 
-  const Point3& point(int i, int j) const { return points[static_cast<std::size_t>(i) * count_v + j]; }
+  const Point3& point(int i, int j) const {
+    return points[static_cast<std::size_t>(i) * count_v + j];
+  }
   double weight(int i, int j) const { return weights[static_cast<std::size_t>(i) * count_v + j]; }
   bool is_rational() const;
 

@@ -11,8 +11,11 @@ ValidationError::ValidationError(std::string origin, std::string surface, int su
                                  std::string field, std::string index, std::string value,
                                  std::string rule)
     : InputError(fmt::format("{}: surface '{}' (#{}): {}{} = {}: {}", origin, surface,
-                                     surface_index, field, index.empty() ? "" : "[" + index + "]",
-                                     value, rule)),
+                             surface_index, field,
+                             index.empty()           ? ""
+                             : index == kLengthIndex ? " length"
+                                                     : "[" + index + "]",
+                             value, rule)),
       origin_(std::move(origin)),
       surface_(std::move(surface)),
       surface_index_(surface_index),
@@ -21,7 +24,9 @@ ValidationError::ValidationError(std::string origin, std::string surface, int su
       value_(std::move(value)),
       rule_(std::move(rule)) {}
 
-std::string format_number(double value) { return fmt::format("{}", value); }
+std::string format_number(double value) {
+  return fmt::format("{}", value);
+}
 
 namespace {
 
@@ -53,7 +58,7 @@ struct SurfaceChecker {
                    int count) const {
     const std::size_t expected = static_cast<std::size_t>(count) + degree + 1;
     if (knots.size() != expected)
-      fail(field, "size", std::to_string(knots.size()),
+      fail(field, kLengthIndex, std::to_string(knots.size()),
            fmt::format("knot count must be count + degree + 1 = {}", expected));
     for (std::size_t k = 0; k < knots.size(); ++k) {
       if (!std::isfinite(knots[k]))
@@ -74,8 +79,7 @@ struct SurfaceChecker {
       if (multiplicity > allowed)
         fail(field, std::to_string(start), format_number(knots[start]),
              fmt::format("multiplicity {} exceeds {} ({} knots allow at most degree{})",
-                         multiplicity, allowed, at_end ? "end" : "interior",
-                         at_end ? "+1" : ""));
+                         multiplicity, allowed, at_end ? "end" : "interior", at_end ? "+1" : ""));
       start = end + 1;
     }
     if (!(knots[degree] < knots[count]))
@@ -87,10 +91,10 @@ struct SurfaceChecker {
   void check_control_net() const {
     const std::size_t expected = static_cast<std::size_t>(s.count_u) * s.count_v;
     if (s.points.size() != expected)
-      fail("points", "size", std::to_string(s.points.size()),
+      fail("points", kLengthIndex, std::to_string(s.points.size()),
            fmt::format("need count_u * count_v = {} points", expected));
     if (s.weights.size() != expected)
-      fail("weights", "size", std::to_string(s.weights.size()),
+      fail("weights", kLengthIndex, std::to_string(s.weights.size()),
            fmt::format("need count_u * count_v = {} weights", expected));
     for (std::size_t k = 0; k < expected; ++k) {
       for (int c = 0; c < 3; ++c)
@@ -113,10 +117,10 @@ void validate_surface_sizes(const Surface& s, int surface_index, std::string_vie
   check.check_count("count_u", s.count_u, s.degree_u);
   check.check_count("count_v", s.count_v, s.degree_v);
   if (static_cast<std::int64_t>(s.count_u) * s.count_v > kMaxControlPointsPerSurface)
-    check.fail("count_v", "", std::to_string(s.count_v),
-               fmt::format("count_u * count_v = {} exceeds the limit of {} control points",
-                           static_cast<std::int64_t>(s.count_u) * s.count_v,
-                           kMaxControlPointsPerSurface));
+    check.fail(
+        "count_v", "", std::to_string(s.count_v),
+        fmt::format("count_u * count_v = {} exceeds the limit of {} control points",
+                    static_cast<std::int64_t>(s.count_u) * s.count_v, kMaxControlPointsPerSurface));
 }
 
 void validate_surface(const Surface& s, int surface_index, std::string_view origin) {
@@ -129,8 +133,7 @@ void validate_surface(const Surface& s, int surface_index, std::string_view orig
 
 void validate_scene(const Scene& scene, std::string_view origin) {
   if (scene.surfaces.empty())
-    throw ValidationError(std::string(origin), "", -1, "surfaces", "", "[]",
-                          "a scene needs at least one surface");
+    throw InputError(fmt::format("{}: surfaces = []: a scene needs at least one surface", origin));
   for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
     validate_surface(scene.surfaces[i], static_cast<int>(i), origin);
 }

@@ -25,7 +25,9 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// One line: "<origin>: surface '<name>' (#<i>): <field>[<index>] = <value>: <rule>".
+// One line: "<origin>: surface '<name>' (#<i>): <field>[<index>] = <value>: <rule>"; a wrong
+// array length reads "<field> length = <n>: <rule>".
+inline constexpr const char* kLengthIndex = "length";
 class ValidationError : public InputError {
  public:
   ValidationError(std::string origin, std::string surface, int surface_index, std::string field,

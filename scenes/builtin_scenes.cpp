@@ -50,7 +50,8 @@ Surface wavy_surface(std::string name, int count_u, int count_v, int degree_u, i
       const double a = 6.0 * i / (count_u - 1), b = 6.0 * j / (count_v - 1);
       s.points[static_cast<std::size_t>(i) * count_v + j] = {
           x + 0.02 * extent * std::sin(b + phase), y + 0.02 * extent * std::cos(a - phase),
-          0.15 * extent * std::sin(a + phase) * std::cos(0.7 * b) + 0.05 * extent * std::cos(1.3 * a * b / 6.0)};
+          0.15 * extent * std::sin(a + phase) * std::cos(0.7 * b) +
+              0.05 * extent * std::cos(1.3 * a * b / 6.0)};
     }
   return s;
 }
@@ -107,7 +108,8 @@ Scene sphere_scene() {
   // Half circle of radius 2 from the south pole to the north pole; u = longitude, v = latitude,
   // so Su x Sv points outward.
   const double c = std::sqrt(0.5), r = 2.0;
-  return single("sphere", "exact rational biquadratic sphere, radius 2, centre 0 (poles at v = 0, 1)",
+  return single("sphere",
+                "exact rational biquadratic sphere, radius 2, centre 0 (poles at v = 0, 1)",
                 revolve("sphere", {{0, -r}, {r, -r}, {r, 0}, {r, r}, {0, r}}, {1, c, 1, c, 1},
                         {0, 0, 0, 0.5, 0.5, 1, 1, 1}));
 }
@@ -123,9 +125,11 @@ Scene torus_scene() {
 
 Scene degree_scene(int degree) {
   Surface s = wavy_surface(fmt::format("degree{}", degree), 16, 16, degree, degree, 10.0, 0.1);
-  return single(fmt::format("degree-{}", degree),
-                fmt::format("the same 16x16 control net at degree {} in u and v, uniform clamped knots", degree),
-                std::move(s));
+  return single(
+      fmt::format("degree-{}", degree),
+      fmt::format("the same 16x16 control net at degree {} in u and v, uniform clamped knots",
+                  degree),
+      std::move(s));
 }
 
 Scene creases_scene() {
@@ -135,8 +139,11 @@ Scene creases_scene() {
   s.knots_u = {0, 0, 0, 0, 1.0 / 3, 1.0 / 3, 1.0 / 3, 2.0 / 3, 2.0 / 3, 2.0 / 3, 1, 1, 1, 1};
   s.knots_v = {0, 0, 0, 0, 0.25, 0.25, 0.25, 0.625, 0.625, 0.625, 1, 1, 1, 1};
   for (int i = 0; i < 10; ++i)
-    for (int j = 0; j < 10; ++j) s.points[i * 10 + j][2] += 2.0 * ((i == 3 || i == 6) ? 1.0 : 0.0) - 1.5 * (j == 6 ? 1.0 : 0.0);
-  return single("creases", "bicubic with triple interior knots (C0 creases) in u and v", std::move(s));
+    for (int j = 0; j < 10; ++j)
+      s.points[i * 10 + j][2] +=
+          2.0 * ((i == 3 || i == 6) ? 1.0 : 0.0) - 1.5 * (j == 6 ? 1.0 : 0.0);
+  return single("creases", "bicubic with triple interior knots (C0 creases) in u and v",
+                std::move(s));
 }
 
 Scene clustered_scene() {
@@ -147,8 +154,10 @@ Scene clustered_scene() {
   // Spans of 1e-3: a float32 parameter near 0.5 is good to 3e-8, i.e. 3e-5 of such a span, and
   // the surface's derivative there is ~1000x the net's; at 1e-4 spacing parameter rounding alone
   // would cost a float32 evaluator ~100 ulps (tests/strategies measure both).
-  return single("clustered", "bicubic rational 12x12 whose interior knots cluster in spans of 1e-3 (float span stress)",
-                std::move(s));
+  return single(
+      "clustered",
+      "bicubic rational 12x12 whose interior knots cluster in spans of 1e-3 (float span stress)",
+      std::move(s));
 }
 
 Scene far_origin_scene() {
@@ -156,12 +165,15 @@ Scene far_origin_scene() {
   s.name = "far";
   for (Point3& p : s.points)
     for (double& c : p) c += 1e4;
-  return single("far-origin", "patch144 translated by (1e4, 1e4, 1e4): float32 stress", std::move(s));
+  return single("far-origin", "patch144 translated by (1e4, 1e4, 1e4): float32 stress",
+                std::move(s));
 }
 
 Scene many_scene(int n) {
-  Scene scene{fmt::format("many-{}", n),
-              fmt::format("{} bicubic Bezier patches (4x4 control points each) tiled in a square", n), {}};
+  Scene scene{
+      fmt::format("many-{}", n),
+      fmt::format("{} bicubic Bezier patches (4x4 control points each) tiled in a square", n),
+      {}};
   const int columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
   for (int k = 0; k < n; ++k) {
     Surface s = wavy_surface(fmt::format("patch{}", k), 4, 4, 3, 3, 1.0, 0.37 * k);
@@ -188,22 +200,33 @@ const std::vector<std::pair<BuiltinSceneInfo, Generator>>& generators() {
     auto add = [&g](std::string name, std::string description, Generator make) {
       g.push_back({{std::move(name), std::move(description)}, std::move(make)});
     };
-    add("patch144", "one bicubic patch, 12x12 control points, non-uniform knots, non-unit weights (000 §5)",
-        [] { return single("patch144", "one bicubic rational patch, 12x12 control points, non-uniform knots", patch144_surface()); });
+    add("patch144",
+        "one bicubic patch, 12x12 control points, non-uniform knots, non-unit weights (000 §5)",
+        [] {
+          return single("patch144",
+                        "one bicubic rational patch, 12x12 control points, non-uniform knots",
+                        patch144_surface());
+        });
     // Tan 2012 §5 says "order 3" without saying whether order means degree+1 (quadratic) or the
     // degree; we take bicubic, the degree the rest of their paper and 000 use.
     for (int n : {16, 64, 256})
-      add(fmt::format("tan{}", n), fmt::format("{0}x{0} control points, bicubic, uniform knots (002 §5 Fig 14)", n),
-          [n] { return single(fmt::format("tan{}", n), fmt::format("{0}x{0} bicubic (002 §5)", n),
-                              wavy_surface("tan", n, n, 3, 3, 10.0, 0.2)); });
-    add("tan21x23", "21x23 control points, bicubic (002 §5 Fig 15, the LOD experiment)",
-        [] { return single("tan21x23", "21x23 bicubic (002 §5 Fig 15)", wavy_surface("tan", 21, 23, 3, 3, 10.0, 0.2)); });
+      add(fmt::format("tan{}", n),
+          fmt::format("{0}x{0} control points, bicubic, uniform knots (002 §5 Fig 14)", n), [n] {
+            return single(fmt::format("tan{}", n), fmt::format("{0}x{0} bicubic (002 §5)", n),
+                          wavy_surface("tan", n, n, 3, 3, 10.0, 0.2));
+          });
+    add("tan21x23", "21x23 control points, bicubic (002 §5 Fig 15, the LOD experiment)", [] {
+      return single("tan21x23", "21x23 bicubic (002 §5 Fig 15)",
+                    wavy_surface("tan", 21, 23, 3, 3, 10.0, 0.2));
+    });
     add("sphere", "exact rational biquadratic sphere (poles: degenerate normals)", sphere_scene);
     add("torus", "exact rational biquadratic torus", torus_scene);
     for (int p = 1; p <= 9; ++p)
-      add(fmt::format("degree-{}", p), fmt::format("16x16 control net at degree {}", p), [p] { return degree_scene(p); });
+      add(fmt::format("degree-{}", p), fmt::format("16x16 control net at degree {}", p),
+          [p] { return degree_scene(p); });
     add("creases", "bicubic with full-multiplicity interior knots (C0 creases)", creases_scene);
-    add("clustered", "bicubic rational with interior knots clustered in spans of 1e-3", clustered_scene);
+    add("clustered", "bicubic rational with interior knots clustered in spans of 1e-3",
+        clustered_scene);
     add("far-origin", "patch144 translated by 1e4 (float32 stress)", far_origin_scene);
     add("teapot", "the Utah teapot: 32 bicubic Bezier patches (real data, collapsed edges)",
         [] { return embedded_scene("teapot", embedded::teapot_json); });
@@ -230,8 +253,9 @@ std::vector<BuiltinSceneInfo> builtin_scenes() {
   std::vector<BuiltinSceneInfo> out;
   for (const auto& [info, make] : generators()) out.push_back(info);
   for (int n : {1, 64, 4096})
-    out.push_back({fmt::format("many-{}", n),
-                   fmt::format("{} bicubic Bezier patches (any many-N, N = 1..{})", n, kMaxManyPatches)});
+    out.push_back(
+        {fmt::format("many-{}", n),
+         fmt::format("{} bicubic Bezier patches (any many-N, N = 1..{})", n, kMaxManyPatches)});
   return out;
 }
 
@@ -257,8 +281,9 @@ Scene load_scene(std::string_view name_or_path) {
   if (std::filesystem::is_regular_file(path, error)) return load_scene_file(path);
   std::vector<std::string> names;
   for (const BuiltinSceneInfo& info : builtin_scenes()) names.push_back(info.name);
-  throw InputError(fmt::format("scene '{}': neither a file nor a built-in scene (built-in: {}, many-N for N = 1..{})",
-                               name_or_path, fmt::join(names, ", "), kMaxManyPatches));
+  throw InputError(fmt::format(
+      "scene '{}': neither a file nor a built-in scene (built-in: {}, many-N for N = 1..{})",
+      name_or_path, fmt::join(names, ", "), kMaxManyPatches));
 }
 
 }  // namespace nurbs

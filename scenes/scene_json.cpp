@@ -2,11 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "reference/validation.h"
+#include "scenes/json_error.h"
 
 namespace nurbs {
 namespace {
@@ -69,13 +71,11 @@ class SurfaceReader {
 
   int integer(const char* field) const {
     const json& value = required(field);
-    if (!value.is_number_integer())
-      fail(field, "", describe(value), "must be an integer");
+    if (!value.is_number_integer()) fail(field, "", describe(value), "must be an integer");
     const auto wide = value.is_number_unsigned()
                           ? static_cast<long double>(value.get<std::uint64_t>())
                           : static_cast<long double>(value.get<std::int64_t>());
-    if (wide < -1e9L || wide > 1e9L)
-      fail(field, "", describe(value), "out of range");
+    if (wide < -1e9L || wide > 1e9L) fail(field, "", describe(value), "out of range");
     return static_cast<int>(wide);
   }
 
@@ -87,7 +87,8 @@ class SurfaceReader {
     std::vector<double> out;
     out.reserve(value.size());
     for (std::size_t k = 0; k < value.size(); ++k) {
-      if (!is_real(value[k])) fail(field, std::to_string(k), describe(value[k]), "must be a number");
+      if (!is_real(value[k]))
+        fail(field, std::to_string(k), describe(value[k]), "must be a number");
       out.push_back(value[k].get<double>());
     }
     return out;
@@ -101,7 +102,7 @@ class SurfaceReader {
     const json& value = required("points");
     if (!value.is_array()) fail("points", "", describe(value), "must be an array of [x, y, z]");
     if (value.size() != expected_points())
-      fail("points", "size", std::to_string(value.size()),
+      fail("points", kLengthIndex, std::to_string(value.size()),
            fmt::format("need count_u * count_v = {} points", expected_points()));
     surface_.points.resize(value.size());
     for (std::size_t k = 0; k < value.size(); ++k) {
@@ -119,7 +120,7 @@ class SurfaceReader {
     }
     surface_.weights = numbers("weights");
     if (surface_.weights.size() != expected_points())
-      fail("weights", "size", std::to_string(surface_.weights.size()),
+      fail("weights", kLengthIndex, std::to_string(surface_.weights.size()),
            fmt::format("need count_u * count_v = {} weights", expected_points()));
   }
 
@@ -141,22 +142,22 @@ Scene parse_scene_json(std::string_view text, std::string_view origin) {
   try {
     document = json::parse(text.begin(), text.end());
   } catch (const json::exception& e) {  // parse_error, and out_of_range for 1e999
-    // nlohmann's message carries the byte offset and what it expected.
-    std::string message = e.what();
-    if (auto pos = message.find("] "); pos != std::string::npos) message = message.substr(pos + 2);
-    throw InputError(fmt::format("{}: not valid JSON: {}", origin, message));
+    throw InputError(fmt::format("{}: not valid JSON: {}", origin, json_error_text(e)));
   }
-  if (!document.is_object()) fail_scene(origin, "(document)", describe(document), "must be a JSON object");
+  if (!document.is_object())
+    fail_scene(origin, "(document)", describe(document), "must be a JSON object");
   for (const auto& [key, value] : document.items())
     if (key != "format" && key != "name" && key != "description" && key != "surfaces")
       fail_scene(origin, key, describe(value),
                  "unknown key (expected format, name, description, surfaces)");
   if (!document.contains("format") || document["format"] != kSceneFormat)
-    fail_scene(origin, "format", document.contains("format") ? describe(document["format"]) : "(missing)",
+    fail_scene(origin, "format",
+               document.contains("format") ? describe(document["format"]) : "(missing)",
                fmt::format("must be \"{}\"", kSceneFormat));
   Scene scene;
   if (document.contains("name")) {
-    if (!document["name"].is_string()) fail_scene(origin, "name", describe(document["name"]), "must be a string");
+    if (!document["name"].is_string())
+      fail_scene(origin, "name", describe(document["name"]), "must be a string");
     scene.name = document["name"].get<std::string>();
   }
   if (document.contains("description")) {
@@ -190,22 +191,34 @@ Scene load_scene_file(const std::filesystem::path& path) {
 }
 
 namespace {
+// fmt's shortest round-trip form, except that -0.0 must not read back as the integer 0 (+0.0).
+std::string number_text(double x) {
+  return x == 0 && std::signbit(x) ? "-0.0" : fmt::format("{}", x);
+}
+
 template <typename Range>
 std::string join_numbers(const Range& values) {
-  return fmt::format("{}", fmt::join(values, ", "));
+  std::string out;
+  for (double x : values) {
+    if (!out.empty()) out += ", ";
+    out += number_text(x);
+  }
+  return out;
 }
 }  // namespace
 
 std::string scene_to_json(const Scene& scene) {
   // Written by hand rather than json::dump so a control point is one line: files stay readable
   // and diffable. fmt's "{}" prints doubles in shortest round-trip form.
-  std::string out = fmt::format("{{\n  \"format\": \"{}\",\n  \"name\": {},\n  \"description\": {},\n  \"surfaces\": [",
-                                kSceneFormat, json(scene.name).dump(), json(scene.description).dump());
+  std::string out = fmt::format(
+      "{{\n  \"format\": \"{}\",\n  \"name\": {},\n  \"description\": {},\n  \"surfaces\": [",
+      kSceneFormat, json(scene.name).dump(), json(scene.description).dump());
   for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
     const Surface& s = scene.surfaces[i];
     out += fmt::format(
         "{}\n    {{\n      \"name\": {},\n      \"degree_u\": {}, \"degree_v\": {},\n"
-        "      \"count_u\": {}, \"count_v\": {},\n      \"knots_u\": [{}],\n      \"knots_v\": [{}],\n"
+        "      \"count_u\": {}, \"count_v\": {},\n      \"knots_u\": [{}],\n      \"knots_v\": "
+        "[{}],\n"
         "      \"points\": [",
         i ? "," : "", json(s.name).dump(), s.degree_u, s.degree_v, s.count_u, s.count_v,
         join_numbers(s.knots_u), join_numbers(s.knots_v));

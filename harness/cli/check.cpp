@@ -14,7 +14,8 @@ int check_command(const CheckOptions& options) {
   const std::vector<std::string> violations = check_gates(gates, results.records);
   for (const std::string& v : violations) std::cout << "FAIL " << v << "\n";
   std::cout << fmt::format("{} gates checked against {} results: {} violation{}\n", gates.size(),
-                           results.records.size(), violations.size(), violations.size() == 1 ? "" : "s");
+                           results.records.size(), violations.size(),
+                           violations.size() == 1 ? "" : "s");
   return violations.empty() ? 0 : 1;
 }
 

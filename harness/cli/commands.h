@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "reference/reference_evaluator.h"
 #include "reference/sampling.h"
 #include "reference/scalar.h"
 
@@ -24,7 +25,8 @@ int scene_command(const SceneOptions& options);
 struct EvalOptions {
   std::string scene, strategy;
   std::string samples = "64x64";
-  int span_samples = 0;
+  std::string span_samples;
+  bool span_given = false;  // --span-samples was on the command line (an empty value is an error)
   std::string uv_file;
   bool normals = false;
   std::string precision = "f32";
@@ -39,9 +41,11 @@ struct RunOptions {
   std::string strategies = "all";
   std::string samples = "64x64,256x256";
   std::string span_samples;
+  bool span_given = false;
   std::string precision = "f32";
   bool normals = false;
   int repetitions = 5;
+  std::string reference = "long-double";
   std::string out = "results/latest";
   int threads = 0;
 };
@@ -57,6 +61,7 @@ int check_command(const CheckOptions& options);
 std::vector<Sampling> parse_grid_list(std::string_view option, std::string_view text);
 std::vector<Sampling> parse_span_list(std::string_view option, std::string_view text);
 Precision parse_precision(std::string_view text);
+ReferencePrecision parse_reference(std::string_view text);
 std::vector<std::string> split_list(std::string_view text);
 // The thread setting shared by OpenMP, llvmpipe/lavapipe and PoCL; returns the count in force.
 int apply_thread_setting(int threads);

@@ -35,10 +35,13 @@ Sampling read_uv_file(const std::string& path, const Scene& scene) {
   std::size_t line_number = 0, count = 0;
   while (std::getline(in, line)) {
     ++line_number;
-    if (line.empty() || line[0] == '#' || (line_number == 1 && line.starts_with("surface"))) continue;
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // CRLF files
+    if (line.empty() || line[0] == '#' || (line_number == 1 && line.starts_with("surface")))
+      continue;
     const std::vector<std::string> fields = split_list(line);
     auto fail = [&](const std::string& field, const std::string& value, const std::string& rule) {
-      throw InputError(fmt::format("{}: line {}: {} = '{}': {}", path, line_number, field, value, rule));
+      throw InputError(
+          fmt::format("{}: line {}: {} = '{}': {}", path, line_number, field, value, rule));
     };
     if (fields.size() != 3 || std::count(line.begin(), line.end(), ',') != 2)
       fail("(line)", line, "expected surface,u,v");
@@ -48,8 +51,10 @@ Sampling read_uv_file(const std::string& path, const Scene& scene) {
     bool ok = false;
     if (surface < 0) {
       const double index = parse_double(fields[0], ok);
-      if (!ok || index != std::floor(index) || index < 0 || index >= static_cast<double>(scene.surfaces.size()))
-        fail("surface", fields[0], fmt::format("not a surface name or an index in 0..{}", scene.surfaces.size() - 1));
+      if (!ok || index != std::floor(index) || index < 0 ||
+          index >= static_cast<double>(scene.surfaces.size()))
+        fail("surface", fields[0],
+             fmt::format("not a surface name or an index in 0..{}", scene.surfaces.size() - 1));
       surface = static_cast<int>(index);
     }
     const Surface& s = scene.surfaces[surface];
@@ -66,6 +71,13 @@ Sampling read_uv_file(const std::string& path, const Scene& scene) {
   return sampling;
 }
 
+Sampling single_sampling(const std::vector<Sampling>& list, std::string_view option) {
+  if (list.size() != 1)
+    throw InputError(fmt::format("{}: eval takes one sampling, got {} (lists are for run)", option,
+                                 list.size()));
+  return list.front();
+}
+
 template <typename T>
 std::string coordinate_text(T x) {
   return fmt::format("{}", x);  // shortest round-trip at the precision it was computed in
@@ -73,10 +85,10 @@ std::string coordinate_text(T x) {
 
 std::string point_text(const PointArray& a, std::size_t k) {
   if (a.precision() == Precision::f32)
-    return fmt::format("{},{},{}", coordinate_text(a.f32()[3 * k]), coordinate_text(a.f32()[3 * k + 1]),
-                       coordinate_text(a.f32()[3 * k + 2]));
-  return fmt::format("{},{},{}", coordinate_text(a.f64()[3 * k]), coordinate_text(a.f64()[3 * k + 1]),
-                     coordinate_text(a.f64()[3 * k + 2]));
+    return fmt::format("{},{},{}", coordinate_text(a.f32()[3 * k]),
+                       coordinate_text(a.f32()[3 * k + 1]), coordinate_text(a.f32()[3 * k + 2]));
+  return fmt::format("{},{},{}", coordinate_text(a.f64()[3 * k]),
+                     coordinate_text(a.f64()[3 * k + 1]), coordinate_text(a.f64()[3 * k + 2]));
 }
 
 }  // namespace
@@ -86,28 +98,30 @@ int eval_command(const EvalOptions& options) {
   const Scene scene = load_scene(options.scene);
   const StrategyEntry* entry = find_strategy(options.strategy);
   if (!entry)
-    throw InputError(fmt::format("--strategy = '{}': unknown strategy (known: {})", options.strategy,
-                                 fmt::join(strategy_names(), ", ")));
-  ReferencePrecision reference_precision;
-  if (!parse_reference_precision(options.reference, reference_precision))
-    throw InputError(fmt::format("--reference = '{}': must be long-double or float128", options.reference));
+    throw InputError(fmt::format("--strategy = '{}': unknown strategy (known: {})",
+                                 options.strategy, fmt::join(strategy_names(), ", ")));
+  const ReferencePrecision reference_precision = parse_reference(options.reference);
 
   EvalRequest request;
   request.precision = parse_precision(options.precision);
   request.normals = options.normals;
   if (!options.uv_file.empty())
     request.sampling = read_uv_file(options.uv_file, scene);
-  else if (options.span_samples > 0)
-    request.sampling = parse_span_list("--span-samples", std::to_string(options.span_samples)).front();
   else
-    request.sampling = parse_grid_list("--samples", options.samples).front();
-  sample_parameters(scene, request.sampling);  // size checks before the strategy allocates
+    request.sampling =
+        single_sampling(options.span_given ? parse_span_list("--span-samples", options.span_samples)
+                                           : parse_grid_list("--samples", options.samples),
+                        options.span_given ? "--span-samples" : "--samples");
+  const std::vector<SurfaceSamples> samples =
+      sample_parameters(scene, request.sampling);  // size checks first
 
   const Availability availability = entry->probe();
   if (!availability.available)
-    throw InputError(fmt::format("strategy {} is unavailable: {}", entry->name, availability.reason));
+    throw InputError(
+        fmt::format("strategy {} is unavailable: {}", entry->name, availability.reason));
   if (auto refused = refusal_reason(entry->capabilities(), scene, request))
-    throw InputError(fmt::format("strategy {} refuses scene {}: {}", entry->name, scene.name, *refused));
+    throw InputError(
+        fmt::format("strategy {} refuses scene {}: {}", entry->name, scene.name, *refused));
 
   std::unique_ptr<Strategy> strategy = entry->create(StrategyOptions{options.threads, {}});
   strategy->prepare(scene, request);
@@ -115,21 +129,24 @@ int eval_command(const EvalOptions& options) {
   const EvalResult result = strategy->read_back();
 
   const Accuracy accuracy = measure_accuracy(
-      scene, result,
-      evaluate_reference(scene, sample_parameters(scene, request.sampling), request.normals, reference_precision));
+      scene, result, evaluate_reference(scene, samples, request.normals, reference_precision));
   std::cerr << fmt::format(
-      "{} on {} ({}, {}, {} samples): max_abs {:.3g}, rms_abs {:.3g}, max_rel {:.3g}, max_ulp {:.3g}{} "
+      "{} on {} ({}, {}, {} samples): max_abs {:.3g}, rms_abs {:.3g}, max_rel {:.3g}, max_ulp "
+      "{:.3g}{} "
       "against the {} reference\n",
-      entry->name, scene.name, options.precision, request.sampling.label(), total_samples(sample_parameters(scene, request.sampling)),
+      entry->name, scene.name, options.precision, request.sampling.label(), total_samples(samples),
       accuracy.max_abs, accuracy.rms_abs, accuracy.max_rel, accuracy.max_ulp,
-      accuracy.max_normal_angle_deg ? fmt::format(", normals within {:.3g} deg", *accuracy.max_normal_angle_deg) : "",
+      accuracy.max_normal_angle_deg
+          ? fmt::format(", normals within {:.3g} deg", *accuracy.max_normal_angle_deg)
+          : "",
       options.reference);
 
   std::string csv = options.normals ? "surface,u,v,x,y,z,nx,ny,nz\n" : "surface,u,v,x,y,z\n";
   for (std::size_t i = 0; i < result.surfaces.size(); ++i) {
     const SurfaceResult& r = result.surfaces[i];
     for (std::size_t k = 0; k < r.positions.size(); ++k) {
-      csv += fmt::format("{},{:.17g},{:.17g},{}", i, r.samples.u_of(k), r.samples.v_of(k), point_text(r.positions, k));
+      csv += fmt::format("{},{:.17g},{:.17g},{}", i, r.samples.u_of(k), r.samples.v_of(k),
+                         point_text(r.positions, k));
       if (options.normals) {
         csv += ',';
         csv += point_text(r.normals, k);

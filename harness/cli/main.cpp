@@ -1,8 +1,8 @@
 // nurbsbench: evaluate NURBS surfaces with every strategy, check them against the reference, time
 // them (see README.md for every verb).
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <iostream>
 
 #include "harness/cli/commands.h"
@@ -10,25 +10,31 @@
 
 int main(int argc, char** argv) {
   using namespace nurbs::cli;
-  CLI::App app{"nurbsbench: NURBS surface evaluation strategies, benchmarked and checked against a "
-               "high-precision reference"};
+  CLI::App app{
+      "nurbsbench: NURBS surface evaluation strategies, benchmarked and checked against a "
+      "high-precision reference"};
   app.require_subcommand(1);
 
   ListOptions list;
-  auto* list_cmd = app.add_subcommand("list", "strategies (available / unavailable: why) and built-in scenes");
+  auto* list_cmd =
+      app.add_subcommand("list", "strategies (available / unavailable: why) and built-in scenes");
   list_cmd->add_flag("--json", list.json, "machine-readable output");
 
   SceneOptions scene;
-  auto* scene_cmd = app.add_subcommand("scene", "write a scene (built-in name or file) as nurbs-scene/1 JSON");
+  auto* scene_cmd =
+      app.add_subcommand("scene", "write a scene (built-in name or file) as nurbs-scene/1 JSON");
   scene_cmd->add_option("name", scene.scene, "built-in scene name or scene file")->required();
   scene_cmd->add_option("--out", scene.out, "output file (default: stdout)");
 
   EvalOptions eval;
-  auto* eval_cmd = app.add_subcommand("eval", "evaluate one scene with one strategy, write points as CSV");
+  auto* eval_cmd =
+      app.add_subcommand("eval", "evaluate one scene with one strategy, write points as CSV");
   eval_cmd->add_option("--scene", eval.scene, "built-in scene name or scene file")->required();
   eval_cmd->add_option("--strategy", eval.strategy, "strategy name (see `list`)")->required();
-  auto* eval_samples = eval_cmd->add_option("--samples", eval.samples, "grid NUxNV (default 64x64)");
-  auto* eval_span = eval_cmd->add_option("--span-samples", eval.span_samples, "T steps per non-empty knot span");
+  auto* eval_samples =
+      eval_cmd->add_option("--samples", eval.samples, "grid NUxNV (default 64x64)");
+  auto* eval_span =
+      eval_cmd->add_option("--span-samples", eval.span_samples, "T steps per non-empty knot span");
   auto* eval_uv = eval_cmd->add_option("--uv", eval.uv_file, "CSV file of surface,u,v samples");
   eval_samples->excludes(eval_span)->excludes(eval_uv);
   eval_span->excludes(eval_uv);
@@ -36,25 +42,33 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--precision", eval.precision, "f32 (default) or f64");
   eval_cmd->add_option("--reference", eval.reference, "long-double (default) or float128");
   eval_cmd->add_option("--threads", eval.threads, "threads for every backend (0: every core)");
-  eval_cmd->add_option("--out", eval.out, "CSV file surface,u,v,x,y,z[,nx,ny,nz] (default: stdout)");
+  eval_cmd->add_option("--out", eval.out,
+                       "CSV file surface,u,v,x,y,z[,nx,ny,nz] (default: stdout)");
 
   RunOptions run;
-  auto* run_cmd = app.add_subcommand("run", "benchmark strategies x scenes x samplings, write results.json/.csv");
-  run_cmd->add_option("--scenes", run.scenes, "comma list of scene names/files, 'default' or 'all'");
+  auto* run_cmd = app.add_subcommand(
+      "run", "benchmark strategies x scenes x samplings, write results.json/.csv");
+  run_cmd->add_option("--scenes", run.scenes,
+                      "comma list of scene names/files, 'default' or 'all'");
   run_cmd->add_option("--strategies", run.strategies, "comma list of strategies or 'all'");
-  auto* run_samples = run_cmd->add_option("--samples", run.samples, "comma list of grids (default 64x64,256x256)");
-  auto* run_span = run_cmd->add_option("--span-samples", run.span_samples, "comma list of steps per knot span");
+  auto* run_samples =
+      run_cmd->add_option("--samples", run.samples, "comma list of grids (default 64x64,256x256)");
+  auto* run_span =
+      run_cmd->add_option("--span-samples", run.span_samples, "comma list of steps per knot span");
   run_samples->excludes(run_span);
   run_cmd->add_option("--precision", run.precision, "f32 (default) or f64");
   run_cmd->add_flag("--normals", run.normals, "also evaluate and check normals");
   run_cmd->add_option("--repetitions", run.repetitions, "timed repetitions per phase (default 5)");
+  run_cmd->add_option("--reference", run.reference, "long-double (default) or float128");
   run_cmd->add_option("--threads", run.threads, "threads for every backend (0: every core)");
   run_cmd->add_option("--out", run.out, "output directory (default results/latest)");
 
   CheckOptions check;
-  auto* check_cmd = app.add_subcommand("check", "check results against accuracy gates; exit 1 on any violation");
+  auto* check_cmd =
+      app.add_subcommand("check", "check results against accuracy gates; exit 1 on any violation");
   check_cmd->add_option("--gates", check.gates, "gates JSON file")->required();
-  check_cmd->add_option("--results", check.results, "results directory or results.json (default results/latest)");
+  check_cmd->add_option("--results", check.results,
+                        "results directory or results.json (default results/latest)");
 
   try {
     app.parse(argc, argv);
@@ -63,10 +77,20 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "nurbsbench: " << e.what() << " (see nurbsbench --help)\n";
+    const std::string first = argc > 1 ? argv[1] : "";
+    const bool known_verb = first == "list" || first == "scene" || first == "eval" ||
+                            first == "run" || first == "check";
+    if (!first.empty() && first[0] != '-' && !known_verb) {
+      std::cerr << "nurbsbench: error: unknown verb '" << argv[1]
+                << "' (verbs: list, scene, eval, run, check; see nurbsbench --help)\n";
+      return 2;
+    }
+    std::cerr << "nurbsbench: error: " << e.what() << " (see nurbsbench --help)\n";
     return 2;
   }
 
+  eval.span_given = eval_span->count() > 0;
+  run.span_given = run_span->count() > 0;
   try {
     if (*list_cmd) return list_command(list);
     if (*scene_cmd) return scene_command(scene);

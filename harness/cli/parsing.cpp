@@ -16,7 +16,8 @@ std::vector<std::string> split_list(std::string_view text) {
   std::size_t start = 0;
   while (start <= text.size()) {
     const std::size_t comma = text.find(',', start);
-    const std::string_view item = text.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    const std::string_view item = text.substr(
+        start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
     if (!item.empty()) out.emplace_back(item);
     if (comma == std::string_view::npos) break;
     start = comma + 1;
@@ -26,11 +27,14 @@ std::vector<std::string> split_list(std::string_view text) {
 
 namespace {
 
-int parse_int(std::string_view option, std::string_view whole, std::string_view digits, int lo, int hi) {
+int parse_int(std::string_view option, std::string_view whole, std::string_view digits, int lo,
+              int hi) {
   int value = 0;
   const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-  if (digits.empty() || error != std::errc() || end != digits.data() + digits.size() || value < lo || value > hi)
-    throw InputError(fmt::format("{} = '{}': '{}' must be an integer in {}..{}", option, whole, digits, lo, hi));
+  if (digits.empty() || error != std::errc() || end != digits.data() + digits.size() ||
+      value < lo || value > hi)
+    throw InputError(
+        fmt::format("{} = '{}': '{}' must be an integer in {}..{}", option, whole, digits, lo, hi));
   return value;
 }
 
@@ -42,12 +46,16 @@ std::vector<Sampling> parse_grid_list(std::string_view option, std::string_view 
     const std::size_t x = item.find('x');
     Sampling s;
     s.mode = SamplingMode::grid;
-    s.grid_u = parse_int(option, item, std::string_view(item).substr(0, x), 2, kMaxGridPerDirection);
-    s.grid_v = x == std::string::npos ? s.grid_u
-                                      : parse_int(option, item, std::string_view(item).substr(x + 1), 2, kMaxGridPerDirection);
+    s.grid_u =
+        parse_int(option, item, std::string_view(item).substr(0, x), 2, kMaxGridPerDirection);
+    s.grid_v = x == std::string::npos
+                   ? s.grid_u
+                   : parse_int(option, item, std::string_view(item).substr(x + 1), 2,
+                               kMaxGridPerDirection);
     out.push_back(s);
   }
-  if (out.empty()) throw InputError(fmt::format("{} = '{}': give at least one grid such as 64x64", option, text));
+  if (out.empty())
+    throw InputError(fmt::format("{} = '{}': give at least one grid such as 64x64", option, text));
   return out;
 }
 
@@ -59,7 +67,9 @@ std::vector<Sampling> parse_span_list(std::string_view option, std::string_view 
     s.span_steps = parse_int(option, item, item, 1, kMaxSpanSteps);
     out.push_back(s);
   }
-  if (out.empty()) throw InputError(fmt::format("{} = '{}': give at least one step count such as 4", option, text));
+  if (out.empty())
+    throw InputError(
+        fmt::format("{} = '{}': give at least one step count such as 4", option, text));
   return out;
 }
 
@@ -69,10 +79,19 @@ Precision parse_precision(std::string_view text) {
   throw InputError(fmt::format("--precision = '{}': must be f32 or f64", text));
 }
 
+ReferencePrecision parse_reference(std::string_view text) {
+  ReferencePrecision precision;
+  if (!parse_reference_precision(text, precision))
+    throw InputError(fmt::format("--reference = '{}': must be long-double or float128{}", text,
+                                 NURBSBENCH_HAS_FLOAT128 ? "" : " (this build has no __float128)"));
+  return precision;
+}
+
 int apply_thread_setting(int threads) {
   if (threads < 0 || threads > 4096)
     throw InputError(fmt::format("--threads = {}: must be in 0..4096 (0: every core)", threads));
-  const int count = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int count =
+      threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   // One setting for every backend: OpenMP (CPU strategies, reference), Mesa llvmpipe/lavapipe,
   // PoCL. Set before any context is created.
   const std::string text = std::to_string(count);

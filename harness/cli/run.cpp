@@ -57,10 +57,11 @@ int run_command(const RunOptions& options) {
   std::vector<Scene> scenes;
   for (const std::string& name : scene_list(options.scenes)) scenes.push_back(load_scene(name));
   if (scenes.empty()) throw InputError("--scenes: empty list");
-  const std::vector<Sampling> samplings = options.span_samples.empty()
-                                              ? parse_grid_list("--samples", options.samples)
-                                              : parse_span_list("--span-samples", options.span_samples);
+  const std::vector<Sampling> samplings =
+      !options.span_given ? parse_grid_list("--samples", options.samples)
+                          : parse_span_list("--span-samples", options.span_samples);
   const Precision precision = parse_precision(options.precision);
+  const ReferencePrecision reference_precision = parse_reference(options.reference);
   for (const Scene& scene : scenes)
     for (const Sampling& sampling : samplings) sample_parameters(scene, sampling);
 
@@ -71,7 +72,7 @@ int run_command(const RunOptions& options) {
                              {"normals", options.normals},
                              {"repetitions", options.repetitions},
                              {"threads", threads},
-                             {"reference", "long-double"}};
+                             {"reference", std::string(to_string(reference_precision))}};
   for (const Scene& s : scenes) settings["scenes"].push_back(s.name);
   for (const StrategyEntry* e : strategies) settings["strategies"].push_back(e->name);
   for (const Sampling& s : samplings) settings["samplings"].push_back(s.label());
@@ -80,21 +81,23 @@ int run_command(const RunOptions& options) {
   const bool progress = ::isatty(STDERR_FILENO);
   const std::size_t total = scenes.size() * samplings.size() * strategies.size();
   std::size_t done = 0;
-  ReferenceCache references;
+  ReferenceCache references(reference_precision);
   for (const Scene& scene : scenes)
     for (const Sampling& sampling : samplings)
       for (const StrategyEntry* entry : strategies) {
         if (progress)
-          std::cerr << fmt::format("\r[{}/{}] {} on {} ({})\x1b[K", ++done, total, entry->name, scene.name,
-                                   sampling.label())
+          std::cerr << fmt::format("\r[{}/{}] {} on {} ({})\x1b[K", ++done, total, entry->name,
+                                   scene.name, sampling.label())
                     << std::flush;
         EvalRequest request{sampling, precision, options.normals};
-        writer.append(measure(*entry, StrategyOptions{threads, {}}, scene, request, options.repetitions, references));
+        writer.append(measure(*entry, StrategyOptions{threads, {}}, scene, request,
+                              options.repetitions, references));
       }
   if (progress) std::cerr << "\r\x1b[K";
   std::cout << summary_table(writer.records());
-  std::cout << fmt::format("\n{} results in {}/results.json and results.csv (CPU: {}, {} threads; commit {})\n",
-                           writer.records().size(), options.out, cpu_model(), threads, build_info().git_commit);
+  std::cout << fmt::format(
+      "\n{} results in {}/results.json and results.csv (CPU: {}, {} threads; commit {})\n",
+      writer.records().size(), options.out, cpu_model(), threads, build_info().git_commit);
   return 0;
 }
 

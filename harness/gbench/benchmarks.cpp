@@ -34,8 +34,9 @@ void evaluate_benchmark(benchmark::State& state, const StrategyEntry* entry, con
   const std::size_t points = total_samples(sample_parameters(*scene, sampling));
   state.counters["points/s"] = benchmark::Counter(static_cast<double>(points),
                                                   benchmark::Counter::kIsIterationInvariantRate);
-  const Accuracy accuracy = measure_accuracy(
-      *scene, strategy->read_back(), evaluate_reference(*scene, sample_parameters(*scene, sampling), false));
+  const Accuracy accuracy =
+      measure_accuracy(*scene, strategy->read_back(),
+                       evaluate_reference(*scene, sample_parameters(*scene, sampling), false));
   state.counters["max_ulp"] = accuracy.max_ulp;
   state.SetLabel(strategy->device().name);
 }
@@ -44,7 +45,8 @@ void evaluate_benchmark(benchmark::State& state, const StrategyEntry* entry, con
 
 int main(int argc, char** argv) {
   static std::vector<Scene> scenes;
-  for (const char* name : {"patch144", "tan64", "sphere", "degree-5"}) scenes.push_back(*make_builtin_scene(name));
+  for (const char* name : {"patch144", "tan64", "sphere", "degree-5"})
+    scenes.push_back(*make_builtin_scene(name));
   for (const StrategyEntry& entry : strategy_registry()) {
     if (!entry.probe().available) continue;
     for (const Scene& scene : scenes)
@@ -54,7 +56,8 @@ int main(int argc, char** argv) {
           Sampling sampling;
           sampling.grid_u = sampling.grid_v = n;
           benchmark::RegisterBenchmark(
-              fmt::format("{}/{}/{}x{}/{}", entry.name, scene.name, n, n, to_string(precision)).c_str(),
+              fmt::format("{}/{}/{}x{}/{}", entry.name, scene.name, n, n, to_string(precision))
+                  .c_str(),
               evaluate_benchmark, &entry, &scene, sampling, precision)
               ->Unit(benchmark::kMillisecond)
               ->UseRealTime();

@@ -17,10 +17,10 @@
 namespace nurbs {
 namespace {
 
-const std::vector<std::string> kScenes = {"patch144", "tan16",    "sphere",   "torus",    "degree-1",
-                                          "degree-2", "degree-3", "degree-4", "degree-5", "degree-6",
-                                          "degree-7", "degree-8", "degree-9", "creases",  "clustered",
-                                          "far-origin", "teapot", "duck",     "many-16"};
+const std::vector<std::string> kScenes = {
+    "patch144",  "tan16",      "sphere",   "torus",    "degree-1", "degree-2", "degree-3",
+    "degree-4",  "degree-5",   "degree-6", "degree-7", "degree-8", "degree-9", "creases",
+    "clustered", "far-origin", "teapot",   "duck",     "many-16"};
 
 // Random (u, v) in each surface's domain plus every knot value and both ends: the places where
 // span searches go wrong.
@@ -70,21 +70,25 @@ TEST_P(StrategyAccuracy, AgreesWithReferenceOnEveryBuiltinScene) {
         strategy->prepare(scene, request);
         strategy->evaluate();
         const EvalResult result = strategy->read_back();
-        const Accuracy acc =
-            measure_accuracy(scene, result, evaluate_reference(scene, sample_parameters(scene, sampling), true));
-        const double bound_ulp = precision == Precision::f32 ? 32.0 : 64.0 * DBL_EPSILON / FLT_EPSILON;
+        const Accuracy acc = measure_accuracy(
+            scene, result, evaluate_reference(scene, sample_parameters(scene, sampling), true));
+        const double bound_ulp =
+            precision == Precision::f32 ? 32.0 : 64.0 * DBL_EPSILON / FLT_EPSILON;
         EXPECT_EQ(acc.non_finite, 0u) << scene_name;
         EXPECT_LE(acc.max_ulp, bound_ulp)
-            << entry.name << " on " << scene_name << " (" << to_string(precision) << ", " << sampling.label()
-            << "): worst at surface " << acc.worst_surface << " u=" << acc.worst_u << " v=" << acc.worst_v;
+            << entry.name << " on " << scene_name << " (" << to_string(precision) << ", "
+            << sampling.label() << "): worst at surface " << acc.worst_surface
+            << " u=" << acc.worst_u << " v=" << acc.worst_v;
         ASSERT_TRUE(acc.max_normal_angle_deg.has_value());
         // Normals: a float32 normal from float32 derivatives is good to ~1e-3 degrees on smooth
         // regions; next to collapsed edges (teapot lid, duck poles, sphere poles) the limit
         // normal is taken from second derivatives, looser in float32.
         EXPECT_LE(*acc.max_normal_angle_deg, precision == Precision::f32 ? 1.0 : 1e-6)
-            << entry.name << " on " << scene_name << " (" << to_string(precision) << ", " << sampling.label() << ")";
-        std::cout << entry.name << " " << scene_name << " " << to_string(precision) << " " << sampling.label()
-                  << ": max_ulp " << acc.max_ulp << ", normals " << *acc.max_normal_angle_deg << " deg\n";
+            << entry.name << " on " << scene_name << " (" << to_string(precision) << ", "
+            << sampling.label() << ")";
+        std::cout << entry.name << " " << scene_name << " " << to_string(precision) << " "
+                  << sampling.label() << ": max_ulp " << acc.max_ulp << ", normals "
+                  << *acc.max_normal_angle_deg << " deg\n";
       }
   }
 }
@@ -114,7 +118,8 @@ TEST_P(StrategyAccuracy, ResultCarriesTheRequestedSamples) {
 // test script sets NURBSBENCH_REQUIRE_ALL_STRATEGIES=1 there.
 TEST(StrategyRegistry, EveryStrategyAvailableWhereRequired) {
   const char* required = std::getenv("NURBSBENCH_REQUIRE_ALL_STRATEGIES");
-  if (!required || std::string(required) != "1") GTEST_SKIP() << "NURBSBENCH_REQUIRE_ALL_STRATEGIES is not 1";
+  if (!required || std::string(required) != "1")
+    GTEST_SKIP() << "NURBSBENCH_REQUIRE_ALL_STRATEGIES is not 1";
   for (const StrategyEntry& e : strategy_registry()) {
     const Availability a = e.probe();
     EXPECT_TRUE(a.available) << e.name << ": unavailable: " << a.reason;

@@ -15,7 +15,8 @@ namespace {
 
 TEST(CpuCoxDeBoorParameterRounding, ClusteredKnotErrorIsParameterRounding) {
   Scene scene = *make_builtin_scene("clustered");
-  scene.surfaces[0].knots_v = {0, 0, 0, 0, 0.1, 0.2, 0.3, 0.3001, 0.3002, 0.3003, 0.7, 0.9, 1, 1, 1, 1};
+  scene.surfaces[0].knots_v = {0,      0,      0,   0,   0.1, 0.2, 0.3, 0.3001,
+                               0.3002, 0.3003, 0.7, 0.9, 1,   1,   1,   1};
   Sampling sampling;
   sampling.mode = SamplingMode::span_grid;
   sampling.span_steps = 3;
@@ -25,7 +26,8 @@ TEST(CpuCoxDeBoorParameterRounding, ClusteredKnotErrorIsParameterRounding) {
   const EvalResult result = strategy->read_back();
 
   const auto samples = sample_parameters(scene, sampling);
-  const Accuracy at_requested = measure_accuracy(scene, result, evaluate_reference(scene, samples, false));
+  const Accuracy at_requested =
+      measure_accuracy(scene, result, evaluate_reference(scene, samples, false));
 
   // The same surface with its knots rounded to float, sampled at float-rounded parameters: what
   // the float32 evaluator was actually able to represent.
@@ -38,8 +40,9 @@ TEST(CpuCoxDeBoorParameterRounding, ClusteredKnotErrorIsParameterRounding) {
   const Accuracy at_rounded =
       measure_accuracy(scene, result, evaluate_reference(rounded_scene, rounded_samples, false));
 
-  std::cout << "clustered 1e-4 spans, f32: " << at_requested.max_ulp << " ulps at the requested (u,v), "
-            << at_rounded.max_ulp << " ulps at the float-rounded (u,v) and knots\n";
+  std::cout << "clustered 1e-4 spans, f32: " << at_requested.max_ulp
+            << " ulps at the requested (u,v), " << at_rounded.max_ulp
+            << " ulps at the float-rounded (u,v) and knots\n";
   EXPECT_GT(at_requested.max_ulp, 32.0);
   EXPECT_LE(at_rounded.max_ulp, 32.0);
 }

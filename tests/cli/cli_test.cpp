@@ -1,0 +1,537 @@
+// The `nurbsbench` verbs as a user drives them: list, eval, run, check; their outputs' shapes and
+// exit codes (0 success, 1 a gate failed, 2 bad usage or input, with one stderr line).
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "reference/sampling.h"
+#include "run_cli.h"
+#include "scenes/builtin_scenes.h"
+#include "strategies/registry.h"
+
+namespace nurbs::test {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const char* const kResultsCsvHeader =
+    "scene,strategy,device,precision,sampling,samples,points,setup_s,upload_median_s,"
+    "evaluate_min_s,evaluate_median_s,evaluate_max_s,readback_median_s,end_to_end_median_s,"
+    "throughput_pts_per_s,max_abs,rms_abs,max_rel,max_ulp,status,reason";
+
+Scene builtin(std::string_view name) {
+  return *make_builtin_scene(name);
+}
+
+double parse_exact(const std::string& text) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  EXPECT_EQ(end, text.c_str() + text.size()) << "not a number: '" << text << "'";
+  return value;
+}
+
+// Rows of an eval CSV, split into fields; the header is checked and dropped.
+std::vector<std::vector<std::string>> eval_rows(const std::string& csv, const std::string& header) {
+  const std::vector<std::string> lines = split_lines(csv);
+  EXPECT_FALSE(lines.empty());
+  if (lines.empty()) return {};
+  EXPECT_EQ(lines.front(), header);
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t k = 1; k < lines.size(); ++k) rows.push_back(split_csv(lines[k]));
+  return rows;
+}
+
+void expect_usage_error(const CliResult& r, const std::vector<std::string>& substrings) {
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(is_one_error_line(r.err)) << "stderr:\n" << r.err;
+  for (const std::string& s : substrings)
+    EXPECT_NE(r.err.find(s), std::string::npos) << "missing '" << s << "' in: " << r.err;
+}
+
+// ---------------------------------------------------------------------------------------- list
+
+TEST(CliList, TextNamesStrategiesAndScenes) {
+  const CliResult r = run_cli({"list"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("strategies:"), std::string::npos);
+  EXPECT_NE(r.out.find("scenes:"), std::string::npos);
+  for (const std::string& name : strategy_names())
+    EXPECT_NE(r.out.find(name), std::string::npos) << name;
+  for (const BuiltinSceneInfo& s : builtin_scenes())
+    EXPECT_NE(r.out.find(s.name), std::string::npos) << s.name;
+}
+
+TEST(CliList, JsonDescribesEveryStrategyAndScene) {
+  const CliResult r = run_cli({"list", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = json::parse(r.out);  // throws (fails the test) when not valid JSON
+  ASSERT_TRUE(doc.contains("strategies") && doc["strategies"].is_array());
+  ASSERT_TRUE(doc.contains("scenes") && doc["scenes"].is_array());
+
+  std::set<std::string> strategies;
+  for (const json& s : doc["strategies"]) {
+    ASSERT_TRUE(s["name"].is_string()) << s.dump();
+    SCOPED_TRACE(s["name"].get<std::string>());
+    strategies.insert(s["name"].get<std::string>());
+    EXPECT_TRUE(s["available"].is_boolean());
+    EXPECT_TRUE(s["reason"].is_string());
+    EXPECT_TRUE(s["source"].is_string());
+    EXPECT_FALSE(s["source"].get<std::string>().empty());
+    // An unavailable strategy says why.
+    if (!s["available"].get<bool>()) {
+      EXPECT_FALSE(s["reason"].get<std::string>().empty());
+    }
+    const json& c = s["capabilities"];
+    ASSERT_TRUE(c.is_object());
+    EXPECT_TRUE(c["max_degree"].is_number_integer());
+    EXPECT_TRUE(c["rational"].is_boolean());
+    EXPECT_TRUE(c["normals"].is_boolean());
+    EXPECT_TRUE(c["precisions"].is_array());
+    EXPECT_TRUE(c["sampling"].is_array());
+  }
+  const std::vector<std::string> names = strategy_names();
+  EXPECT_EQ(strategies, std::set<std::string>(names.begin(), names.end()));
+  EXPECT_TRUE(strategies.count("cpu-coxdeboor"));
+
+  std::set<std::string> scenes;
+  for (const json& s : doc["scenes"]) {
+    ASSERT_TRUE(s["name"].is_string()) << s.dump();
+    EXPECT_TRUE(s["description"].is_string());
+    scenes.insert(s["name"].get<std::string>());
+  }
+  for (const BuiltinSceneInfo& s : builtin_scenes()) EXPECT_TRUE(scenes.count(s.name)) << s.name;
+}
+
+// ---------------------------------------------------------------------------------------- help
+
+TEST(CliHelp, EveryVerbHasHelpAndExitsZero) {
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"--help"},
+                                             {"list", "--help"},
+                                             {"scene", "--help"},
+                                             {"eval", "--help"},
+                                             {"run", "--help"},
+                                             {"check", "--help"}}) {
+    SCOPED_TRACE(args.front());
+    const CliResult r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << r.out;
+  }
+}
+
+TEST(CliHelp, BadUsageIsExitTwoWithOneLine) {
+  expect_usage_error(run_cli({}), {"subcommand"});
+  expect_usage_error(run_cli({"eval", "--strategy", "cpu-coxdeboor"}), {"--scene"});
+  expect_usage_error(
+      run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor", "--bogus"}),
+      {"--bogus"});
+  expect_usage_error(run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor",
+                              "--samples", "4x4", "--span-samples", "2"}),
+                     {"--samples", "--span-samples"});
+}
+
+// ---------------------------------------------------------------------------------------- eval
+
+TEST(CliEval, GridCsvHasOneRowPerSampleWithExactParameters) {
+  TempDir tmp;
+  const std::string out = tmp / "points.csv";
+  const CliResult r = run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor",
+                               "--samples", "7x5", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  const auto rows = eval_rows(read_text(out), "surface,u,v,x,y,z");
+  ASSERT_EQ(rows.size(), 35u);
+
+  const Scene scene = builtin("patch144");
+  const Surface& s = scene.surfaces[0];
+  const std::vector<double> u = grid_parameters(s.u_min(), s.u_max(), 7);
+  const std::vector<double> v = grid_parameters(s.v_min(), s.v_max(), 5);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    SCOPED_TRACE(k);
+    ASSERT_EQ(rows[k].size(), 6u);
+    EXPECT_EQ(rows[k][0], "0");
+    // 17 significant digits: the printed parameter reads back as the very double evaluated.
+    EXPECT_EQ(parse_exact(rows[k][1]), u[k / 5]) << rows[k][1];
+    EXPECT_EQ(parse_exact(rows[k][2]), v[k % 5]) << rows[k][2];
+    for (int c = 3; c < 6; ++c) EXPECT_TRUE(std::isfinite(parse_exact(rows[k][c])));
+  }
+  EXPECT_EQ(rows[1][1], "0");
+  EXPECT_EQ(rows[5][1], fmt::format("{:.17g}", u[1]));  // 1/6 needs all 17 digits
+  // Clamped knots: the corners of the surface are the corner control points.
+  const Point3& p00 = s.point(0, 0);
+  const Point3& p_end = s.point(11, 11);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(parse_exact(rows.front()[3 + c]), p00[c], 1e-5);
+    EXPECT_NEAR(parse_exact(rows.back()[3 + c]), p_end[c], 1e-5);
+  }
+}
+
+TEST(CliEval, SpanSamplesCoverEveryNonEmptySpan) {
+  // patch144: 12 control points, degree 3, all interior knots distinct -> 9 spans per
+  // direction; T = 2 gives 3 samples per span, shared ends repeated: (9 * 3)^2 rows.
+  const CliResult r = run_cli(
+      {"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor", "--span-samples", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = eval_rows(r.out, "surface,u,v,x,y,z");
+  ASSERT_EQ(rows.size(), 27u * 27u);
+  // The first span of u is [0, 0.1]: 0, 0.05, 0.1, then the next span starts at 0.1 again.
+  EXPECT_EQ(parse_exact(rows[0 * 27][1]), 0.0);
+  EXPECT_EQ(parse_exact(rows[1 * 27][1]), 0.05);
+  EXPECT_EQ(parse_exact(rows[2 * 27][1]), 0.1);
+  EXPECT_EQ(parse_exact(rows[3 * 27][1]), 0.1);
+  EXPECT_EQ(parse_exact(rows.back()[1]), 1.0);
+  EXPECT_EQ(parse_exact(rows.back()[2]), 1.0);
+}
+
+TEST(CliEval, NormalsAddThreeUnitColumns) {
+  const CliResult r = run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor",
+                               "--samples", "4x3", "--normals"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = eval_rows(r.out, "surface,u,v,x,y,z,nx,ny,nz");
+  ASSERT_EQ(rows.size(), 12u);
+  for (const auto& row : rows) {
+    ASSERT_EQ(row.size(), 9u);
+    const double nx = parse_exact(row[6]), ny = parse_exact(row[7]), nz = parse_exact(row[8]);
+    EXPECT_NEAR(std::sqrt(nx * nx + ny * ny + nz * nz), 1.0, 1e-5);
+  }
+}
+
+TEST(CliEval, PrecisionF64PrintsDoubles) {
+  const std::vector<std::string> args = {"eval",          "--scene",   "patch144", "--strategy",
+                                         "cpu-coxdeboor", "--samples", "3x3"};
+  std::vector<std::string> f64 = args;
+  f64.insert(f64.end(), {"--precision", "f64"});
+  const CliResult r32 = run_cli(args), r64 = run_cli(f64);
+  ASSERT_EQ(r32.exit_code, 0) << r32.err;
+  ASSERT_EQ(r64.exit_code, 0) << r64.err;
+  const auto rows32 = eval_rows(r32.out, "surface,u,v,x,y,z");
+  const auto rows64 = eval_rows(r64.out, "surface,u,v,x,y,z");
+  ASSERT_EQ(rows32.size(), 9u);
+  ASSERT_EQ(rows64.size(), 9u);
+  const Point3 p00 = builtin("patch144").surfaces[0].point(0, 0);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(parse_exact(rows64[0][3 + c]), p00[c], 1e-12);
+  // The f32 values print in shortest float form (they read back as the same float), the f64
+  // values as doubles.
+  bool some_differ = false;
+  for (std::size_t k = 0; k < rows32.size(); ++k)
+    for (int c = 3; c < 6; ++c) {
+      const double x32 = parse_exact(rows32[k][c]), x64 = parse_exact(rows64[k][c]);
+      EXPECT_EQ(fmt::format("{}", std::strtof(rows32[k][c].c_str(), nullptr)), rows32[k][c]);
+      EXPECT_NEAR(x32, x64, 1e-4);
+      some_differ |= x32 != x64;
+    }
+  EXPECT_TRUE(some_differ);
+  expect_usage_error(
+      run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor", "--precision", "f16"}),
+      {"--precision", "f16", "f32 or f64"});
+}
+
+TEST(CliEval, UnknownStrategyListsTheValidOnes) {
+  const CliResult r = run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-nope"});
+  expect_usage_error(r, {"cpu-nope", "unknown strategy"});
+  for (const std::string& name : strategy_names())
+    EXPECT_NE(r.err.find(name), std::string::npos) << name;
+}
+
+TEST(CliEval, UnknownSceneListsTheValidOnes) {
+  for (const std::string bad : {"patch145", "many-0", "many-4097", "many-x"}) {
+    const CliResult r = run_cli({"eval", "--scene", bad, "--strategy", "cpu-coxdeboor"});
+    expect_usage_error(r, {"'" + bad + "'", "neither a file nor a built-in scene", "many-N"});
+    for (const BuiltinSceneInfo& s : builtin_scenes())
+      EXPECT_NE(r.err.find(s.name), std::string::npos) << s.name;
+  }
+}
+
+TEST(CliEval, BadGridSizesAreRefused) {
+  TempDir tmp;
+  const std::string out = tmp / "out.csv";
+  for (const std::string grid :
+       {"0x5", "5x0", "1x1", "-3x3", "70000x2", "abc", "8x", "x8", "8x8x8", "1e3x4", "8.5x8", ""}) {
+    SCOPED_TRACE(grid);
+    expect_usage_error(run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor",
+                                "--samples", grid, "--out", out}),
+                       {"--samples", "'" + grid + "'"});
+    EXPECT_FALSE(fs::exists(out));
+  }
+  // Each side within bounds, the product not: refused from the sizes, before any allocation.
+  const CliResult r = run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor",
+                               "--samples", "65536x65536", "--out", out},
+                              {kRejectionMemoryLimit});
+  expect_usage_error(r, {"4294967296 samples", "limit"});
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliEval, BadSpanSamplesAreRefused) {
+  TempDir tmp;
+  const std::string out = tmp / "out.csv";
+  for (const std::string steps : {"0", "-1", "99999", "abc", "2.5", ""}) {
+    SCOPED_TRACE(steps);
+    expect_usage_error(run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor",
+                                "--span-samples", steps, "--out", out}),
+                       {"--span-samples"});
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+TEST(CliEval, UvFileSamplesExactlyTheGivenParameters) {
+  TempDir tmp;
+  const std::string uv = tmp / "uv.csv";
+  write_text(uv, "surface,u,v\n# a comment\npatch,0.25,1\n0,0.1,0.30000000000000004\n0,1,0\n");
+  const CliResult r =
+      run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor", "--uv", uv});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = eval_rows(r.out, "surface,u,v,x,y,z");
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(parse_exact(rows[0][1]), 0.25);
+  EXPECT_EQ(parse_exact(rows[1][2]), 0.30000000000000004);
+  EXPECT_EQ(parse_exact(rows[2][1]), 1.0);
+}
+
+TEST(CliEval, UvFileErrorsNameFileLineAndValue) {
+  TempDir tmp;
+  struct Case {
+    std::string text;
+    std::vector<std::string> expect;
+  };
+  const std::vector<Case> cases = {
+      {"surface,u,v\n0,0.5,0.5\n0,0.5\n", {"line 3", "'0,0.5'", "expected surface,u,v"}},
+      {"0,0.5,0.5,\n", {"line 1", "expected surface,u,v"}},
+      {"0,0.5,0.5\n0,1.5,0.5\n", {"line 2", "u = '1.5'", "[0, 1]"}},
+      {"0,0.5,-0.25\n", {"line 1", "v = '-0.25'", "[0, 1]"}},
+      {"0,0.5,nan\n", {"line 1", "v = 'nan'"}},
+      {"0,0.5,1e999\n", {"line 1", "v = '1e999'"}},
+      {"0,zero,0.5\n", {"line 1", "u = 'zero'"}},
+      {"hull,0.5,0.5\n", {"line 1", "surface = 'hull'", "0..0"}},
+      {"1,0.5,0.5\n", {"line 1", "surface = '1'"}},
+      {"-1,0.5,0.5\n", {"line 1", "surface = '-1'"}},
+      {"# nothing but a comment\n", {"no (u,v) samples"}},
+      {"", {"no (u,v) samples"}},
+  };
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    SCOPED_TRACE(cases[k].text);
+    const std::string uv = tmp / fmt::format("uv{}.csv", k);
+    write_text(uv, cases[k].text);
+    const std::string out = tmp / "out.csv";
+    std::vector<std::string> expect = cases[k].expect;
+    expect.push_back(uv);
+    expect_usage_error(run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor",
+                                "--uv", uv, "--out", out}),
+                       expect);
+    EXPECT_FALSE(fs::exists(out));
+  }
+  const std::string missing = tmp / "missing.csv";
+  expect_usage_error(
+      run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor", "--uv", missing}),
+      {missing, "cannot open"});
+}
+
+// ----------------------------------------------------------------------------------------- run
+
+TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
+  TempDir tmp;
+  const std::string out = tmp / "r";
+  const CliResult r = run_cli({"run", "--scenes", "patch144,sphere", "--samples", "8x8",
+                               "--repetitions", "1", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::size_t measurements = 2 * strategy_registry().size();
+
+  const std::vector<std::string> lines = split_lines(read_text(fs::path(out) / "results.csv"));
+  ASSERT_EQ(lines.size(), 1 + measurements);
+  EXPECT_EQ(lines[0], kResultsCsvHeader);
+  const std::size_t columns = split_csv(kResultsCsvHeader).size();
+  std::multiset<std::string> scenes;
+  for (std::size_t k = 1; k < lines.size(); ++k) {
+    const std::vector<std::string> row = split_csv(lines[k]);
+    ASSERT_EQ(row.size(), columns) << lines[k];
+    scenes.insert(row[0]);
+    EXPECT_EQ(row[4], "grid");
+    EXPECT_EQ(row[5], "8x8");
+    if (row[1] == "cpu-coxdeboor") {
+      EXPECT_EQ(row[19], "ok") << lines[k];
+      EXPECT_EQ(row[6], "64");
+      EXPECT_LE(parse_exact(row[18]), 64.0) << "max_ulp";
+    }
+  }
+  EXPECT_EQ(scenes.count("patch144"), measurements / 2);
+  EXPECT_EQ(scenes.count("sphere"), measurements / 2);
+
+  const json results = json::parse(read_text(fs::path(out) / "results.json"));
+  EXPECT_EQ(results["format"], "nurbsbench-results/1");
+  ASSERT_TRUE(results["records"].is_array());
+  EXPECT_EQ(results["records"].size(), measurements);
+  EXPECT_TRUE(results["machine"].is_object());
+}
+
+TEST(CliRun, BadArgumentsLeaveNoOutputDirectory) {
+  TempDir tmp;
+  const std::string out = tmp / "r";
+  struct Case {
+    std::string scenes = "patch144", strategies = "cpu-coxdeboor", sampling_option = "--samples",
+                sampling = "4x4", repetitions = "1", precision = "f32";
+    std::vector<std::string> expect;
+  };
+  const std::vector<Case> cases = {
+      {.scenes = "patch144,nosuch", .expect = {"'nosuch'", "neither a file nor a built-in scene"}},
+      {.scenes = ",", .expect = {"--scenes", "empty"}},
+      {.strategies = "cpu-nope", .expect = {"--strategies", "'cpu-nope'", "cpu-coxdeboor"}},
+      {.sampling = "1x1", .expect = {"--samples", "'1x1'"}},
+      {.sampling = "8x8,abc", .expect = {"--samples", "'abc'"}},
+      {.sampling_option = "--span-samples", .sampling = "0", .expect = {"--span-samples", "'0'"}},
+      {.sampling_option = "--span-samples", .sampling = "-1", .expect = {"--span-samples", "'-1'"}},
+      {.sampling_option = "--span-samples",
+       .sampling = "99999",
+       .expect = {"--span-samples", "'99999'"}},
+      {.sampling_option = "--span-samples", .sampling = "2,x", .expect = {"--span-samples", "'x'"}},
+      {.repetitions = "0", .expect = {"--repetitions", "0"}},
+      {.precision = "f16", .expect = {"--precision", "'f16'"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.expect.front());
+    const CliResult r = run_cli({"run", "--scenes", c.scenes, "--strategies", c.strategies,
+                                 c.sampling_option, c.sampling, "--repetitions", c.repetitions,
+                                 "--precision", c.precision, "--out", out});
+    expect_usage_error(r, c.expect);
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+// --------------------------------------------------------------------------------------- check
+
+class CliCheck : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    results_ = new TempDir;
+    const CliResult r =
+        run_cli({"run", "--scenes", "patch144,sphere", "--strategies", "cpu-coxdeboor", "--samples",
+                 "8x8", "--repetitions", "1", "--out", results_->path().string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    delete results_;
+    results_ = nullptr;
+  }
+
+  CliResult check(const std::string& gates_json) {
+    const std::string gates = tmp_ / "gates.json";
+    write_text(gates, gates_json);
+    return run_cli({"check", "--gates", gates, "--results", results_->path().string()});
+  }
+  // The measured value of one record, as check prints it.
+  static std::string measured(const std::string& scene, const std::string& metric) {
+    const json results = json::parse(read_text(results_->path() / "results.json"));
+    for (const json& r : results["records"])
+      if (r["scene"] == scene) return fmt::format("{:.6g}", r["accuracy"][metric].get<double>());
+    ADD_FAILURE() << "no record for " << scene;
+    return "";
+  }
+
+  static TempDir* results_;
+  TempDir tmp_;
+};
+TempDir* CliCheck::results_ = nullptr;
+
+TEST_F(CliCheck, GatesThatHoldExitZero) {
+  const CliResult r = check(R"([
+    {"strategy": "cpu-coxdeboor", "scene": "patch144", "metric": "max_ulp", "max": 64},
+    {"strategy": "cpu-coxdeboor", "scene": "sphere", "metric": "max_abs", "max": 1e-4, "note": "why"}
+  ])");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("2 gates checked against 2 results: 0 violations"), std::string::npos)
+      << r.out;
+}
+
+TEST_F(CliCheck, ViolatedGateExitsOneAndNamesTheMeasuredValue) {
+  const CliResult r = check(R"([
+    {"strategy": "cpu-coxdeboor", "scene": "patch144", "metric": "max_abs", "max": 1e-12},
+    {"strategy": "cpu-coxdeboor", "scene": "sphere", "metric": "max_abs", "max": 1}
+  ])");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  const std::vector<std::string> lines = split_lines(r.out);
+  ASSERT_EQ(lines.size(), 2u) << r.out;
+  EXPECT_TRUE(lines[0].starts_with("FAIL cpu-coxdeboor on patch144")) << lines[0];
+  EXPECT_NE(lines[0].find("max_abs = " + measured("patch144", "max_abs") + " exceeds 1e-12"),
+            std::string::npos)
+      << lines[0];
+  EXPECT_NE(lines[0].find("worst sample: surface 0, u = "), std::string::npos) << lines[0];
+  EXPECT_NE(lines[1].find("1 violation"), std::string::npos) << lines[1];
+}
+
+TEST_F(CliCheck, GateMatchingNothingIsAViolation) {
+  const CliResult r =
+      check(R"([{"strategy": "gl-*", "scene": "teapot", "metric": "max_abs", "max": 1}])");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(
+      r.out.find(
+          "FAIL gate {strategy: gl-*, scene: teapot, metric: max_abs} matched no measured result"),
+      std::string::npos)
+      << r.out;
+}
+
+TEST_F(CliCheck, GlobsSelectStrategiesAndScenes) {
+  // s?here matches sphere only, so only the sphere record can violate.
+  CliResult r =
+      check(R"([{"strategy": "cpu-*", "scene": "s?here", "metric": "max_rel", "max": 0}])");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("FAIL cpu-coxdeboor on sphere"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("patch144"), std::string::npos) << r.out;
+  // * and [..] match both records: two violations.
+  r = check(R"([{"strategy": "*", "scene": "[ps]*", "metric": "max_rel", "max": 0}])");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("FAIL cpu-coxdeboor on sphere"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("FAIL cpu-coxdeboor on patch144"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("2 violations"), std::string::npos) << r.out;
+  // A glob that matches, with a bound that holds.
+  r = check(R"([{"strategy": "cpu-cox*", "scene": "*", "metric": "max_ulp", "max": 64}])");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+}
+
+TEST_F(CliCheck, MalformedGatesFileIsExitTwo) {
+  struct Case {
+    std::string text;
+    std::vector<std::string> expect;
+  };
+  const std::vector<Case> cases = {
+      {R"([{"strategy": "cpu-coxdeboor")", {"not valid JSON"}},
+      {"\x89PNG\r\n", {"not valid JSON"}},
+      {R"({"strategy": "cpu-coxdeboor"})", {"list of gates"}},
+      {R"([42])", {"gate [0]", "object"}},
+      {R"([{"strategy": "a", "scene": "b", "metric": "max_abs", "max": 1, "maxx": 2}])",
+       {"gate [0]", "maxx", "unknown key"}},
+      {R"([{"strategy": "a", "scene": "b", "metric": "max_abs", "max": 1},
+           {"strategy": "a", "scene": "b", "metric": "max_abss", "max": 1}])",
+       {"gate [1]", "max_abss", "unknown metric"}},
+      {R"([{"strategy": "a", "scene": "b", "metric": "max_abs", "max": "1e-3"}])",
+       {"gate [0]", "max", "number"}},
+      {R"([{"scene": "b", "metric": "max_abs", "max": 1}])", {"gate [0]", "strategy", "(missing)"}},
+      {R"([{"strategy": "a", "scene": "b", "metric": "max_abs"}])",
+       {"gate [0]", "max", "(missing)"}},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.text);
+    const CliResult r = check(c.text);
+    std::vector<std::string> expect = c.expect;
+    expect.push_back(tmp_ / "gates.json");
+    expect_usage_error(r, expect);
+  }
+  const std::string missing = tmp_ / "missing.json";
+  expect_usage_error(run_cli({"check", "--gates", missing, "--results", results_->path().string()}),
+                     {missing, "cannot open"});
+}
+
+TEST_F(CliCheck, MissingResultsIsExitTwo) {
+  const std::string gates = tmp_ / "gates.json";
+  write_text(gates, R"([{"strategy": "*", "scene": "*", "metric": "max_abs", "max": 1}])");
+  const std::string missing = tmp_ / "no-results";
+  expect_usage_error(run_cli({"check", "--gates", gates, "--results", missing}), {missing});
+}
+
+}  // namespace
+}  // namespace nurbs::test
