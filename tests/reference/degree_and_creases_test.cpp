@@ -10,7 +10,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "reference/nurbs_math.h"
@@ -259,20 +261,19 @@ TEST(Creases, InterpolatesTheControlColumnAtVCreases) {
   check_crease_interpolation(transposed(creases_surface()), "v");
 }
 
-// The one-sided u-derivatives at a crease differ (a kink), and each side is right: the
+// The one-sided derivatives across a crease differ (a kink), and each side is right: the
 // reference's derivative at the knot is the exact RIGHT limit (its span convention), its
 // derivative at the double just below is the exact LEFT limit (to first order in the ulp).
 void check_one_sided_derivatives(const Surface& s, const char* direction) {
   const SurfaceNet<long double> net(s);
   const ExactSurface es(s);
   Worst right_error(
-      fmt::format("creases {}: right Su at the knot vs exact, max |error| / |Su|", direction));
+      fmt::format("creases {0}: right S{0} at the knot vs exact, max |error| / |S{0}|", direction));
   Worst left_error(
-      fmt::format("creases {}: Su at the double below vs exact left limit, max "
-                  "|error| / |Su|",
+      fmt::format("creases {0}: S{0} at the double below vs exact left limit, max |error| / |S{0}|",
                   direction));
-  Worst jump(
-      fmt::format("creases {}: min |Su_right - Su_left| / max(|Su_left|, |Su_right|)", direction));
+  Worst jump(fmt::format(
+      "creases {0}: min |S{0}_right - S{0}_left| / max(|S{0}_left|, |S{0}_right|)", direction));
   double min_jump = INFINITY;
   for (const Crease& c : creases(s.knots_u, s.degree_u, s.count_u))
     for (double v : grid_parameters(s.v_min(), s.v_max(), 9)) {

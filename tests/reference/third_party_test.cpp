@@ -11,8 +11,12 @@
 // different sides). The teapot and duck have no such knots, so nothing is skipped on them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "reference/nurbs_math.h"
@@ -460,6 +464,47 @@ TEST(ThirdParty, OctavePolynomialReproduction) {
       expect_near_point(d[0][2], {0, 6 * v, 0}, 1e-14, "Svv" + at, worst);
       expect_near_point(d[1][1], {0, 0, 0}, 1e-14, "Suv" + at, worst);
     }
+}
+
+// OCCT's own conversion tests: a rational sphere of radius 5 satisfies |P| = 5 and a rational
+// torus R = 5, r = 2 satisfies (sqrt(x^2 + y^2) - 5)^2 + z^2 = 4, to their tol 1e-10. Our nets are
+// the built-in ones mapped affinely: the sphere scaled by 5/2; the torus's profile (radius rho,
+// height z) mapped to (5 + 2 (rho - 3), 2 z) in every meridian plane (affine invariance).
+TEST(ThirdParty, OcctAnalyticConics) {
+  const json& p = peers().at("occt_analytic_conics");
+  const double tol = p.at("tol").get<double>();
+  Scene sphere = *make_builtin_scene("sphere");
+  for (Point3& q : sphere.surfaces[0].points)
+    for (double& c : q) c *= 2.5;
+  Scene torus = *make_builtin_scene("torus");
+  Surface& t = torus.surfaces[0];
+  for (int j = 0; j < t.count_v; ++j) {
+    const double rho = t.point(0, j)[0];  // row 0 lies in the half-plane y = 0, x = rho >= 2
+    const double scale = (5 + 2 * (rho - 3)) / rho;
+    for (int i = 0; i < t.count_u; ++i) {
+      Point3& q = t.points[static_cast<std::size_t>(i) * t.count_v + j];
+      q = {q[0] * scale, q[1] * scale, 2 * q[2]};
+    }
+  }
+  Sampling sampling;
+  sampling.grid_u = sampling.grid_v = 51;
+  Worst worst("OCCT analytic conics: max |implicit residual|");
+  for (const Scene* scene : {&sphere, &torus}) {
+    validate_scene(*scene, scene->name);
+    const auto samples = sample_parameters(*scene, sampling);
+    const auto ref = evaluate_reference(*scene, samples, false);
+    for (std::size_t k = 0; k < ref[0].positions.size(); ++k) {
+      const Point3& q = ref[0].positions[k];
+      const double residual = scene == &sphere
+                                  ? std::hypot(q[0], q[1], q[2]) - 5
+                                  : std::pow(std::hypot(q[0], q[1]) - 5, 2) + q[2] * q[2] - 4;
+      auto where = [&] {
+        return fmt::format("{} u={} v={}", scene->name, samples[0].u_of(k), samples[0].v_of(k));
+      };
+      worst.update(std::fabs(residual), where);
+      EXPECT_LE(std::fabs(residual), tol) << where();
+    }
+  }
 }
 
 }  // namespace

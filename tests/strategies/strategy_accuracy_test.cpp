@@ -7,7 +7,9 @@
 
 #include <cfloat>
 #include <cstdlib>
+#include <map>
 #include <random>
+#include <set>
 
 #include "harness/metrics.h"
 #include "harness/runner.h"
@@ -54,6 +56,15 @@ std::vector<Sampling> samplings(const Scene& scene) {
   return {grid, span, explicit_sampling(scene)};
 }
 
+// float32 error budget in ulps of the scene's largest coordinate: 32 for the CPU evaluators (the
+// foundation issue), 64 for GPU strategies (their issues), unless a strategy's issue says
+// otherwise. A new strategy adds its line here and its gate to results/gates.json.
+double f32_ulp_budget(const std::string& strategy) {
+  static const std::map<std::string, double> budgets = {{"cpu-coxdeboor", 32.0}};
+  const auto it = budgets.find(strategy);
+  return it != budgets.end() ? it->second : 64.0;
+}
+
 class StrategyAccuracy : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(StrategyAccuracy, AgreesWithReferenceOnEveryBuiltinScene) {
@@ -72,8 +83,8 @@ TEST_P(StrategyAccuracy, AgreesWithReferenceOnEveryBuiltinScene) {
         const EvalResult result = strategy->read_back();
         const Accuracy acc = measure_accuracy(
             scene, result, evaluate_reference(scene, sample_parameters(scene, sampling), true));
-        const double bound_ulp =
-            precision == Precision::f32 ? 32.0 : 64.0 * DBL_EPSILON / FLT_EPSILON;
+        const double bound_ulp = precision == Precision::f32 ? f32_ulp_budget(entry.name)
+                                                             : 64.0 * DBL_EPSILON / FLT_EPSILON;
         EXPECT_EQ(acc.non_finite, 0u) << scene_name;
         EXPECT_LE(acc.max_ulp, bound_ulp)
             << entry.name << " on " << scene_name << " (" << to_string(precision) << ", "
