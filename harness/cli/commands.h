@@ -2,6 +2,7 @@
 // check/gate failed, 2 bad usage or bad input (one line on stderr naming what and where).
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,7 @@ struct EvalOptions {
   std::string reference = "long-double";
   std::string out;
   int threads = 0;
+  std::string gl;  // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
 };
 int eval_command(const EvalOptions& options);
 
@@ -48,6 +50,7 @@ struct RunOptions {
   std::string reference = "long-double";
   std::string out = "results/latest";
   int threads = 0;
+  std::string gl;  // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
 };
 int run_command(const RunOptions& options);
 
@@ -63,6 +66,8 @@ std::vector<Sampling> parse_span_list(std::string_view option, std::string_view 
 Precision parse_precision(std::string_view text);
 ReferencePrecision parse_reference(std::string_view text);
 std::vector<std::string> split_list(std::string_view text);
+// StrategyOptions.extra for --gl (empty: the strategies' default).
+std::map<std::string, std::string> gl_extra(const std::string& gl);
 // The thread setting shared by OpenMP, llvmpipe/lavapipe and PoCL; returns the count in force.
 int apply_thread_setting(int threads);
 

@@ -37,14 +37,14 @@ int list_command(const ListOptions& options) {
                           {"role", e.role},
                           {"source", e.source},
                           {"capabilities", capabilities_json(e.capabilities())}});
-    text += fmt::format("  {:<16} {:<9} {:<40} {}\n", e.name, e.role,
+    text += fmt::format("  {:<20} {:<9} {:<40} {}\n", e.name, e.role,
                         a.available ? "available" : "unavailable: " + a.reason, e.source);
   }
   nlohmann::json scenes = nlohmann::json::array();
   text += "scenes:\n";
   for (const BuiltinSceneInfo& s : builtin_scenes()) {
     scenes.push_back({{"name", s.name}, {"description", s.description}});
-    text += fmt::format("  {:<16} {}\n", s.name, s.description);
+    text += fmt::format("  {:<20} {}\n", s.name, s.description);
   }
   if (options.json)
     std::cout << nlohmann::json{{"strategies", strategies}, {"scenes", scenes}}.dump(2) << "\n";

@@ -87,6 +87,11 @@ ReferencePrecision parse_reference(std::string_view text) {
   return precision;
 }
 
+std::map<std::string, std::string> gl_extra(const std::string& gl) {
+  if (gl.empty()) return {};
+  return {{"gl", gl}};
+}
+
 int apply_thread_setting(int threads) {
   if (threads < 0 || threads > 4096)
     throw InputError(fmt::format("--threads = {}: must be in 0..4096 (0: every core)", threads));

@@ -72,6 +72,7 @@ int run_command(const RunOptions& options) {
                              {"normals", options.normals},
                              {"repetitions", options.repetitions},
                              {"threads", threads},
+                             {"gl", options.gl.empty() ? "egl" : options.gl},
                              {"reference", std::string(to_string(reference_precision))}};
   for (const Scene& s : scenes) settings["scenes"].push_back(s.name);
   for (const StrategyEntry* e : strategies) settings["strategies"].push_back(e->name);
@@ -90,7 +91,7 @@ int run_command(const RunOptions& options) {
                                    scene.name, sampling.label())
                     << std::flush;
         EvalRequest request{sampling, precision, options.normals};
-        writer.append(measure(*entry, StrategyOptions{threads, {}}, scene, request,
+        writer.append(measure(*entry, StrategyOptions{threads, gl_extra(options.gl)}, scene, request,
                               options.repetitions, references));
       }
   if (progress) std::cerr << "\r\x1b[K";

@@ -60,7 +60,11 @@ std::vector<Sampling> samplings(const Scene& scene) {
 // foundation issue), 64 for GPU strategies (their issues), unless a strategy's issue says
 // otherwise. A new strategy adds its line here and its gate to results/gates.json.
 double f32_ulp_budget(const std::string& strategy) {
-  static const std::map<std::string, double> budgets = {{"cpu-coxdeboor", 32.0}};
+  static const std::map<std::string, double> budgets = {
+      {"cpu-coxdeboor", 32.0}, {"cpu-tensor", 32.0},
+      {"gl-pingpong", 32.0},   {"gl-pingpong-packed", 32.0},
+      {"cpu-horner", 32.0},    {"sisl", 32.0},
+      {"occt", 32.0}};
   const auto it = budgets.find(strategy);
   return it != budgets.end() ? it->second : 64.0;
 }
@@ -71,18 +75,23 @@ TEST_P(StrategyAccuracy, AgreesWithReferenceOnEveryBuiltinScene) {
   const StrategyEntry& entry = *find_strategy(GetParam());
   const Availability availability = entry.probe();
   if (!availability.available) GTEST_SKIP() << "unavailable: " << availability.reason;
+  int measured = 0;
   for (const std::string& scene_name : kScenes) {
     const Scene scene = *make_builtin_scene(scene_name);
     for (const Sampling& sampling : samplings(scene))
       for (Precision precision : {Precision::f32, Precision::f64}) {
-        const EvalRequest request{sampling, precision, true};
+        // Normals where the strategy computes them; positions alone otherwise (the papers'
+        // GPU pipelines produce none), so no strategy escapes the suite by lacking normals.
+        const bool normals = entry.capabilities().normals;
+        const EvalRequest request{sampling, precision, normals};
         if (refusal_reason(entry.capabilities(), scene, request)) continue;
+        ++measured;
         auto strategy = entry.create(StrategyOptions{});
         strategy->prepare(scene, request);
         strategy->evaluate();
         const EvalResult result = strategy->read_back();
         const Accuracy acc = measure_accuracy(
-            scene, result, evaluate_reference(scene, sample_parameters(scene, sampling), true));
+            scene, result, evaluate_reference(scene, sample_parameters(scene, sampling), normals));
         const double bound_ulp = precision == Precision::f32 ? f32_ulp_budget(entry.name)
                                                              : 64.0 * DBL_EPSILON / FLT_EPSILON;
         EXPECT_EQ(acc.non_finite, 0u) << scene_name;
@@ -90,18 +99,22 @@ TEST_P(StrategyAccuracy, AgreesWithReferenceOnEveryBuiltinScene) {
             << entry.name << " on " << scene_name << " (" << to_string(precision) << ", "
             << sampling.label() << "): worst at surface " << acc.worst_surface
             << " u=" << acc.worst_u << " v=" << acc.worst_v;
-        ASSERT_TRUE(acc.max_normal_angle_deg.has_value());
-        // Normals: a float32 normal from float32 derivatives is good to ~1e-3 degrees on smooth
-        // regions; next to collapsed edges (teapot lid, duck poles, sphere poles) the limit
-        // normal is taken from second derivatives, looser in float32.
-        EXPECT_LE(*acc.max_normal_angle_deg, precision == Precision::f32 ? 1.0 : 1e-6)
-            << entry.name << " on " << scene_name << " (" << to_string(precision) << ", "
-            << sampling.label() << ")";
         std::cout << entry.name << " " << scene_name << " " << to_string(precision) << " "
-                  << sampling.label() << ": max_ulp " << acc.max_ulp << ", normals "
-                  << *acc.max_normal_angle_deg << " deg\n";
+                  << sampling.label() << ": max_ulp " << acc.max_ulp;
+        if (normals) {
+          ASSERT_TRUE(acc.max_normal_angle_deg.has_value());
+          // Normals: a float32 normal from float32 derivatives is good to ~1e-3 degrees on
+          // smooth regions; next to collapsed edges (teapot lid, duck poles, sphere poles) the
+          // limit normal is taken from second derivatives, looser in float32.
+          EXPECT_LE(*acc.max_normal_angle_deg, precision == Precision::f32 ? 1.0 : 1e-6)
+              << entry.name << " on " << scene_name << " (" << to_string(precision) << ", "
+              << sampling.label() << ")";
+          std::cout << ", normals " << *acc.max_normal_angle_deg << " deg";
+        }
+        std::cout << "\n";
       }
   }
+  EXPECT_GT(measured, 0) << entry.name << " refused every request of the suite";
 }
 
 TEST_P(StrategyAccuracy, ResultCarriesTheRequestedSamples) {

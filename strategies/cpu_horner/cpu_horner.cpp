@@ -1,0 +1,207 @@
+#include "strategies/cpu_horner/cpu_horner.h"
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <variant>
+
+#include "reference/nurbs_math.h"
+#include "strategies/cpu_horner/power_basis.h"
+
+namespace nurbs {
+namespace {
+
+Capabilities horner_capabilities() {
+  Capabilities c;
+  c.max_degree = kMaxDegree;
+  return c;
+}
+
+// One parameter direction: knots, and per non-empty span its origin and (p+1)^2 coefficients.
+template <typename T>
+struct PowerBasisTable {
+  int degree = 0, count = 0;
+  std::vector<T> knots;
+  std::vector<T> origin;        // per span index
+  std::vector<T> coefficients;  // per span index, (p+1)^2, see power_basis.h
+
+  PowerBasisTable(const std::vector<double>& k, int p, int n, horner::Origin where)
+      : degree(p), count(n), knots(k.begin(), k.end()) {
+    const std::size_t order = static_cast<std::size_t>(p) + 1;
+    origin.assign(n, T(0));
+    coefficients.assign(n * order * order, T(0));
+    for (int s = p; s < n; ++s) {
+      if (!(k[s] < k[s + 1])) continue;
+      const long double o = where == horner::Origin::span_start ? k[s] : 0.0L;
+      origin[s] = T(o);
+      const auto c = horner::power_basis_coefficients(k, p, s, o);
+      for (std::size_t i = 0; i < c.size(); ++i) coefficients[s * order * order + i] = T(c[i]);
+    }
+  }
+  // Span search (A2.1), then Horner from the span's coefficients.
+  int evaluate(T u, T* values, T* ders) const {
+    const int s = find_span(degree, count, knots.data(), u);
+    const std::size_t order = static_cast<std::size_t>(degree) + 1;
+    horner::horner_basis(coefficients.data() + s * order * order, degree, u - origin[s], values,
+                         ders);
+    return s;
+  }
+};
+
+template <typename T>
+struct HornerSurface {
+  SurfaceNet<T> net;
+  PowerBasisTable<T> u, v;
+  HornerSurface(const Surface& s, horner::Origin where)
+      : net(s),
+        u(s.knots_u, s.degree_u, s.count_u, where),
+        v(s.knots_v, s.degree_v, s.count_v, where) {}
+};
+
+class CpuHorner final : public Strategy {
+ public:
+  explicit CpuHorner(const StrategyOptions& options)
+      : threads_(options.threads > 0 ? options.threads : std::max(1, omp_get_max_threads())) {
+    const auto it = options.extra.find("horner-origin");
+    if (it != options.extra.end()) {
+      if (it->second == "zero")
+        origin_ = horner::Origin::zero;
+      else if (it->second != "span")
+        throw RefusedError(
+            fmt::format("horner-origin = '{}': must be 'span' or 'zero'", it->second));
+    }
+  }
+
+  std::string_view name() const override { return "cpu-horner"; }
+  Capabilities capabilities() const override { return horner_capabilities(); }
+  DeviceInfo device() const override {
+    return {fmt::format("host CPU, {} thread{} (OpenMP)", threads_, threads_ == 1 ? "" : "s"),
+            "cpu",
+            {{"threads", std::to_string(threads_)},
+             {"horner-origin", origin_ == horner::Origin::zero ? "zero" : "span"}}};
+  }
+
+  void prepare(const Scene& scene, const EvalRequest& request) override {
+    request_ = request;
+    samples_ = sample_parameters(scene, request.sampling);
+    if (request.precision == Precision::f32)
+      surfaces_ = make_surfaces<float>(scene);
+    else
+      surfaces_ = make_surfaces<double>(scene);
+    positions_.assign(scene.surfaces.size(), {});
+    normals_.assign(scene.surfaces.size(), {});
+    for (std::size_t i = 0; i < samples_.size(); ++i) {
+      positions_[i] = PointArray(request.precision, samples_[i].count());
+      if (request.normals) normals_[i] = PointArray(request.precision, samples_[i].count());
+    }
+  }
+
+  void evaluate() override {
+    std::visit([this](const auto& s) { evaluate_all(s); }, surfaces_);
+  }
+
+  EvalResult read_back() override {
+    EvalResult out;
+    out.surfaces.resize(samples_.size());
+    for (std::size_t i = 0; i < samples_.size(); ++i)
+      out.surfaces[i] = {samples_[i], positions_[i], normals_[i]};
+    return out;
+  }
+
+ private:
+  template <typename T>
+  std::vector<HornerSurface<T>> make_surfaces(const Scene& scene) const {
+    std::vector<HornerSurface<T>> out;
+    for (const Surface& s : scene.surfaces) out.emplace_back(s, origin_);
+    return out;
+  }
+
+  // One sample: the (p+1)(q+1) homogeneous sums of the point and its two first derivatives, the
+  // four coordinates together (004: "do the same operations to all four at once").
+  template <typename T>
+  void evaluate_sample(const HornerSurface<T>& s, int su, const T* nu, const T* dnu, T u, T v,
+                       std::size_t k, PointArray& positions, PointArray* normals) const {
+    T nv[kMaxOrder], dnv[kMaxOrder];
+    const int sv = s.v.evaluate(v, nv, normals ? dnv : nullptr);
+    const int p = s.net.degree_u, q = s.net.degree_v;
+    Vec4<T> a{}, au{}, av{};
+    for (int i = 0; i <= p; ++i) {
+      Vec4<T> row{}, row_v{};
+      const Vec4<T>* cp = &s.net.at(su - p + i, sv - q);
+      for (int l = 0; l <= q; ++l)
+        for (int c = 0; c < 4; ++c) {
+          row[c] += nv[l] * cp[l][c];
+          if (normals) row_v[c] += dnv[l] * cp[l][c];
+        }
+      for (int c = 0; c < 4; ++c) {
+        a[c] += nu[i] * row[c];
+        if (normals) {
+          au[c] += dnu[i] * row[c];
+          av[c] += nu[i] * row_v[c];
+        }
+      }
+    }
+    const T w = a[3];
+    const Vec3<T> point{a[0] / w, a[1] / w, a[2] / w};
+    positions.set(k, point);
+    if (!normals) return;
+    // A4.4 for the first derivatives, then the reference's resolved-normal rule.
+    Vec3<T> su_d, sv_d, n;
+    for (int c = 0; c < 3; ++c) {
+      su_d[c] = (au[c] - au[3] * point[c]) / w;
+      sv_d[c] = (av[c] - av[3] * point[c]) / w;
+    }
+    if (!detail::normalize_if_resolved(cross(su_d, sv_d), su_d, sv_d, n))
+      n = surface_normal(s.net, u, v);
+    normals->set(k, n);
+  }
+
+  template <typename T>
+  void evaluate_all(const std::vector<HornerSurface<T>>& surfaces) {
+    for (std::size_t i = 0; i < surfaces.size(); ++i) {
+      const HornerSurface<T>& s = surfaces[i];
+      const SurfaceSamples& samples = samples_[i];
+      PointArray* normals = request_.normals ? &normals_[i] : nullptr;
+      PointArray& positions = positions_[i];
+      const bool tensor = samples.tensor;
+      // Grid rows share their u basis; an explicit list evaluates both per sample.
+      const std::size_t rows = tensor ? samples.u.size() : samples.count();
+      const std::size_t columns = tensor ? samples.v.size() : 1;
+#pragma omp parallel for num_threads(threads_) schedule(static)
+      for (std::size_t r = 0; r < rows; ++r) {
+        T nu[kMaxOrder], dnu[kMaxOrder];
+        const T u = T(samples.u[r]);
+        const int su = s.u.evaluate(u, nu, normals ? dnu : nullptr);
+        for (std::size_t b = 0; b < columns; ++b) {
+          const std::size_t k = tensor ? r * columns + b : r;
+          const T v = T(tensor ? samples.v[b] : samples.v[r]);
+          evaluate_sample(s, su, nu, dnu, u, v, k, positions, normals);
+        }
+      }
+    }
+  }
+
+  int threads_;
+  horner::Origin origin_ = horner::Origin::span_start;
+  EvalRequest request_;
+  std::vector<SurfaceSamples> samples_;
+  std::variant<std::vector<HornerSurface<float>>, std::vector<HornerSurface<double>>> surfaces_;
+  std::vector<PointArray> positions_, normals_;
+};
+
+}  // namespace
+
+StrategyEntry cpu_horner_entry() {
+  return {"cpu-horner",
+          "Macri 1999 (004): per-span power-basis coefficients, Horner's rule, SIMD over xyzw",
+          "baseline",
+          [] {
+            return Availability{true, ""};
+          },
+          horner_capabilities,
+          [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
+            return std::make_unique<CpuHorner>(options);
+          }};
+}
+
+}  // namespace nurbs

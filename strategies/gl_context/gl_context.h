@@ -1,0 +1,108 @@
+// The OpenGL plumbing shared by every GL strategy (DESIGN.md, "GPU plumbing is shared"): a
+// windowless desktop-GL 3.3 core context on OSMesa or on EGL (the device platform when a real
+// GPU is present, else Mesa's surfaceless platform), its function table, the renderer strings for
+// the record, and GL errors (GL debug output in debug builds) turned into exceptions.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "strategies/gl_context/gl_functions.h"
+#include "strategies/strategy.h"
+
+namespace nurbs::gl {
+
+enum class Platform { osmesa, egl };
+
+std::string_view to_string(Platform platform);
+// "osmesa" / "egl"; nullopt for anything else.
+std::optional<Platform> parse_platform(std::string_view text);
+// The --gl option of a strategy (StrategyOptions.extra["gl"], default egl); throws InputError-like
+// std::invalid_argument naming the bad value.
+Platform platform_option(const StrategyOptions& options);
+
+// No context on this platform (no EGL display, no OSMesa, GL too old): the strategy is
+// unavailable, with this reason.
+class UnavailableError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A GL error or a debug-output error message, naming where it was detected.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// One platform's context and how to make it current and load functions (gl_osmesa.cpp,
+// gl_egl.cpp).
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual void make_current() = 0;
+  virtual void release() = 0;
+  virtual void* proc_address(const char* name) = 0;
+  virtual std::string description() const = 0;  // "osmesa", "egl-surfaceless", "egl-device"
+};
+
+void APIENTRY debug_message(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei length,
+                            const GLchar* message, const void* self);
+
+class Context {
+ public:
+  // Throws UnavailableError with the reason when the platform cannot give a GL 3.3 core context.
+  static std::unique_ptr<Context> create(Platform platform);
+  // Whether create(platform) succeeds here; computed once per process and platform.
+  static Availability probe(Platform platform);
+
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  // Makes this context current on the calling thread, releasing another nurbsbench context first
+  // (an OSMesa and an EGL context share Mesa's dispatch, so only one may be bound at a time).
+  void make_current();
+  const Functions& gl() const { return gl_; }
+
+  Platform platform() const { return platform_; }
+  const std::string& description() const { return description_; }
+  const std::string& renderer() const { return renderer_; }
+  const std::string& vendor() const { return vendor_; }
+  const std::string& version() const { return version_; }
+  const std::string& glsl_version() const { return glsl_version_; }
+  // llvmpipe, softpipe, swrast: the "GPU" is the CPU (DESIGN.md, "Timing").
+  bool software() const;
+  int max_texture_size() const { return max_texture_size_; }
+  int max_viewport() const { return max_viewport_; }
+  bool has_extension(std::string_view name) const;
+  // renderer/vendor/version strings for DeviceInfo.details.
+  std::map<std::string, std::string> record() const;
+
+  // Throws Error if glGetError or (debug builds) debug output reported an error since the last
+  // check; `where` names the step ("basis pass 2", "upload").
+  void check(std::string_view where);
+
+ private:
+  Context(Platform platform, std::unique_ptr<Backend> backend);
+  void init();
+  friend void debug_message(GLenum, GLenum, GLuint, GLenum, GLsizei, const GLchar*, const void*);
+
+  Platform platform_;
+  std::unique_ptr<Backend> backend_;
+  Functions gl_;
+  std::string description_, renderer_, vendor_, version_, glsl_version_;
+  std::vector<std::string> extensions_;
+  int max_texture_size_ = 0, max_viewport_ = 0;
+  std::vector<std::string> debug_errors_;
+};
+
+// Platform backends; each throws UnavailableError with the reason. Defined only where built.
+std::unique_ptr<Backend> create_osmesa_backend(bool debug);
+std::unique_ptr<Backend> create_egl_backend(bool debug);
+
+}  // namespace nurbs::gl

@@ -1,0 +1,66 @@
+// GLSL programs and the GL objects the GL strategies create, owned RAII-style. A shader that does
+// not compile or link throws ShaderError carrying the driver's log (DESIGN.md: "A shader that
+// fails to compile produces an error carrying the compiler log").
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "strategies/gl_context/gl_context.h"
+
+namespace nurbs::gl {
+
+class ShaderError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Program {
+ public:
+  // `defines` ("#define PACKED 1\n") go right after the source's #version line. `label` names
+  // the program in errors ("gl-pingpong basis_order.frag").
+  Program(Context& context, std::string_view vertex, std::string_view fragment,
+          std::string_view defines, std::string_view label);
+  ~Program();
+  Program(const Program&) = delete;
+  Program& operator=(const Program&) = delete;
+
+  GLuint id() const { return id_; }
+  // Throws ShaderError when the program has no active uniform of that name.
+  GLint uniform(const char* name) const;
+
+ private:
+  Context& context_;
+  GLuint id_ = 0;
+  std::string label_;
+};
+
+// A 2D texture (nearest filtering, clamped; read with texelFetch) with, for render targets, its
+// own framebuffer.
+class Texture {
+ public:
+  Texture() = default;
+  Texture(Context& context, GLenum internal_format, int width, int height, bool render_target);
+  ~Texture();
+  Texture(Texture&& other) noexcept;
+  Texture& operator=(Texture&& other) noexcept;
+
+  // Replaces the whole image; returns the bytes sent.
+  std::size_t upload(GLenum format, GLenum type, const void* data, std::size_t bytes_per_texel);
+  // Binds its framebuffer and sets the viewport to the whole texture.
+  void bind_target() const;
+  void bind_to_unit(int unit) const;
+
+  GLuint id() const { return texture_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  void reset();
+  Context* context_ = nullptr;
+  GLuint texture_ = 0, framebuffer_ = 0;
+  int width_ = 0, height_ = 0;
+};
+
+}  // namespace nurbs::gl

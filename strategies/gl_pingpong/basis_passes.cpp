@@ -1,0 +1,117 @@
+#include "strategies/gl_pingpong/basis_passes.h"
+
+#include <string>
+#include <string_view>
+
+namespace nurbs::embedded {
+extern const std::string_view gl_fullscreen_triangle_vert;
+extern const std::string_view gl_pingpong_basis_order_frag;
+extern const std::string_view gl_pingpong_accumulate_frag;
+extern const std::string_view gl_pingpong_divide_frag;
+}  // namespace nurbs::embedded
+
+namespace nurbs::gl_pingpong {
+namespace {
+
+std::string defines(bool packed) {
+  return packed ? "#define PACKED 1\n" : "#define PACKED 0\n";
+}
+
+}  // namespace
+
+Programs::Programs(gl::Context& context_, bool packed)
+    : context(context_),
+      basis(context_, embedded::gl_fullscreen_triangle_vert, embedded::gl_pingpong_basis_order_frag,
+            defines(packed), "gl-pingpong basis_order.frag"),
+      accumulate(context_, embedded::gl_fullscreen_triangle_vert,
+                 embedded::gl_pingpong_accumulate_frag, defines(packed),
+                 "gl-pingpong accumulate.frag"),
+      divide(context_, embedded::gl_fullscreen_triangle_vert, embedded::gl_pingpong_divide_frag,
+             defines(packed), "gl-pingpong divide.frag"),
+      basis_degree(basis.uniform("degree")),
+      basis_order(basis.uniform("order")),
+      accumulate_a(accumulate.uniform("a")),
+      accumulate_b(accumulate.uniform("b")) {
+  const gl::Functions& gl = context.gl();
+  gl.GenVertexArrays(1, &vertex_array_);
+  // Sampler units never change: set them once per program.
+  gl.UseProgram(basis.id());
+  gl.Uniform1i(basis.uniform("knot_array"), 0);
+  gl.Uniform1i(basis.uniform("previous"), 1);
+  gl.UseProgram(accumulate.id());
+  gl.Uniform1i(accumulate.uniform("previous"), 0);
+  gl.Uniform1i(accumulate.uniform("control"), 1);
+  gl.Uniform1i(accumulate.uniform("basis_u"), 2);
+  gl.Uniform1i(accumulate.uniform("basis_v"), 3);
+  gl.Uniform1i(accumulate.uniform("first_u"), 4);
+  gl.Uniform1i(accumulate.uniform("first_v"), 5);
+  gl.UseProgram(divide.id());
+  gl.Uniform1i(divide.uniform("sum"), 0);
+  gl.UseProgram(0);
+  context.check("gl-pingpong programs");
+}
+
+Programs::~Programs() {
+  context.make_current();
+  context.gl().DeleteVertexArrays(1, &vertex_array_);
+}
+
+void Programs::draw() const {
+  const gl::Functions& gl = context.gl();
+  gl.BindVertexArray(vertex_array_);
+  gl.DrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+BasisChunk::BasisChunk(gl::Context& context, const ChunkInputs& in)
+    : context_(&context),
+      count_(in.count),
+      rows_(in.rows),
+      degree_(in.degree),
+      knot_array_(context, in.packed ? GL_RGBA32F : GL_R32F, in.knot_array_width(), in.rows, false),
+      order1_(context, GL_RGBA32F, in.basis_width(), in.rows, false),
+      first_index_(context, GL_R32I, 1, in.count, false) {
+  const GLenum format = in.packed ? GL_RGBA : GL_RED;
+  const std::size_t texel = sizeof(float) * static_cast<std::size_t>(in.channels);
+  bytes_uploaded_ += knot_array_.upload(format, GL_FLOAT, in.knot_array.data(), texel);
+  bytes_uploaded_ += order1_.upload(format, GL_FLOAT, in.order1.data(), texel);
+  bytes_uploaded_ +=
+      first_index_.upload(GL_RED_INTEGER, GL_INT, in.first_index.data(), sizeof(std::int32_t));
+  for (gl::Texture& t : ping_)
+    t = gl::Texture(context, GL_RGBA32F, in.basis_width(), in.rows, true);
+  result_ = &order1_;
+  context.check("gl-pingpong basis upload");
+}
+
+void BasisChunk::raise(const Programs& programs, int passes) {
+  const gl::Functions& gl = context_->gl();
+  gl.UseProgram(programs.basis.id());
+  gl.Uniform1i(programs.basis_order, degree_ + 1);
+  knot_array_.bind_to_unit(0);
+  const gl::Texture* source = &order1_;
+  for (int pass = 0; pass < passes; ++pass) {
+    const gl::Texture& target = ping_[pass % 2];
+    target.bind_target();
+    source->bind_to_unit(1);
+    gl.Uniform1i(programs.basis_degree, pass + 1);
+    programs.draw();
+    source = &target;
+  }
+  result_ = source;
+}
+
+std::vector<float> BasisChunk::read_result() const {
+  const gl::Functions& gl = context_->gl();
+  std::vector<float> out(static_cast<std::size_t>(result_->width()) * rows_ * 4);
+  if (result_ == &order1_) {
+    // Not a render target; only ever asked for after raise() by the tests.
+    return {};
+  }
+  result_->bind_target();
+  gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+  gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+  gl.ReadPixels(0, 0, result_->width(), rows_, GL_RGBA, GL_FLOAT, out.data());
+  context_->check("gl-pingpong basis read-back");
+  return out;
+}
+
+}  // namespace nurbs::gl_pingpong

@@ -1,0 +1,301 @@
+#include "strategies/gl_pingpong/gl_pingpong.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+
+#include "reference/nurbs_math.h"
+#include "strategies/gl_context/gl_context.h"
+#include "strategies/gl_pingpong/basis_passes.h"
+
+namespace nurbs {
+namespace {
+
+using gl_pingpong::BasisChunk;
+using gl_pingpong::Programs;
+
+constexpr const char* kSource =
+    "000 §2-3 (Krishnamurthy et al. 2007): knot-array texture, ping-pong basis passes, "
+    "k_u x k_v accumulation passes";
+
+Capabilities pingpong_capabilities() {
+  Capabilities c;
+  c.max_degree = kMaxDegree;  // any order: one program, k-1 passes, 2k+1 knot-array columns
+  c.rational = true;
+  c.normals = false;  // the paper evaluates positions only
+  c.fp32 = true;
+  c.fp64 = false;  // RGBA32F textures, as in the paper
+  c.sampling = SamplingModes{true, true, false};
+  return c;
+}
+
+int positive_option(const StrategyOptions& options, const std::string& key) {
+  const auto it = options.extra.find(key);
+  if (it == options.extra.end() || it->second.empty()) return 0;
+  int value = 0;
+  const auto [end, ec] =
+      std::from_chars(it->second.data(), it->second.data() + it->second.size(), value);
+  if (ec != std::errc() || end != it->second.data() + it->second.size() || value < 1)
+    throw std::invalid_argument(
+        fmt::format("gl-pingpong option {} = '{}': must be a positive integer", key, it->second));
+  return value;
+}
+
+// One tile of the evaluation grid: u-chunk cu x v-chunk cv, its running sum ping-pongs between
+// sum[0] and sum[1] (the paper's tex1/tex2); `result` is where the divide pass wrote the points.
+struct Tile {
+  int cu = 0, cv = 0;
+  gl::Texture sum[2];
+  int result = 0;
+};
+
+struct SurfaceOnGpu {
+  int degree_u = 0, degree_v = 0;
+  gl::Texture control;  // count_v x count_u homogeneous control points (000 §3.1)
+  std::vector<BasisChunk> u_chunks, v_chunks;
+  std::vector<std::size_t> u_begin, v_begin;  // first parameter of each chunk
+  std::vector<Tile> tiles;
+};
+
+class GlPingPong final : public Strategy {
+ public:
+  GlPingPong(gl::Platform platform, bool packed, int tile_option) : packed_(packed) {
+    try {
+      context_ = gl::Context::create(platform);
+    } catch (const gl::UnavailableError& e) {
+      throw std::runtime_error(fmt::format("unavailable: {}", e.what()));
+    }
+    programs_ = std::make_unique<Programs>(*context_, packed_);
+    tile_ = std::min(context_->max_texture_size(), context_->max_viewport());
+    if (tile_option > 0) tile_ = std::min(tile_, tile_option);
+  }
+
+  ~GlPingPong() override {
+    context_->make_current();
+    surfaces_.clear();
+    programs_.reset();
+    if (query_) context_->gl().DeleteQueries(1, &query_);
+  }
+
+  std::string_view name() const override { return packed_ ? "gl-pingpong-packed" : "gl-pingpong"; }
+  Capabilities capabilities() const override { return pingpong_capabilities(); }
+
+  DeviceInfo device() const override {
+    DeviceInfo d;
+    d.name = context_->renderer();
+    d.kind = context_->software() ? "cpu" : "gpu";
+    d.details = context_->record();
+    if (context_->software())
+      d.details.insert_or_assign("note", "software rasterizer: the 'GPU' is the CPU");
+    d.details.insert_or_assign("packed", std::to_string(packed_ ? 1 : 0));
+    d.details["tile"] = std::to_string(tile_);
+    d.details["tiles"] = std::to_string(tile_count_);
+    d.details["passes"] = std::to_string(passes_);
+    d.details["passes_basis"] = std::to_string(basis_passes_);
+    d.details["bytes_uploaded"] = std::to_string(bytes_uploaded_);
+    return d;
+  }
+
+  void prepare(const Scene& scene, const EvalRequest& request) override {
+    if (request.precision != Precision::f32)
+      throw RefusedError("gl-pingpong evaluates in float32 textures only");
+    if (request.normals) throw RefusedError("gl-pingpong evaluates positions only");
+    if (request.sampling.mode == SamplingMode::explicit_list)
+      throw RefusedError("gl-pingpong needs a tensor-product sampling (grid or span grid)");
+    samples_ = sample_parameters(scene, request.sampling);
+    context_->make_current();
+    surfaces_.clear();
+    bytes_uploaded_ = 0;
+    passes_ = basis_passes_ = 0;
+    tile_count_ = 0;
+    for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
+      surfaces_.push_back(upload_surface(scene.surfaces[i], samples_[i]));
+    context_->gl().Finish();
+    context_->check("gl-pingpong upload");
+  }
+
+  void evaluate() override {
+    context_->make_current();
+    const gl::Functions& gl = context_->gl();
+    if (!query_) gl.GenQueries(1, &query_);
+    gl.BeginQuery(GL_TIME_ELAPSED, query_);
+    for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
+    gl.EndQuery(GL_TIME_ELAPSED);
+    gl.Finish();
+    GLuint64 ns = 0;
+    gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
+    device_evaluate_s_ = static_cast<double>(ns) * 1e-9;
+    context_->check("gl-pingpong evaluate");
+  }
+
+  DeviceTimes device_times() const override { return {device_evaluate_s_}; }
+
+  EvalResult read_back() override {
+    context_->make_current();
+    const gl::Functions& gl = context_->gl();
+    EvalResult out;
+    out.surfaces.resize(surfaces_.size());
+    std::vector<float> texels;
+    for (std::size_t i = 0; i < surfaces_.size(); ++i) {
+      const SurfaceSamples& samples = samples_[i];
+      SurfaceResult& r = out.surfaces[i];
+      r.samples = samples;
+      r.positions = PointArray(Precision::f32, samples.count());
+      float* xyz = r.positions.f32();
+      const std::size_t nv = samples.v.size();
+      for (const Tile& t : surfaces_[i].tiles) {
+        const gl::Texture& result = t.sum[t.result];
+        texels.resize(static_cast<std::size_t>(result.width()) * result.height() * 4);
+        result.bind_target();
+        gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+        gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+        gl.ReadPixels(0, 0, result.width(), result.height(), GL_RGBA, GL_FLOAT, texels.data());
+        const std::size_t u0 = surfaces_[i].u_begin[static_cast<std::size_t>(t.cu)];
+        const std::size_t v0 = surfaces_[i].v_begin[static_cast<std::size_t>(t.cv)];
+        for (int a = 0; a < result.height(); ++a)
+          for (int b = 0; b < result.width(); ++b) {
+            const float* texel = &texels[(static_cast<std::size_t>(a) * result.width() + b) * 4];
+            float* p = &xyz[((u0 + a) * nv + v0 + b) * 3];
+            p[0] = texel[0];
+            p[1] = texel[1];
+            p[2] = texel[2];
+          }
+      }
+    }
+    context_->check("gl-pingpong read-back");
+    return out;
+  }
+
+ private:
+  std::vector<BasisChunk> upload_chunks(const std::vector<double>& parameters, int degree,
+                                        int count, const std::vector<float>& knots,
+                                        std::vector<std::size_t>& begins) {
+    std::vector<BasisChunk> chunks;
+    for (std::size_t begin = 0; begin < parameters.size();
+         begin += static_cast<std::size_t>(tile_)) {
+      const std::size_t end = std::min(parameters.size(), begin + static_cast<std::size_t>(tile_));
+      chunks.emplace_back(*context_, gl_pingpong::make_chunk_inputs(parameters, begin, end, degree,
+                                                                    count, knots, packed_));
+      bytes_uploaded_ += chunks.back().bytes_uploaded();
+      begins.push_back(begin);
+    }
+    return chunks;
+  }
+
+  SurfaceOnGpu upload_surface(const Surface& surface, const SurfaceSamples& samples) {
+    // Grids larger than a texture are tiled; a control net larger than one is refused (it would
+    // need the sub-mesh lookup split across textures, which the paper's layout does not have).
+    if (std::max(surface.count_u, surface.count_v) > context_->max_texture_size())
+      throw RefusedError(fmt::format(
+          "surface '{}' has {}x{} control points; the control-point texture is limited to {} "
+          "per side (GL_MAX_TEXTURE_SIZE)",
+          surface.name, surface.count_u, surface.count_v, context_->max_texture_size()));
+    const SurfaceNet<float> net(surface);
+    SurfaceOnGpu s;
+    s.degree_u = surface.degree_u;
+    s.degree_v = surface.degree_v;
+    s.control = gl::Texture(*context_, GL_RGBA32F, surface.count_v, surface.count_u, false);
+    bytes_uploaded_ +=
+        s.control.upload(GL_RGBA, GL_FLOAT, net.homogeneous.data(), sizeof(float) * 4);
+    s.u_chunks = upload_chunks(samples.u, net.degree_u, net.count_u, net.knots_u, s.u_begin);
+    s.v_chunks = upload_chunks(samples.v, net.degree_v, net.count_v, net.knots_v, s.v_begin);
+    for (std::size_t cu = 0; cu < s.u_chunks.size(); ++cu)
+      for (std::size_t cv = 0; cv < s.v_chunks.size(); ++cv) {
+        Tile t;
+        t.cu = static_cast<int>(cu);
+        t.cv = static_cast<int>(cv);
+        for (gl::Texture& sum : t.sum)
+          sum = gl::Texture(*context_, GL_RGBA32F, s.v_chunks[cv].count(), s.u_chunks[cu].count(),
+                            true);
+        s.tiles.push_back(std::move(t));
+      }
+    tile_count_ += s.tiles.size();
+    const std::size_t basis = s.u_chunks.size() * static_cast<std::size_t>(s.degree_u) +
+                              s.v_chunks.size() * static_cast<std::size_t>(s.degree_v);
+    basis_passes_ += basis;
+    passes_ += basis + s.tiles.size() * (static_cast<std::size_t>(s.degree_u + 1) *
+                                             static_cast<std::size_t>(s.degree_v + 1) +
+                                         1);
+    return s;
+  }
+
+  void evaluate_surface(SurfaceOnGpu& s) {
+    const gl::Functions& gl = context_->gl();
+    // 000 §3.1 step 2: k-1 passes per direction (and per chunk of a tiled direction).
+    for (BasisChunk& c : s.u_chunks) c.raise(*programs_, s.degree_u);
+    for (BasisChunk& c : s.v_chunks) c.raise(*programs_, s.degree_v);
+    // Step 3: k_u x k_v accumulation passes per tile, then the divide.
+    for (Tile& t : s.tiles) {
+      const BasisChunk& u = s.u_chunks[static_cast<std::size_t>(t.cu)];
+      const BasisChunk& v = s.v_chunks[static_cast<std::size_t>(t.cv)];
+      t.sum[0].bind_target();  // tex1 starts at zero
+      gl.ClearColor(0, 0, 0, 0);
+      gl.Clear(GL_COLOR_BUFFER_BIT);
+      gl.UseProgram(programs_->accumulate.id());
+      s.control.bind_to_unit(1);
+      u.result().bind_to_unit(2);
+      v.result().bind_to_unit(3);
+      u.first_index().bind_to_unit(4);
+      v.first_index().bind_to_unit(5);
+      int current = 0;
+      for (int a = 0; a <= s.degree_u; ++a)
+        for (int b = 0; b <= s.degree_v; ++b) {
+          t.sum[1 - current].bind_target();
+          t.sum[current].bind_to_unit(0);
+          gl.Uniform1i(programs_->accumulate_a, a);
+          gl.Uniform1i(programs_->accumulate_b, b);
+          programs_->draw();
+          current = 1 - current;
+        }
+      gl.UseProgram(programs_->divide.id());
+      t.sum[1 - current].bind_target();
+      t.sum[current].bind_to_unit(0);
+      programs_->draw();
+      t.result = 1 - current;
+    }
+  }
+
+  bool packed_;
+  std::unique_ptr<gl::Context> context_;
+  std::unique_ptr<Programs> programs_;
+  int tile_ = 0;
+  std::vector<SurfaceSamples> samples_;
+  std::vector<SurfaceOnGpu> surfaces_;
+  GLuint query_ = 0;
+  double device_evaluate_s_ = 0;
+  std::size_t bytes_uploaded_ = 0, passes_ = 0, basis_passes_ = 0, tile_count_ = 0;
+};
+
+Availability pingpong_probe() {
+  const Availability egl = gl::Context::probe(gl::Platform::egl);
+  if (egl.available) return egl;
+  const Availability osmesa = gl::Context::probe(gl::Platform::osmesa);
+  if (osmesa.available) return osmesa;  // --gl osmesa works; the default egl reports at create
+  return {false, fmt::format("{}; {}", egl.reason, osmesa.reason)};
+}
+
+StrategyEntry entry(std::string name, bool packed_entry) {
+  return {std::move(name),
+          kSource,
+          "strategy",
+          pingpong_probe,
+          pingpong_capabilities,
+          [packed_entry](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
+            const auto it = options.extra.find("packed");
+            const bool packed = packed_entry || (it != options.extra.end() && it->second == "1");
+            return std::make_unique<GlPingPong>(gl::platform_option(options), packed,
+                                                positive_option(options, "tile"));
+          }};
+}
+
+}  // namespace
+
+StrategyEntry gl_pingpong_entry() {
+  return entry("gl-pingpong", false);
+}
+StrategyEntry gl_pingpong_packed_entry() {
+  return entry("gl-pingpong-packed", true);
+}
+
+}  // namespace nurbs

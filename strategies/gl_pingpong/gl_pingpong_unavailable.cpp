@@ -1,0 +1,32 @@
+// gl-pingpong when the build has no OpenGL (no OSMesa/EGL development packages, or
+// NURBSBENCH_CPU_ONLY): still registered, so `list` and results say why it did not run.
+#include "reference/validation.h"
+#include "strategies/gl_pingpong/gl_pingpong.h"
+
+namespace nurbs {
+namespace {
+
+StrategyEntry unavailable_entry(std::string name) {
+  return {std::move(name),
+          "000 §2-3 (Krishnamurthy et al. 2007): knot-array texture, ping-pong basis passes, "
+          "k_u x k_v accumulation passes",
+          "strategy",
+          [] {
+            return Availability{false, NURBSBENCH_GL_MISSING};
+          },
+          [] { return Capabilities{}; },
+          [](const StrategyOptions&) -> std::unique_ptr<Strategy> {
+            throw std::runtime_error(NURBSBENCH_GL_MISSING);
+          }};
+}
+
+}  // namespace
+
+StrategyEntry gl_pingpong_entry() {
+  return unavailable_entry("gl-pingpong");
+}
+StrategyEntry gl_pingpong_packed_entry() {
+  return unavailable_entry("gl-pingpong-packed");
+}
+
+}  // namespace nurbs

@@ -1,0 +1,152 @@
+// gl-pingpong against the extended-precision reference on every built-in scene, on OSMesa and on
+// EGL, unpacked and packed (000 §2.3), at grid and span-grid samples: within the issue's 64
+// float32 ulps of the scene's largest coordinate (see kBudgetUlp for the tightened gate). The
+// generic strategy suite skips gl-pingpong (it asks for normals, which the paper's pipeline does
+// not produce), so the per-scene accuracy lives here.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <iostream>
+
+#include "harness/metrics.h"
+#include "harness/runner.h"
+#include "scenes/builtin_scenes.h"
+#include "strategies/gl_context/gl_context.h"
+#include "strategies/registry.h"
+
+namespace nurbs {
+namespace {
+
+// The issue asks 64; tightened to 32 (the CPU evaluators' bound) since the measured worst over
+// these scenes is 14.9 (clustered: float rounding of the parameter, as for cpu-coxdeboor) and
+// under 5 elsewhere, identical on OSMesa and EGL, packed or not (results/gates.json).
+constexpr double kBudgetUlp = 32.0;
+
+const std::vector<std::string> kScenes = {
+    "patch144",  "tan16",      "sphere",   "torus",    "degree-1", "degree-2", "degree-3",
+    "degree-4",  "degree-5",   "degree-6", "degree-7", "degree-8", "degree-9", "creases",
+    "clustered", "far-origin", "teapot",   "duck",     "many-16"};
+
+struct Case {
+  std::string platform;
+  std::string strategy;
+};
+
+StrategyOptions options_for(const std::string& platform, const std::string& tile = "") {
+  StrategyOptions o;
+  o.extra["gl"] = platform;
+  if (!tile.empty()) o.extra["tile"] = tile;
+  return o;
+}
+
+EvalResult evaluate(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
+                    const Sampling& sampling) {
+  auto strategy = entry.create(options);
+  strategy->prepare(scene, EvalRequest{sampling, Precision::f32, false});
+  strategy->evaluate();
+  return strategy->read_back();
+}
+
+std::vector<Sampling> samplings() {
+  Sampling grid;
+  grid.grid_u = 33;
+  grid.grid_v = 29;
+  Sampling span;
+  span.mode = SamplingMode::span_grid;
+  span.span_steps = 3;
+  return {grid, span};
+}
+
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.platform << "/" << c.strategy;
+}
+
+class GlPingPongAccuracy : public ::testing::TestWithParam<Case> {};
+
+TEST_P(GlPingPongAccuracy, WithinBudgetOnEveryBuiltinScene) {
+  const auto platform = gl::parse_platform(GetParam().platform);
+  const Availability a = gl::Context::probe(*platform);
+  if (!a.available) GTEST_SKIP() << "unavailable: " << a.reason;
+  const StrategyEntry& entry = *find_strategy(GetParam().strategy);
+  for (const std::string& name : kScenes) {
+    const Scene scene = *make_builtin_scene(name);
+    double worst = 0;
+    for (const Sampling& sampling : samplings()) {
+      const EvalResult result = evaluate(entry, options_for(GetParam().platform), scene, sampling);
+      const Accuracy acc = measure_accuracy(
+          scene, result, evaluate_reference(scene, sample_parameters(scene, sampling), false));
+      EXPECT_EQ(acc.non_finite, 0u) << name;
+      EXPECT_LE(acc.max_ulp, kBudgetUlp)
+          << entry.name << " (" << GetParam().platform << ") on " << name << " ("
+          << sampling.label() << "): worst at surface " << acc.worst_surface << " u=" << acc.worst_u
+          << " v=" << acc.worst_v;
+      worst = std::max(worst, acc.max_ulp);
+    }
+    std::cout << entry.name << " " << GetParam().platform << " " << name << ": max_ulp " << worst
+              << "\n";
+  }
+}
+
+// Grids beyond one texture are tiled, never truncated: with 7-texel tiles (chunks of 7
+// parameters, tiles of 7x7 samples, partial ones at the edges) every point is bit-identical to
+// the untiled run, since each sample's arithmetic does not depend on its tile.
+TEST_P(GlPingPongAccuracy, TiledGridEqualsUntiled) {
+  const auto platform = gl::parse_platform(GetParam().platform);
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  const StrategyEntry& entry = *find_strategy(GetParam().strategy);
+  const Scene scene = *make_builtin_scene("many-16");
+  Sampling grid;
+  grid.grid_u = 30;
+  grid.grid_v = 17;
+  const EvalResult whole = evaluate(entry, options_for(GetParam().platform), scene, grid);
+  const EvalResult tiled = evaluate(entry, options_for(GetParam().platform, "7"), scene, grid);
+  ASSERT_EQ(whole.surfaces.size(), tiled.surfaces.size());
+  for (std::size_t i = 0; i < whole.surfaces.size(); ++i) {
+    const PointArray &w = whole.surfaces[i].positions, &t = tiled.surfaces[i].positions;
+    ASSERT_EQ(t.size(), 30u * 17u);
+    for (std::size_t k = 0; k < w.size(); ++k)
+      ASSERT_EQ(w[k], t[k]) << "surface " << i << " sample " << k;
+  }
+  auto strategy = entry.create(options_for(GetParam().platform, "7"));
+  strategy->prepare(scene, EvalRequest{grid, Precision::f32, false});
+  EXPECT_EQ(strategy->device().details.at("tiles"), std::to_string(16 * 5 * 3));
+}
+
+TEST_P(GlPingPongAccuracy, RecordsDeviceTimesPassesAndBytes) {
+  const auto platform = gl::parse_platform(GetParam().platform);
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  const StrategyEntry& entry = *find_strategy(GetParam().strategy);
+  const Scene scene = *make_builtin_scene("patch144");  // bicubic, 12x12
+  Sampling grid;
+  grid.grid_u = 16;
+  grid.grid_v = 16;
+  auto strategy = entry.create(options_for(GetParam().platform));
+  strategy->prepare(scene, EvalRequest{grid, Precision::f32, false});
+  strategy->evaluate();
+  ASSERT_TRUE(strategy->device_times().evaluate_s.has_value());
+  EXPECT_GT(*strategy->device_times().evaluate_s, 0.0);
+  const DeviceInfo d = strategy->device();
+  // 3 + 3 basis passes (k-1 per direction), 16 accumulation passes (000 §3.1), 1 divide.
+  EXPECT_EQ(d.details.at("passes"), "23");
+  EXPECT_FALSE(d.details.at("gl_renderer").empty());
+  EXPECT_FALSE(d.details.at("gl_version").empty());
+  // control points 144 x 16 bytes; per direction: knot array 16 x 9 texels, order-1 16 x 5
+  // texels (1 float each unpacked, 4 floats per 4 parameters packed: the same bytes), span
+  // indices 16 x 4 bytes.
+  const std::size_t per_direction = 16 * 9 * 4 + 16 * 5 * 4 + 16 * 4;
+  EXPECT_EQ(d.details.at("bytes_uploaded"), std::to_string(144 * 16 + 2 * per_direction));
+}
+
+INSTANTIATE_TEST_SUITE_P(Platforms, GlPingPongAccuracy,
+                         ::testing::Values(Case{"osmesa", "gl-pingpong"},
+                                           Case{"osmesa", "gl-pingpong-packed"},
+                                           Case{"egl", "gl-pingpong"},
+                                           Case{"egl", "gl-pingpong-packed"}),
+                         [](const auto& info) {
+                           std::string s = info.param.platform + "_" + info.param.strategy;
+                           std::replace(s.begin(), s.end(), '-', '_');
+                           return s;
+                         });
+
+}  // namespace
+}  // namespace nurbs
