@@ -123,7 +123,8 @@ int eval_command(const EvalOptions& options) {
     throw InputError(
         fmt::format("strategy {} refuses scene {}: {}", entry->name, scene.name, *refused));
 
-  std::unique_ptr<Strategy> strategy = entry->create(StrategyOptions{options.threads, gl_extra(options.gl)});
+  std::unique_ptr<Strategy> strategy =
+      entry->create(StrategyOptions{options.threads, gl_extra(options.gl)});
   strategy->prepare(scene, request);
   strategy->evaluate();
   const EvalResult result = strategy->read_back();

@@ -42,7 +42,8 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--precision", eval.precision, "f32 (default) or f64");
   eval_cmd->add_option("--reference", eval.reference, "long-double (default) or float128");
   eval_cmd->add_option("--threads", eval.threads, "threads for every backend (0: every core)");
-  eval_cmd->add_option("--gl", eval.gl, "OpenGL platform of the GL strategies: egl (default) or osmesa")
+  eval_cmd
+      ->add_option("--gl", eval.gl, "OpenGL platform of the GL strategies: egl (default) or osmesa")
       ->check(CLI::IsMember({"osmesa", "egl"}));
   eval_cmd->add_option("--out", eval.out,
                        "CSV file surface,u,v,x,y,z[,nx,ny,nz] (default: stdout)");
@@ -63,7 +64,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--repetitions", run.repetitions, "timed repetitions per phase (default 5)");
   run_cmd->add_option("--reference", run.reference, "long-double (default) or float128");
   run_cmd->add_option("--threads", run.threads, "threads for every backend (0: every core)");
-  run_cmd->add_option("--gl", run.gl, "OpenGL platform of the GL strategies: egl (default) or osmesa")
+  run_cmd
+      ->add_option("--gl", run.gl, "OpenGL platform of the GL strategies: egl (default) or osmesa")
       ->check(CLI::IsMember({"osmesa", "egl"}));
   run_cmd->add_option("--out", run.out, "output directory (default results/latest)");
 

@@ -67,8 +67,7 @@ void store_bandwidth(benchmark::State& state) {
 // weights in [0.5, 2] (fixed seed, so every run times the same surface).
 Scene random_bicubic_12x12() {
   std::mt19937_64 rng(2024);
-  std::uniform_real_distribution<double> unit(0.0, 1.0), coordinate(-10.0, 10.0),
-      weight(0.5, 2.0);
+  std::uniform_real_distribution<double> unit(0.0, 1.0), coordinate(-10.0, 10.0), weight(0.5, 2.0);
   Surface s;
   s.name = "random";
   s.degree_u = s.degree_v = 3;
