@@ -28,6 +28,20 @@ double normal_angle_deg(const std::array<double, 3>& a, const Point3& b) {
 
 }  // namespace
 
+std::vector<SurfaceSamples> result_samples(const EvalResult& result) {
+  std::vector<SurfaceSamples> samples;
+  samples.reserve(result.surfaces.size());
+  for (const SurfaceResult& r : result.surfaces) samples.push_back(r.samples);
+  return samples;
+}
+
+bool same_samples(const std::vector<SurfaceSamples>& a, const std::vector<SurfaceSamples>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].tensor != b[i].tensor || a[i].u != b[i].u || a[i].v != b[i].v) return false;
+  return true;
+}
+
 Accuracy measure_accuracy(const Scene& scene, const EvalResult& result,
                           const std::vector<ReferenceSurface>& reference) {
   if (result.surfaces.size() != scene.surfaces.size() || reference.size() != scene.surfaces.size())

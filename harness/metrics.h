@@ -25,6 +25,12 @@ struct Accuracy {
 Accuracy measure_accuracy(const Scene& scene, const EvalResult& result,
                           const std::vector<ReferenceSurface>& reference);
 
+// The (u, v) each result surface was evaluated at; equal to sample_parameters(request) except for
+// strategies that choose their own samples (Capabilities::chooses_own_samples).
+std::vector<SurfaceSamples> result_samples(const EvalResult& result);
+// Same layout and the same parameters, bit for bit.
+bool same_samples(const std::vector<SurfaceSamples>& a, const std::vector<SurfaceSamples>& b);
+
 // Same as above for a single scalar error scale; exposed for the tests of the formula.
 double ulps_of_largest_coordinate(double error, double largest_coordinate);
 

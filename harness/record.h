@@ -25,6 +25,7 @@ struct Record {
   std::string precision;  // f32 / f64
   std::string sampling;   // grid / span_grid / explicit
   std::string samples;    // "1024x1024", "span4"
+  // Samples compared: the request's, or those a strategy that chooses its own (glu-nurbs) made.
   std::size_t points = 0;
   std::size_t surfaces = 0;
   int repetitions = 0;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <exception>
+#include <stdexcept>
 
 namespace nurbs {
 
@@ -115,9 +116,21 @@ Record measure(const StrategyEntry& entry, const StrategyOptions& options, const
     r.end_to_end = PhaseStats::of(end_to_end_s);
     if (!device_evaluate_s.empty())
       r.device_evaluate_median_s = PhaseStats::of(device_evaluate_s).median_s;
+    // A strategy that chooses its own samples (a tessellator given a density) is compared with
+    // the reference where it sampled, and its throughput counts the samples it produced.
+    const std::vector<SurfaceSamples> produced = result_samples(result);
+    if (same_samples(produced, sample_parameters(scene, request.sampling))) {
+      r.accuracy = measure_accuracy(scene, result, references.get(scene, request));
+    } else {
+      if (!entry.capabilities().chooses_own_samples)
+        throw std::runtime_error("result carries other (u, v) than the requested samples");
+      r.points = total_samples(produced);
+      r.accuracy = measure_accuracy(
+          scene, result,
+          evaluate_reference(scene, produced, request.normals, references.precision()));
+    }
     r.throughput_pts_per_s =
         r.evaluate.median_s > 0 ? static_cast<double>(r.points) / r.evaluate.median_s : 0;
-    r.accuracy = measure_accuracy(scene, result, references.get(scene, request));
     r.status = Status::ok;
   } catch (const RefusedError& e) {
     r.status = Status::refused;

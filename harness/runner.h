@@ -1,6 +1,7 @@
 // Runs one strategy on one scene and request: prepare -> warm-up -> repetitions of evaluate ->
-// read back -> compare with the reference at the requested (u, v). Whatever happens (unavailable,
-// refused, a throw) comes back as a Record; the caller's run goes on.
+// read back -> compare with the reference at the requested (u, v) (at the result's own (u, v) for a
+// strategy that chooses its samples; `points` is then the number it produced). Whatever happens
+// (unavailable, refused, a throw) comes back as a Record; the caller's run goes on.
 #pragma once
 
 #include <map>
@@ -20,6 +21,7 @@ class ReferenceCache {
   explicit ReferenceCache(ReferencePrecision precision = ReferencePrecision::long_double)
       : precision_(precision) {}
   const std::vector<ReferenceSurface>& get(const Scene& scene, const EvalRequest& request);
+  ReferencePrecision precision() const { return precision_; }
 
  private:
   ReferencePrecision precision_;

@@ -1,19 +1,34 @@
 #include "strategies/registry.h"
 
+#include "strategies/cl_stair/cl_stair.h"
 #include "strategies/cpu_coxdeboor/cpu_coxdeboor.h"
 #include "strategies/cpu_horner/cpu_horner.h"
 #include "strategies/cpu_tensor/cpu_tensor.h"
 #include "strategies/gl_pingpong/gl_pingpong.h"
+#include "strategies/glsl_deboor/glsl_deboor.h"
+#include "strategies/glu_nurbs/glu_nurbs.h"
 #include "strategies/occt/occt_strategy.h"
 #include "strategies/sisl/sisl_strategy.h"
 
 namespace nurbs {
 
 const std::vector<StrategyEntry>& strategy_registry() {
+  // One entry a line, in the order `list` and `run` show them: the papers' strategies, then the
+  // baselines and peers a user would pick instead.
+  // clang-format off
   static const std::vector<StrategyEntry> entries = {
-      cpu_coxdeboor_entry(), cpu_tensor_entry(),  cpu_horner_entry(),         sisl_entry(),
-      occt_entry(),          gl_pingpong_entry(), gl_pingpong_packed_entry(),
+      cpu_coxdeboor_entry(),
+      gl_pingpong_entry(),
+      gl_pingpong_packed_entry(),
+      glsl_deboor_entry(),
+      cl_stair_entry(),
+      cpu_tensor_entry(),
+      cpu_horner_entry(),
+      glu_nurbs_entry(),
+      sisl_entry(),
+      occt_entry(),
   };
+  // clang-format on
   return entries;
 }
 

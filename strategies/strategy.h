@@ -35,6 +35,10 @@ struct Capabilities {
   bool fp32 = true;
   bool fp64 = true;
   SamplingModes sampling;
+  // The strategy decides where it samples (a tessellator given only a density): its results'
+  // SurfaceSamples are what it produced, not sample_parameters(request), and are compared with
+  // the reference there.
+  bool chooses_own_samples = false;
   bool supports(Precision p) const { return p == Precision::f32 ? fp32 : fp64; }
 };
 

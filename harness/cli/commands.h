@@ -34,7 +34,8 @@ struct EvalOptions {
   std::string reference = "long-double";
   std::string out;
   int threads = 0;
-  std::string gl;  // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
+  std::string gl;      // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
+  std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
 };
 int eval_command(const EvalOptions& options);
 
@@ -50,7 +51,8 @@ struct RunOptions {
   std::string reference = "long-double";
   std::string out = "results/latest";
   int threads = 0;
-  std::string gl;  // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
+  std::string gl;      // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
+  std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
 };
 int run_command(const RunOptions& options);
 
@@ -66,8 +68,8 @@ std::vector<Sampling> parse_span_list(std::string_view option, std::string_view 
 Precision parse_precision(std::string_view text);
 ReferencePrecision parse_reference(std::string_view text);
 std::vector<std::string> split_list(std::string_view text);
-// StrategyOptions.extra for --gl (empty: the strategies' default).
-std::map<std::string, std::string> gl_extra(const std::string& gl);
+// StrategyOptions.extra for --gl and --device (empty: the strategies' defaults).
+std::map<std::string, std::string> backend_extra(const std::string& gl, const std::string& device);
 // The thread setting shared by OpenMP, llvmpipe/lavapipe and PoCL; returns the count in force.
 int apply_thread_setting(int threads);
 

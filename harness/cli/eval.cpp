@@ -124,18 +124,24 @@ int eval_command(const EvalOptions& options) {
         fmt::format("strategy {} refuses scene {}: {}", entry->name, scene.name, *refused));
 
   std::unique_ptr<Strategy> strategy =
-      entry->create(StrategyOptions{options.threads, gl_extra(options.gl)});
+      entry->create(StrategyOptions{options.threads, backend_extra(options.gl, options.device)});
   strategy->prepare(scene, request);
   strategy->evaluate();
   const EvalResult result = strategy->read_back();
 
+  // Compared where the strategy sampled: the request's samples, or its own for a strategy that
+  // chooses them (glu-nurbs).
+  const std::vector<SurfaceSamples> produced = result_samples(result);
+  if (!entry->capabilities().chooses_own_samples && !same_samples(produced, samples))
+    throw std::runtime_error(
+        fmt::format("strategy {} returned other (u, v) than the requested samples", entry->name));
   const Accuracy accuracy = measure_accuracy(
-      scene, result, evaluate_reference(scene, samples, request.normals, reference_precision));
+      scene, result, evaluate_reference(scene, produced, request.normals, reference_precision));
   std::cerr << fmt::format(
       "{} on {} ({}, {}, {} samples): max_abs {:.3g}, rms_abs {:.3g}, max_rel {:.3g}, max_ulp "
       "{:.3g}{} "
       "against the {} reference\n",
-      entry->name, scene.name, options.precision, request.sampling.label(), total_samples(samples),
+      entry->name, scene.name, options.precision, request.sampling.label(), total_samples(produced),
       accuracy.max_abs, accuracy.rms_abs, accuracy.max_rel, accuracy.max_ulp,
       accuracy.max_normal_angle_deg
           ? fmt::format(", normals within {:.3g} deg", *accuracy.max_normal_angle_deg)

@@ -87,9 +87,14 @@ ReferencePrecision parse_reference(std::string_view text) {
   return precision;
 }
 
-std::map<std::string, std::string> gl_extra(const std::string& gl) {
-  if (gl.empty()) return {};
-  return {{"gl", gl}};
+std::map<std::string, std::string> backend_extra(const std::string& gl, const std::string& device) {
+  std::map<std::string, std::string> extra;
+  if (!gl.empty()) extra["gl"] = gl;
+  if (!device.empty()) {
+    parse_int("--device", device, device, 0, 1023);
+    extra["device"] = device;
+  }
+  return extra;
 }
 
 int apply_thread_setting(int threads) {

@@ -91,8 +91,9 @@ int run_command(const RunOptions& options) {
                                    scene.name, sampling.label())
                     << std::flush;
         EvalRequest request{sampling, precision, options.normals};
-        writer.append(measure(*entry, StrategyOptions{threads, gl_extra(options.gl)}, scene,
-                              request, options.repetitions, references));
+        writer.append(measure(*entry,
+                              StrategyOptions{threads, backend_extra(options.gl, options.device)},
+                              scene, request, options.repetitions, references));
       }
   if (progress) std::cerr << "\r\x1b[K";
   std::cout << summary_table(writer.records());

@@ -11,6 +11,7 @@
 #include "harness/gates.h"
 #include "harness/metrics.h"
 #include "harness/record.h"
+#include "harness/runner.h"
 #include "harness/timing.h"
 #include "scenes/builtin_scenes.h"
 
@@ -181,6 +182,106 @@ TEST(AtomicFile, ReplacesWholeAndLeavesNoTemporary) {
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1);
   EXPECT_THROW(write_file_atomically(dir / "missing" / "f.txt", "x"), std::runtime_error);
   std::filesystem::remove_all(dir);
+}
+
+// A strategy that picks its own samples (as glu-nurbs does): three (u, v) per surface whatever
+// grid is asked for, positions from the reference there (so correct to float rounding), or
+// shifted by `offset` in x.
+class OwnSamplesStrategy final : public Strategy {
+ public:
+  explicit OwnSamplesStrategy(double offset) : offset_(offset) {}
+  std::string_view name() const override { return "own-samples"; }
+  Capabilities capabilities() const override { return {}; }
+  DeviceInfo device() const override { return {"test", "cpu", {}}; }
+  void prepare(const Scene& scene, const EvalRequest&) override {
+    samples_.clear();
+    for (const Surface& s : scene.surfaces)
+      samples_.push_back({false,
+                          {s.u_min(), 0.3 * s.u_min() + 0.7 * s.u_max(), s.u_max()},
+                          {s.v_min(), 0.6 * s.v_min() + 0.4 * s.v_max(), s.v_max()}});
+    reference_ = evaluate_reference(scene, samples_, false);
+  }
+  void evaluate() override {}
+  EvalResult read_back() override {
+    EvalResult out;
+    for (std::size_t i = 0; i < samples_.size(); ++i) {
+      SurfaceResult r;
+      r.samples = samples_[i];
+      r.positions = PointArray(Precision::f32, samples_[i].count());
+      for (std::size_t k = 0; k < r.positions.size(); ++k) {
+        Point3 p = reference_[i].positions[k];
+        p[0] += offset_;
+        r.positions.set(k, p);
+      }
+      out.surfaces.push_back(std::move(r));
+    }
+    return out;
+  }
+
+ private:
+  double offset_;
+  std::vector<SurfaceSamples> samples_;
+  std::vector<ReferenceSurface> reference_;
+};
+
+StrategyEntry own_samples_entry(bool declares_it, double offset) {
+  Capabilities caps;
+  caps.fp64 = false;
+  caps.chooses_own_samples = declares_it;
+  return {"own-samples",
+          "test",
+          "baseline",
+          [] {
+            return Availability{true, ""};
+          },
+          [caps] { return caps; },
+          [offset](const StrategyOptions&) -> std::unique_ptr<Strategy> {
+            return std::make_unique<OwnSamplesStrategy>(offset);
+          }};
+}
+
+TEST(Runner, StrategyChoosingItsSamplesIsMeasuredWhereItSampled) {
+  const Scene scene = *make_builtin_scene("many-16");
+  Sampling grid;
+  grid.grid_u = 9;
+  grid.grid_v = 5;
+  ReferenceCache references;
+  const EvalRequest request{grid, Precision::f32, false};
+  const Record exact = measure(own_samples_entry(true, 0.0), {}, scene, request, 2, references);
+  ASSERT_EQ(exact.status, Status::ok) << exact.reason;
+  EXPECT_EQ(exact.points, 3 * scene.surfaces.size());  // produced, not the 9x5 requested
+  EXPECT_EQ(exact.samples, "9x5");
+  EXPECT_LE(exact.accuracy.max_ulp, 1.0);  // float rounding of the reference's own values
+
+  // An error at its samples is seen as such, at the sample where it is.
+  const Record shifted = measure(own_samples_entry(true, 1e-3), {}, scene, request, 2, references);
+  ASSERT_EQ(shifted.status, Status::ok) << shifted.reason;
+  EXPECT_NEAR(shifted.accuracy.max_abs, 1e-3, 1e-6);
+  const Surface& worst = scene.surfaces[shifted.accuracy.worst_surface];
+  EXPECT_TRUE(shifted.accuracy.worst_u == worst.u_min() ||
+              shifted.accuracy.worst_u == worst.u_max() ||
+              shifted.accuracy.worst_u == 0.3 * worst.u_min() + 0.7 * worst.u_max());
+}
+
+TEST(Runner, OtherSamplesThanRequestedFailUnlessDeclared) {
+  const Scene scene = *make_builtin_scene("many-16");
+  ReferenceCache references;
+  const Record r = measure(own_samples_entry(false, 0.0), {}, scene,
+                           EvalRequest{Sampling{}, Precision::f32, false}, 1, references);
+  EXPECT_EQ(r.status, Status::failed);
+  EXPECT_NE(r.reason.find("requested samples"), std::string::npos) << r.reason;
+}
+
+TEST(Metrics, SameSamplesComparesLayoutAndValues) {
+  const std::vector<SurfaceSamples> a = {{true, {0, 1}, {0, 0.5, 1}}};
+  std::vector<SurfaceSamples> b = a;
+  EXPECT_TRUE(same_samples(a, b));
+  b[0].tensor = false;
+  EXPECT_FALSE(same_samples(a, b));
+  b = a;
+  b[0].v[1] = std::nextafter(0.5, 1.0);
+  EXPECT_FALSE(same_samples(a, b));
+  EXPECT_FALSE(same_samples(a, {}));
 }
 
 }  // namespace

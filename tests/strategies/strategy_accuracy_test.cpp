@@ -61,10 +61,16 @@ std::vector<Sampling> samplings(const Scene& scene) {
 // otherwise. A new strategy adds its line here and its gate to results/gates.json.
 double f32_ulp_budget(const std::string& strategy) {
   static const std::map<std::string, double> budgets = {
-      {"cpu-coxdeboor", 32.0}, {"cpu-tensor", 32.0},
-      {"gl-pingpong", 32.0},   {"gl-pingpong-packed", 32.0},
-      {"cpu-horner", 32.0},    {"sisl", 32.0},
-      {"occt", 32.0}};
+      {"cpu-coxdeboor", 32.0},
+      {"cpu-tensor", 32.0},
+      {"gl-pingpong", 32.0},
+      {"gl-pingpong-packed", 32.0},
+      {"cpu-horner", 32.0},
+      {"sisl", 32.0},
+      {"glsl-deboor", 32.0},  // issue #4 asks 64; measured worst 9.1 (clustered)
+      {"occt", 32.0},
+      {"glu-nurbs", 32.0},  // GLU in float at its own samples; measured worst 15.6 (clustered)
+      {"cl-stair", 64.0}};
   const auto it = budgets.find(strategy);
   return it != budgets.end() ? it->second : 64.0;
 }
@@ -90,8 +96,15 @@ TEST_P(StrategyAccuracy, AgreesWithReferenceOnEveryBuiltinScene) {
         strategy->prepare(scene, request);
         strategy->evaluate();
         const EvalResult result = strategy->read_back();
-        const Accuracy acc = measure_accuracy(
-            scene, result, evaluate_reference(scene, sample_parameters(scene, sampling), normals));
+        // Compared where the strategy sampled: the requested samples, or the ones a strategy
+        // that chooses its own (glu-nurbs) produced.
+        const std::vector<SurfaceSamples> produced = result_samples(result);
+        if (!entry.capabilities().chooses_own_samples) {
+          EXPECT_TRUE(same_samples(produced, sample_parameters(scene, sampling)))
+              << entry.name << " on " << scene_name << " (" << sampling.label() << ")";
+        }
+        const Accuracy acc =
+            measure_accuracy(scene, result, evaluate_reference(scene, produced, normals));
         const double bound_ulp = precision == Precision::f32 ? f32_ulp_budget(entry.name)
                                                              : 64.0 * DBL_EPSILON / FLT_EPSILON;
         EXPECT_EQ(acc.non_finite, 0u) << scene_name;
@@ -120,6 +133,8 @@ TEST_P(StrategyAccuracy, AgreesWithReferenceOnEveryBuiltinScene) {
 TEST_P(StrategyAccuracy, ResultCarriesTheRequestedSamples) {
   const StrategyEntry& entry = *find_strategy(GetParam());
   if (!entry.probe().available) GTEST_SKIP();
+  if (entry.capabilities().chooses_own_samples)
+    GTEST_SKIP() << entry.name << " chooses its own samples";
   const Scene scene = *make_builtin_scene("many-16");
   Sampling grid;
   grid.grid_u = 5;

@@ -1,0 +1,31 @@
+// cl-stair: RPNS (003 §3.2) stair basis as an OpenCL kernel. One work-group per KSQuad (a
+// non-empty span pair with samples) caches the KSQuad's (p+1)(q+1) homogeneous control points and
+// the per-span constant denominators in local memory; its work-items evaluate the samples that
+// fall in it. The host bins grid parameters by span once in prepare(); span-grid samples are
+// binned natively (span s's T+1 samples belong to KSQuad s, its end knot included). Explicit
+// lists are refused (not separable). float32 by default, float64 where the device has
+// cl_khr_fp64. Degree <= 9 (the kernel's local arrays).
+//
+// Options (StrategyOptions.extra): "device" = N, the N-th OpenCL device over all platforms.
+#pragma once
+
+#include "strategies/registry.h"
+
+namespace nurbs {
+
+StrategyEntry cl_stair_entry();
+
+}  // namespace nurbs
+
+#include <vector>
+
+#include "reference/scalar.h"
+
+namespace nurbs {
+
+// Tests: the kernel's own stair basis (stair.cl, kernel stair_basis_test) at parameters `u` of
+// span `span`, on OpenCL device 0: (degree + 1) values per parameter. OpenCL builds only.
+std::vector<double> stair_basis_on_device(int span, int degree, const std::vector<double>& knots,
+                                          const std::vector<double>& u, Precision precision);
+
+}  // namespace nurbs

@@ -1,0 +1,39 @@
+#version 330 core
+// 002 §3.3.2-3.3.3: one fragment per output texel, drawn by a quad (viewport) that covers exactly
+// the samples of one non-empty knot span; span and its 2p knots are uniforms, so no span search.
+// direction 0 (pass 1): texel (a, row0 + j) = C_j(u_a), the control row j as a curve in u.
+// direction 1 (pass 2): texel (a, out0 + b) = S(u_a, v_b), the pass-1 column a as a curve in v,
+// divided by w. De Boor mirrors nurbs::glsl_deboor::de_boor (strategies/glsl_deboor/de_boor.h).
+
+uniform sampler2D control;     // homogeneous control points (pass 1) or curve points (pass 2)
+uniform sampler2D parameters;  // row `surface_row`: the surface's u (pass 1) or v (pass 2) list
+uniform int direction;
+uniform int span_first;        // span - p: index of the first of the p+1 control points
+uniform int control_row0;      // the surface's first row in the control / curve atlas
+uniform int output_row0;       // pass 2: the surface's first row in the output atlas
+uniform int surface_row;
+uniform float knots[2 * DEGREE];  // K[t] = knots[span - p + 1 + t]
+
+// One program per degree (DEGREE defined by the host): constant loop bounds let the compiler
+// unroll the triangle and keep d[] in registers (a uniform degree costs llvmpipe ~10x: dynamic
+// indexing of a local array goes through memory).
+const int degree = DEGREE;
+
+out vec4 result;
+
+void main() {
+  ivec2 at = ivec2(gl_FragCoord.xy);
+  int sample_index = direction == 0 ? at.x : at.y - output_row0;
+  float u = texelFetch(parameters, ivec2(sample_index, surface_row), 0).r;
+  vec4 d[DEGREE + 1];
+  for (int j = 0; j <= degree; ++j)
+    d[j] = direction == 0 ? texelFetch(control, ivec2(span_first + j, at.y), 0)
+                          : texelFetch(control, ivec2(at.x, control_row0 + span_first + j), 0);
+  for (int r = 1; r <= degree; ++r)
+    for (int j = degree; j >= r; --j) {
+      float alpha = (u - knots[j - 1]) / (knots[j + degree - r] - knots[j - 1]);
+      d[j] = (1.0 - alpha) * d[j - 1] + alpha * d[j];
+    }
+  vec4 p = d[degree];
+  result = direction == 0 ? p : vec4(p.xyz / p.w, 1.0);
+}

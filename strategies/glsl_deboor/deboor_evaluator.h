@@ -1,0 +1,73 @@
+// The GL side of glsl-deboor (002 §3.3): atlas pages, the two de Boor passes, read-back. Kept
+// apart from the Strategy wrapper so that the no-read-back renderer and the wavelet LOD can use
+// the evaluated textures where they lie.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "reference/sampling.h"
+#include "reference/surface.h"
+#include "strategies/gl_context/gl_program.h"
+#include "strategies/glsl_deboor/span_runs.h"
+
+namespace nurbs::glsl_deboor {
+
+// One surface's place in its page.
+struct SurfaceSlot {
+  std::size_t surface = 0;  // index in the scene
+  int degree_u = 0, degree_v = 0, count_u = 0, count_v = 0;
+  std::vector<float> knots_u, knots_v;
+  std::vector<SpanRun> runs_u, runs_v;
+  int nu = 0, nv = 0;     // samples per direction
+  int control_row0 = 0;   // rows [control_row0, + count_v) of the control and curve atlases
+  int output_row0 = 0;    // rows [output_row0, + nv) of the output atlas
+  int parameter_row = 0;  // row of the parameter textures
+};
+
+// Surfaces sharing one set of textures. Output texel (a, output_row0 + b) = S(u_a, v_b), w = 1.
+struct Page {
+  std::vector<SurfaceSlot> slots;
+  gl::Texture control;                     // count_u x count_v per surface, homogeneous
+  gl::Texture curves;                      // nu x count_v per surface: pass 1
+  gl::Texture points;                      // nu x nv per surface: pass 2
+  gl::Texture u_parameters, v_parameters;  // R32F, one row per surface
+};
+
+// de_boor.frag compiled for one degree, with its uniform locations.
+struct DeBoorProgram {
+  DeBoorProgram(gl::Context& context, int degree);
+  gl::Program program;
+  GLint direction, span_first, control_row0, output_row0, surface_row, knots;
+};
+
+class Evaluator {
+ public:
+  // `tile`: largest texture side / viewport to use.
+  Evaluator(gl::Context& context, int tile);
+  ~Evaluator();
+
+  // Builds the pages and uploads control points, parameters; throws RefusedError when one
+  // surface does not fit a texture. Returns the bytes uploaded.
+  std::size_t prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples);
+  // Both passes over every page (no synchronisation).
+  void evaluate();
+  // Positions, (x, y, z) per sample, in each surface's sample order (a * nv + b).
+  std::vector<std::vector<float>> read_back();
+
+  const std::vector<Page>& pages() const { return pages_; }
+  std::size_t quads() const { return quads_; }
+
+ private:
+  gl::Context& context_;
+  int tile_;
+  // Compiled in prepare() for the degrees a scene has, kept for later scenes.
+  const DeBoorProgram& program(int degree);
+  std::map<int, std::unique_ptr<DeBoorProgram>> programs_;
+  GLuint vertex_array_ = 0;
+  std::vector<Page> pages_;
+  std::size_t quads_ = 0;
+};
+
+}  // namespace nurbs::glsl_deboor

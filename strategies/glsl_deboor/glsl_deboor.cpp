@@ -1,0 +1,153 @@
+#include "strategies/glsl_deboor/glsl_deboor.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+
+#include "reference/validation.h"
+#include "strategies/gl_context/gl_context.h"
+#include "strategies/glsl_deboor/deboor_evaluator.h"
+
+namespace nurbs {
+namespace {
+
+constexpr const char* kSource =
+    "002 §3.3 (Tan et al. 2012): de Boor in one fragment pass per direction, one quad per "
+    "non-empty knot span with its knots as uniforms";
+
+Capabilities deboor_capabilities() {
+  Capabilities c;
+  c.max_degree = kMaxDegree;  // one program per degree, compiled in prepare()
+  c.rational = true;
+  c.normals = false;  // 002 evaluates positions only
+  c.fp32 = true;
+  c.fp64 = false;  // RGBA32F textures, as in the paper
+  c.sampling = SamplingModes{true, true, false};
+  return c;
+}
+
+int positive_option(const StrategyOptions& options, const std::string& key) {
+  const auto it = options.extra.find(key);
+  if (it == options.extra.end() || it->second.empty()) return 0;
+  int value = 0;
+  const auto [end, ec] =
+      std::from_chars(it->second.data(), it->second.data() + it->second.size(), value);
+  if (ec != std::errc() || end != it->second.data() + it->second.size() || value < 1)
+    throw std::invalid_argument(
+        fmt::format("glsl-deboor option {} = '{}': must be a positive integer", key, it->second));
+  return value;
+}
+
+class GlslDeBoor final : public Strategy {
+ public:
+  GlslDeBoor(gl::Platform platform, int tile_option) {
+    try {
+      context_ = gl::Context::create(platform);
+    } catch (const gl::UnavailableError& e) {
+      throw std::runtime_error(fmt::format("unavailable: {}", e.what()));
+    }
+    tile_ = std::min(context_->max_texture_size(), context_->max_viewport());
+    if (tile_option > 0) tile_ = std::min(tile_, tile_option);
+    evaluator_ = std::make_unique<glsl_deboor::Evaluator>(*context_, tile_);
+  }
+
+  ~GlslDeBoor() override {
+    context_->make_current();
+    evaluator_.reset();
+    if (query_) context_->gl().DeleteQueries(1, &query_);
+  }
+
+  std::string_view name() const override { return "glsl-deboor"; }
+  Capabilities capabilities() const override { return deboor_capabilities(); }
+
+  DeviceInfo device() const override {
+    DeviceInfo d;
+    d.name = context_->renderer();
+    d.kind = context_->software() ? "cpu" : "gpu";
+    d.details = context_->record();
+    if (context_->software())
+      d.details.insert_or_assign("note", "software rasterizer: the 'GPU' is the CPU");
+    d.details["tile"] = std::to_string(tile_);
+    d.details["pages"] = std::to_string(evaluator_->pages().size());
+    d.details["quads"] = std::to_string(evaluator_->quads());
+    d.details["passes"] = std::to_string(2 * evaluator_->pages().size());
+    d.details["bytes_uploaded"] = std::to_string(bytes_uploaded_);
+    return d;
+  }
+
+  void prepare(const Scene& scene, const EvalRequest& request) override {
+    if (request.precision != Precision::f32)
+      throw RefusedError("glsl-deboor evaluates in float32 textures only");
+    if (request.normals) throw RefusedError("glsl-deboor evaluates positions only");
+    if (request.sampling.mode == SamplingMode::explicit_list)
+      throw RefusedError("glsl-deboor needs a tensor-product sampling (grid or span grid)");
+    samples_ = sample_parameters(scene, request.sampling);
+    context_->make_current();
+    bytes_uploaded_ = evaluator_->prepare(scene, samples_);
+    context_->gl().Finish();
+  }
+
+  void evaluate() override {
+    context_->make_current();
+    const gl::Functions& gl = context_->gl();
+    if (!query_) gl.GenQueries(1, &query_);
+    gl.BeginQuery(GL_TIME_ELAPSED, query_);
+    evaluator_->evaluate();
+    gl.EndQuery(GL_TIME_ELAPSED);
+    gl.Finish();
+    GLuint64 ns = 0;
+    gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
+    device_evaluate_s_ = static_cast<double>(ns) * 1e-9;
+    context_->check("glsl-deboor evaluate");
+  }
+
+  DeviceTimes device_times() const override { return {device_evaluate_s_}; }
+
+  EvalResult read_back() override {
+    context_->make_current();
+    std::vector<std::vector<float>> xyz = evaluator_->read_back();
+    EvalResult out;
+    out.surfaces.resize(samples_.size());
+    for (std::size_t i = 0; i < samples_.size(); ++i) {
+      SurfaceResult& r = out.surfaces[i];
+      r.samples = samples_[i];
+      r.positions = PointArray(Precision::f32, samples_[i].count());
+      std::copy(xyz[i].begin(), xyz[i].end(), r.positions.f32());
+    }
+    return out;
+  }
+
+ private:
+  std::unique_ptr<gl::Context> context_;
+  std::unique_ptr<glsl_deboor::Evaluator> evaluator_;
+  int tile_ = 0;
+  std::vector<SurfaceSamples> samples_;
+  GLuint query_ = 0;
+  double device_evaluate_s_ = 0;
+  std::size_t bytes_uploaded_ = 0;
+};
+
+Availability deboor_probe() {
+  const Availability egl = gl::Context::probe(gl::Platform::egl);
+  if (egl.available) return egl;
+  const Availability osmesa = gl::Context::probe(gl::Platform::osmesa);
+  if (osmesa.available) return osmesa;  // --gl osmesa works; the default egl reports at create
+  return {false, fmt::format("{}; {}", egl.reason, osmesa.reason)};
+}
+
+}  // namespace
+
+StrategyEntry glsl_deboor_entry() {
+  return {"glsl-deboor",
+          kSource,
+          "strategy",
+          deboor_probe,
+          deboor_capabilities,
+          [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
+            return std::make_unique<GlslDeBoor>(gl::platform_option(options),
+                                                positive_option(options, "tile"));
+          }};
+}
+
+}  // namespace nurbs

@@ -1,0 +1,21 @@
+// glsl-deboor when the build has no OpenGL (no OSMesa/EGL development packages, or
+// NURBSBENCH_CPU_ONLY): still registered, so `list` and results say why it did not run.
+#include "strategies/glsl_deboor/glsl_deboor.h"
+
+namespace nurbs {
+
+StrategyEntry glsl_deboor_entry() {
+  return {"glsl-deboor",
+          "002 §3.3 (Tan et al. 2012): de Boor in one fragment pass per direction, one quad per "
+          "non-empty knot span with its knots as uniforms",
+          "strategy",
+          [] {
+            return Availability{false, NURBSBENCH_GL_MISSING};
+          },
+          [] { return Capabilities{}; },
+          [](const StrategyOptions&) -> std::unique_ptr<Strategy> {
+            throw std::runtime_error(NURBSBENCH_GL_MISSING);
+          }};
+}
+
+}  // namespace nurbs

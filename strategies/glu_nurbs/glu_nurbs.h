@@ -1,0 +1,18 @@
+// glu-nurbs: OpenGL's own NURBS tessellator (GLU's gluNurbsSurface in GLU_NURBS_TESSELLATOR
+// mode), the baseline of 000's Fig 8. GLU picks its own samples: GLU_DOMAIN_DISTANCE with the
+// step set from the requested grid's density, one degree-1 GL_MAP2_TEXTURE_COORD_2 surface over
+// the parameter domain evaluated alongside so that each captured vertex carries its (u, v).
+// float32 only (GLU's API is float), grid requests only, positions only (GLU's normals are per
+// Bezier patch: see glu_nurbs_capabilities); read_back returns the distinct vertices it produced
+// as an explicit (u, v) list (SurfaceSamples::tensor == false), measured against the reference
+// there. Runs on the CPU, one thread, and needs no GL context. Built when GLU (libglu1-mesa-dev)
+// is installed.
+#pragma once
+
+#include "strategies/registry.h"
+
+namespace nurbs {
+
+StrategyEntry glu_nurbs_entry();
+
+}  // namespace nurbs

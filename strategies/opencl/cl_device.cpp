@@ -1,0 +1,172 @@
+#include "strategies/opencl/cl_device.h"
+
+#include <stdexcept>
+
+namespace nurbs::opencl {
+namespace {
+
+std::vector<cl_platform_id> platforms() {
+  cl_uint n = 0;
+  // -1001 (CL_PLATFORM_NOT_FOUND_KHR) from the ICD loader means no platform is installed.
+  if (clGetPlatformIDs(0, nullptr, &n) != CL_SUCCESS || n == 0) return {};
+  std::vector<cl_platform_id> ids(n);
+  if (clGetPlatformIDs(n, ids.data(), nullptr) != CL_SUCCESS) return {};
+  return ids;
+}
+
+std::vector<cl_device_id> devices(cl_platform_id platform) {
+  cl_uint n = 0;
+  if (clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, 0, nullptr, &n) != CL_SUCCESS || n == 0)
+    return {};
+  std::vector<cl_device_id> ids(n);
+  if (clGetDeviceIDs(platform, CL_DEVICE_TYPE_ALL, n, ids.data(), nullptr) != CL_SUCCESS) return {};
+  return ids;
+}
+
+std::string device_string(cl_device_id d, cl_device_info what) {
+  std::size_t size = 0;
+  if (clGetDeviceInfo(d, what, 0, nullptr, &size) != CL_SUCCESS || size == 0) return {};
+  std::string s(size, '\0');
+  clGetDeviceInfo(d, what, size, s.data(), nullptr);
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
+}
+
+std::string platform_string(cl_platform_id p, cl_platform_info what) {
+  std::size_t size = 0;
+  if (clGetPlatformInfo(p, what, 0, nullptr, &size) != CL_SUCCESS || size == 0) return {};
+  std::string s(size, '\0');
+  clGetPlatformInfo(p, what, size, s.data(), nullptr);
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
+}
+
+template <typename V>
+V device_value(cl_device_id d, cl_device_info what) {
+  V v{};
+  clGetDeviceInfo(d, what, sizeof v, &v, nullptr);
+  return v;
+}
+
+}  // namespace
+
+void check(cl_int status, const char* what) {
+  if (status != CL_SUCCESS)
+    throw std::runtime_error(std::string(what) + " failed: OpenCL error " + std::to_string(status));
+}
+
+Availability probe() {
+  const auto ps = platforms();
+  if (ps.empty()) return {false, "no OpenCL platform"};
+  for (cl_platform_id p : ps)
+    if (!devices(p).empty()) return {true, ""};
+  return {false, "no OpenCL device"};
+}
+
+int device_option(const StrategyOptions& options) {
+  const auto it = options.extra.find("device");
+  if (it == options.extra.end() || it->second.empty()) return kPreferGpu;
+  std::size_t used = 0;
+  const int n = std::stoi(it->second, &used);
+  if (used != it->second.size() || n < 0)
+    throw std::runtime_error("--device expects a device number >= 0, got '" + it->second + "'");
+  return n;
+}
+
+Context::Context(int device_index) {
+  int seen = 0;
+  for (cl_platform_id p : platforms())
+    for (cl_device_id d : devices(p)) {
+      // Without --device: the first GPU device if there is one (DESIGN.md: the same binary picks
+      // a real GPU when present), else the first device (PoCL's CPU device here).
+      const bool chosen =
+          device_index == kPreferGpu
+              ? (!device_ ||
+                 ((device_value<cl_device_type>(d, CL_DEVICE_TYPE) & CL_DEVICE_TYPE_GPU) &&
+                  !(device_value<cl_device_type>(device_, CL_DEVICE_TYPE) & CL_DEVICE_TYPE_GPU)))
+              : seen == device_index;
+      ++seen;
+      if (chosen) {
+        platform_ = p;
+        device_ = d;
+      }
+    }
+  if (!device_) {
+    if (seen == 0) throw std::runtime_error("no OpenCL platform");
+    throw std::runtime_error("OpenCL device " + std::to_string(device_index) + " does not exist (" +
+                             std::to_string(seen) + " found)");
+  }
+  cl_int status = CL_SUCCESS;
+  context_ = clCreateContext(nullptr, 1, &device_, nullptr, nullptr, &status);
+  check(status, "clCreateContext");
+  queue_ = clCreateCommandQueue(context_, device_, CL_QUEUE_PROFILING_ENABLE, &status);
+  check(status, "clCreateCommandQueue");
+  max_alloc_ =
+      static_cast<std::size_t>(device_value<cl_ulong>(device_, CL_DEVICE_MAX_MEM_ALLOC_SIZE));
+  max_work_group_ = device_value<std::size_t>(device_, CL_DEVICE_MAX_WORK_GROUP_SIZE);
+}
+
+Context::~Context() {
+  if (queue_) clReleaseCommandQueue(queue_);
+  if (context_) clReleaseContext(context_);
+}
+
+DeviceInfo Context::record() const {
+  const auto type = device_value<cl_device_type>(device_, CL_DEVICE_TYPE);
+  DeviceInfo info;
+  info.name = device_string(device_, CL_DEVICE_NAME);
+  // PoCL's device is the host CPU: "cpu", so no result reads as a GPU measurement.
+  info.kind = (type & CL_DEVICE_TYPE_GPU) ? "gpu" : (type & CL_DEVICE_TYPE_CPU) ? "cpu" : "other";
+  info.details["platform"] = platform_string(platform_, CL_PLATFORM_NAME);
+  info.details["platform_version"] = platform_string(platform_, CL_PLATFORM_VERSION);
+  info.details["device_version"] = device_string(device_, CL_DEVICE_VERSION);
+  info.details["driver_version"] = device_string(device_, CL_DRIVER_VERSION);
+  info.details["compute_units"] =
+      std::to_string(device_value<cl_uint>(device_, CL_DEVICE_MAX_COMPUTE_UNITS));
+  info.details["max_mem_alloc_size"] = std::to_string(max_alloc_);
+  info.details["fp64"] = has_fp64() ? "yes" : "no";
+  return info;
+}
+
+bool Context::has_fp64() const {
+  return device_string(device_, CL_DEVICE_EXTENSIONS).find("cl_khr_fp64") != std::string::npos;
+}
+
+cl_program Context::build(const std::string& source, const std::string& options) const {
+  const char* text = source.c_str();
+  const std::size_t length = source.size();
+  cl_int status = CL_SUCCESS;
+  cl_program program = clCreateProgramWithSource(context_, 1, &text, &length, &status);
+  check(status, "clCreateProgramWithSource");
+  if (clBuildProgram(program, 1, &device_, options.c_str(), nullptr, nullptr) != CL_SUCCESS) {
+    std::size_t size = 0;
+    clGetProgramBuildInfo(program, device_, CL_PROGRAM_BUILD_LOG, 0, nullptr, &size);
+    std::string log(size, '\0');
+    clGetProgramBuildInfo(program, device_, CL_PROGRAM_BUILD_LOG, size, log.data(), nullptr);
+    clReleaseProgram(program);
+    throw std::runtime_error("OpenCL program build failed (options '" + options + "'):\n" + log);
+  }
+  return program;
+}
+
+cl_mem Context::buffer(cl_mem_flags flags, std::size_t bytes, const char* what) const {
+  if (bytes > max_alloc_)
+    throw RefusedError(std::string(what) + " needs " + std::to_string(bytes) +
+                       " bytes, more than CL_DEVICE_MAX_MEM_ALLOC_SIZE (" +
+                       std::to_string(max_alloc_) + ")");
+  cl_int status = CL_SUCCESS;
+  cl_mem mem = clCreateBuffer(context_, flags, bytes == 0 ? 1 : bytes, nullptr, &status);
+  check(status, "clCreateBuffer");
+  return mem;
+}
+
+double event_seconds(cl_event event) {
+  cl_ulong start = 0, end = 0;
+  check(clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_START, sizeof start, &start, nullptr),
+        "clGetEventProfilingInfo");
+  check(clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_END, sizeof end, &end, nullptr),
+        "clGetEventProfilingInfo");
+  return static_cast<double>(end - start) * 1e-9;
+}
+
+}  // namespace nurbs::opencl

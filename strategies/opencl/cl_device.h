@@ -1,0 +1,63 @@
+// The OpenCL plumbing shared by every OpenCL strategy (DESIGN.md, "GPU plumbing is shared"):
+// platform/device choice (StrategyOptions.extra["device"] = N, devices numbered across all
+// platforms in clGetPlatformIDs/clGetDeviceIDs order), the device record, program build with the
+// build log in the error, profiling events, and buffers checked against
+// CL_DEVICE_MAX_MEM_ALLOC_SIZE (refused, never truncated).
+#pragma once
+
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "strategies/strategy.h"
+
+namespace nurbs::opencl {
+
+// "no OpenCL platform" / "no OpenCL device" when there is nothing to run on.
+Availability probe();
+
+// Throws std::runtime_error naming the call and the error code.
+void check(cl_int status, const char* what);
+
+// Device index meaning "no --device given": the first GPU device, else the first device.
+inline constexpr int kPreferGpu = -1;
+
+class Context {
+ public:
+  // `device_index` counts devices over all platforms; throws when out of range.
+  explicit Context(int device_index);
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  DeviceInfo record() const;  // kind "cpu" for CPU devices (PoCL), "gpu" for GPUs
+  bool has_fp64() const;
+  std::size_t max_alloc() const { return max_alloc_; }
+  std::size_t max_work_group() const { return max_work_group_; }
+  cl_context context() const { return context_; }
+  cl_command_queue queue() const { return queue_; }
+  cl_device_id device() const { return device_; }
+
+  // Builds `source`; on failure throws std::runtime_error carrying the build log.
+  cl_program build(const std::string& source, const std::string& options) const;
+  // A buffer of `bytes`; throws RefusedError when it exceeds CL_DEVICE_MAX_MEM_ALLOC_SIZE.
+  cl_mem buffer(cl_mem_flags flags, std::size_t bytes, const char* what) const;
+
+ private:
+  cl_platform_id platform_ = nullptr;
+  cl_device_id device_ = nullptr;
+  cl_context context_ = nullptr;
+  cl_command_queue queue_ = nullptr;
+  std::size_t max_alloc_ = 0, max_work_group_ = 1;
+};
+
+// Seconds between CL_PROFILING_COMMAND_START and _END of a finished event.
+double event_seconds(cl_event event);
+
+// Reads StrategyOptions.extra["device"] (default 0); throws on a non-number.
+int device_option(const StrategyOptions& options);
+
+}  // namespace nurbs::opencl

@@ -1,0 +1,111 @@
+// glu-nurbs: where GLU samples and what it returns, checked against values computed here.
+#include <gtest/gtest.h>
+
+#include <set>
+#include <utility>
+
+#include "harness/runner.h"
+#include "scenes/builtin_scenes.h"
+#include "strategies/registry.h"
+
+namespace nurbs {
+namespace {
+
+const StrategyEntry& glu() {
+  return *find_strategy("glu-nurbs");
+}
+
+// One bicubic Bezier patch over [0, 2] x [0, 1] (one span each way): GLU_DOMAIN_DISTANCE with
+// the step of an NU x NV grid samples it exactly on that grid.
+Scene bezier_scene(bool rational) {
+  Surface s;
+  s.name = "bezier";
+  s.degree_u = s.degree_v = 3;
+  s.count_u = s.count_v = 4;
+  s.knots_u = {0, 0, 0, 0, 2, 2, 2, 2};
+  s.knots_v = {0, 0, 0, 0, 1, 1, 1, 1};
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      s.points.push_back({1.0 * i, 1.0 * j, 0.25 * ((i * j) % 3)});
+      s.weights.push_back(rational ? 1.0 + 0.25 * ((i + j) % 2) : 1.0);
+    }
+  return Scene{"bezier", "", {s}};
+}
+
+EvalResult run(const Scene& scene, int nu, int nv) {
+  Sampling grid;
+  grid.grid_u = nu;
+  grid.grid_v = nv;
+  auto strategy = glu().create(StrategyOptions{});
+  strategy->prepare(scene, EvalRequest{grid, Precision::f32, false});
+  strategy->evaluate();
+  strategy->evaluate();  // a second evaluate replaces, never appends to, the first
+  return strategy->read_back();
+}
+
+TEST(GluNurbs, SamplesOneBezierPatchOnTheRequestedGrid) {
+  if (!glu().probe().available) GTEST_SKIP() << glu().probe().reason;
+  for (bool rational : {false, true}) {
+    const Scene scene = bezier_scene(rational);
+    const EvalResult result = run(scene, 9, 5);
+    ASSERT_EQ(result.surfaces.size(), 1u);
+    const SurfaceResult& r = result.surfaces[0];
+    EXPECT_FALSE(r.samples.tensor);
+    ASSERT_EQ(r.positions.size(), 45u);  // each of the 9 x 5 vertices once
+    std::set<std::pair<double, double>> expected, got;
+    for (int a = 0; a < 9; ++a)
+      for (int b = 0; b < 5; ++b) expected.insert({2.0 * a / 8, 1.0 * b / 4});
+    for (std::size_t k = 0; k < r.samples.count(); ++k)
+      got.insert({r.samples.u_of(k), r.samples.v_of(k)});
+    EXPECT_EQ(got, expected);
+    const Accuracy acc =
+        measure_accuracy(scene, result, evaluate_reference(scene, result_samples(result), false));
+    EXPECT_LE(acc.max_ulp, 4.0) << (rational ? "rational" : "polynomial");
+  }
+}
+
+TEST(GluNurbs, SamplesLieInTheDomainAndEveryKnotIsSampled) {
+  if (!glu().probe().available) GTEST_SKIP() << glu().probe().reason;
+  const Scene scene = *make_builtin_scene("patch144");
+  const Surface& s = scene.surfaces[0];
+  const EvalResult result = run(scene, 64, 64);
+  const SurfaceSamples& samples = result.surfaces[0].samples;
+  std::set<float> us;
+  for (std::size_t k = 0; k < samples.count(); ++k) {
+    EXPECT_GE(samples.u_of(k), s.u_min());
+    EXPECT_LE(samples.u_of(k), s.u_max());
+    EXPECT_GE(samples.v_of(k), s.v_min());
+    EXPECT_LE(samples.v_of(k), s.v_max());
+    us.insert(static_cast<float>(samples.u_of(k)));
+  }
+  // GLU evaluates Bezier patch by Bezier patch: the knots are sample lines.
+  for (int i = s.degree_u; i <= s.count_u; ++i)
+    EXPECT_TRUE(us.count(static_cast<float>(s.knots_u[i]))) << "knot " << s.knots_u[i];
+  // About the requested density: per Bezier patch GLU takes step * length intervals, rounded.
+  EXPECT_GT(samples.count(), 64u * 64u * 8 / 10);
+  EXPECT_LT(samples.count(), 64u * 64u * 12 / 10);
+}
+
+TEST(GluNurbs, RefusesWhatItCannotDo) {
+  const Capabilities caps = glu().capabilities();
+  EXPECT_TRUE(caps.chooses_own_samples);
+  EXPECT_FALSE(caps.fp64);
+  EXPECT_FALSE(caps.normals);
+  EXPECT_TRUE(caps.sampling.grid);
+  EXPECT_FALSE(caps.sampling.span_grid);
+  EXPECT_FALSE(caps.sampling.explicit_list);
+  EXPECT_EQ(glu().role, "baseline");
+  if (!glu().probe().available) GTEST_SKIP() << glu().probe().reason;
+  const Scene scene = bezier_scene(false);
+  Sampling span;
+  span.mode = SamplingMode::span_grid;
+  auto strategy = glu().create(StrategyOptions{});
+  EXPECT_THROW(strategy->prepare(scene, EvalRequest{Sampling{}, Precision::f64, false}),
+               RefusedError);
+  EXPECT_THROW(strategy->prepare(scene, EvalRequest{span, Precision::f32, false}), RefusedError);
+  EXPECT_THROW(strategy->prepare(scene, EvalRequest{Sampling{}, Precision::f32, true}),
+               RefusedError);
+}
+
+}  // namespace
+}  // namespace nurbs
