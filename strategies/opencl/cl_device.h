@@ -57,7 +57,7 @@ class Context {
 // Seconds between CL_PROFILING_COMMAND_START and _END of a finished event.
 double event_seconds(cl_event event);
 
-// Reads StrategyOptions.extra["device"] (default 0); throws on a non-number.
+// Reads StrategyOptions.extra["device"] (default kPreferGpu); throws on a non-number.
 int device_option(const StrategyOptions& options);
 
 }  // namespace nurbs::opencl
