@@ -8,6 +8,7 @@
 #include "reference/nurbs_math.h"
 #include "strategies/gl_context/gl_context.h"
 #include "strategies/gl_pingpong/basis_passes.h"
+#include "strategies/strategy_options.h"
 
 namespace nurbs {
 namespace {
@@ -28,18 +29,6 @@ Capabilities pingpong_capabilities() {
   c.fp64 = false;  // RGBA32F textures, as in the paper
   c.sampling = SamplingModes{true, true, false};
   return c;
-}
-
-int positive_option(const StrategyOptions& options, const std::string& key) {
-  const auto it = options.extra.find(key);
-  if (it == options.extra.end() || it->second.empty()) return 0;
-  int value = 0;
-  const auto [end, ec] =
-      std::from_chars(it->second.data(), it->second.data() + it->second.size(), value);
-  if (ec != std::errc() || end != it->second.data() + it->second.size() || value < 1)
-    throw std::invalid_argument(
-        fmt::format("gl-pingpong option {} = '{}': must be a positive integer", key, it->second));
-  return value;
 }
 
 // One tile of the evaluation grid: u-chunk cu x v-chunk cv, its running sum ping-pongs between
@@ -285,7 +274,7 @@ StrategyEntry entry(std::string name, bool packed_entry) {
             const auto it = options.extra.find("packed");
             const bool packed = packed_entry || (it != options.extra.end() && it->second == "1");
             return std::make_unique<GlPingPong>(gl::platform_option(options), packed,
-                                                positive_option(options, "tile"));
+                                                positive_option(options, "tile", "gl-pingpong"));
           }};
 }
 

@@ -8,6 +8,7 @@
 #include "reference/validation.h"
 #include "strategies/gl_context/gl_context.h"
 #include "strategies/glsl_deboor/deboor_evaluator.h"
+#include "strategies/strategy_options.h"
 
 namespace nurbs {
 namespace {
@@ -25,18 +26,6 @@ Capabilities deboor_capabilities() {
   c.fp64 = false;  // RGBA32F textures, as in the paper
   c.sampling = SamplingModes{true, true, false};
   return c;
-}
-
-int positive_option(const StrategyOptions& options, const std::string& key) {
-  const auto it = options.extra.find(key);
-  if (it == options.extra.end() || it->second.empty()) return 0;
-  int value = 0;
-  const auto [end, ec] =
-      std::from_chars(it->second.data(), it->second.data() + it->second.size(), value);
-  if (ec != std::errc() || end != it->second.data() + it->second.size() || value < 1)
-    throw std::invalid_argument(
-        fmt::format("glsl-deboor option {} = '{}': must be a positive integer", key, it->second));
-  return value;
 }
 
 class GlslDeBoor final : public Strategy {
@@ -146,7 +135,7 @@ StrategyEntry glsl_deboor_entry() {
           deboor_capabilities,
           [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
             return std::make_unique<GlslDeBoor>(gl::platform_option(options),
-                                                positive_option(options, "tile"));
+                                                positive_option(options, "tile", "glsl-deboor"));
           }};
 }
 
