@@ -28,12 +28,6 @@ class ReferenceCache {
   std::map<std::string, std::vector<ReferenceSurface>> cache_;
 };
 
-// Why `request` on `scene` is outside what a strategy with `caps` can do, if it is.
-std::optional<std::string> refusal_reason(const Capabilities& caps, const Scene& scene,
-                                          const EvalRequest& request);
-
-std::string sampling_mode_name(SamplingMode mode);
-
 Record measure(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
                const EvalRequest& request, int repetitions, ReferenceCache& references);
 

@@ -102,4 +102,15 @@ class RefusedError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+std::string sampling_mode_name(SamplingMode mode);
+
+// Why `request` on `scene` is outside what a strategy with `caps` can do, if it is. The harness
+// asks before it runs a strategy; a strategy's prepare() calls refuse_unsupported() so a direct
+// caller meets the same rule, stated once.
+std::optional<std::string> refusal_reason(const Capabilities& caps, const Scene& scene,
+                                          const EvalRequest& request);
+// Throws RefusedError("<strategy>: <reason>") when refusal_reason() gives one.
+void refuse_unsupported(std::string_view strategy, const Capabilities& caps, const Scene& scene,
+                        const EvalRequest& request);
+
 }  // namespace nurbs

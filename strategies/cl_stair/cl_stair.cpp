@@ -81,9 +81,8 @@ class ClStair final : public Strategy {
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
     release();
+    refuse_unsupported(name(), capabilities(), scene, request);
     request_ = request;
-    if (request.sampling.mode == SamplingMode::explicit_list)
-      throw RefusedError("cl-stair evaluates grids and span grids only");
     program_.program = build_stair(ctx_, request.precision);
     samples_ = sample_parameters(scene, request.sampling);
     if (request.precision == Precision::f32)

@@ -130,8 +130,7 @@ class CpuTensor final : public Strategy {
   }
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
-    if (request.sampling.mode == SamplingMode::explicit_list)
-      throw RefusedError("cpu-tensor evaluates grids and span grids only");
+    refuse_unsupported(name(), capabilities(), scene, request);
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     if (request.precision == Precision::f32)

@@ -153,11 +153,16 @@ bool Context::has_extension(std::string_view name) const {
   return std::find(extensions_.begin(), extensions_.end(), name) != extensions_.end();
 }
 
-std::map<std::string, std::string> Context::record() const {
-  return {
+DeviceInfo Context::device_info() const {
+  DeviceInfo d;
+  d.name = renderer_;
+  d.kind = software() ? "cpu" : "gpu";
+  d.details = {
       {"gl_platform", description_},   {"gl_renderer", renderer_},
       {"gl_vendor", vendor_},          {"gl_version", version_},
       {"glsl_version", glsl_version_}, {"gl_max_texture_size", std::to_string(max_texture_size_)}};
+  if (software()) d.details["note"] = "software rasterizer: the 'GPU' is the CPU";
+  return d;
 }
 
 void Context::check(std::string_view where) {

@@ -80,8 +80,9 @@ class Context {
   int max_texture_size() const { return max_texture_size_; }
   int max_viewport() const { return max_viewport_; }
   bool has_extension(std::string_view name) const;
-  // renderer/vendor/version strings for DeviceInfo.details.
-  std::map<std::string, std::string> record() const;
+  // The device record every GL strategy starts from: renderer as the name, kind "cpu" on a
+  // software rasterizer (with a note saying so), platform/renderer/vendor/version details.
+  DeviceInfo device_info() const;
 
   // Throws Error if glGetError or (debug builds) debug output reported an error since the last
   // check; `where` names the step ("basis pass 2", "upload").

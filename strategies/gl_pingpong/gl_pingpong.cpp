@@ -71,13 +71,8 @@ class GlPingPong final : public Strategy {
   Capabilities capabilities() const override { return pingpong_capabilities(); }
 
   DeviceInfo device() const override {
-    DeviceInfo d;
-    d.name = context_->renderer();
-    d.kind = context_->software() ? "cpu" : "gpu";
-    d.details = context_->record();
-    if (context_->software())
-      d.details.insert_or_assign("note", "software rasterizer: the 'GPU' is the CPU");
-    d.details.insert_or_assign("packed", std::to_string(packed_ ? 1 : 0));
+    DeviceInfo d = context_->device_info();
+    d.details["packed"] = std::to_string(packed_ ? 1 : 0);
     d.details["tile"] = std::to_string(tile_);
     d.details["tiles"] = std::to_string(tile_count_);
     d.details["passes"] = std::to_string(passes_);
@@ -87,11 +82,7 @@ class GlPingPong final : public Strategy {
   }
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
-    if (request.precision != Precision::f32)
-      throw RefusedError("gl-pingpong evaluates in float32 textures only");
-    if (request.normals) throw RefusedError("gl-pingpong evaluates positions only");
-    if (request.sampling.mode == SamplingMode::explicit_list)
-      throw RefusedError("gl-pingpong needs a tensor-product sampling (grid or span grid)");
+    refuse_unsupported(name(), capabilities(), scene, request);
     samples_ = sample_parameters(scene, request.sampling);
     context_->make_current();
     surfaces_.clear();

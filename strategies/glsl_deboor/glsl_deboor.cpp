@@ -51,12 +51,7 @@ class GlslDeBoor final : public Strategy {
   Capabilities capabilities() const override { return deboor_capabilities(); }
 
   DeviceInfo device() const override {
-    DeviceInfo d;
-    d.name = context_->renderer();
-    d.kind = context_->software() ? "cpu" : "gpu";
-    d.details = context_->record();
-    if (context_->software())
-      d.details.insert_or_assign("note", "software rasterizer: the 'GPU' is the CPU");
+    DeviceInfo d = context_->device_info();
     d.details["tile"] = std::to_string(tile_);
     d.details["pages"] = std::to_string(evaluator_->pages().size());
     d.details["quads"] = std::to_string(evaluator_->quads());
@@ -66,11 +61,7 @@ class GlslDeBoor final : public Strategy {
   }
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
-    if (request.precision != Precision::f32)
-      throw RefusedError("glsl-deboor evaluates in float32 textures only");
-    if (request.normals) throw RefusedError("glsl-deboor evaluates positions only");
-    if (request.sampling.mode == SamplingMode::explicit_list)
-      throw RefusedError("glsl-deboor needs a tensor-product sampling (grid or span grid)");
+    refuse_unsupported(name(), capabilities(), scene, request);
     samples_ = sample_parameters(scene, request.sampling);
     context_->make_current();
     bytes_uploaded_ = evaluator_->prepare(scene, samples_);

@@ -146,11 +146,7 @@ class GluNurbsStrategy final : public Strategy {
   }
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
-    if (request.precision != Precision::f32)
-      throw RefusedError("glu-nurbs computes in float32 only");
-    if (request.sampling.mode != SamplingMode::grid)
-      throw RefusedError("glu-nurbs chooses its own samples; only a grid density can be given");
-    if (request.normals) throw RefusedError("glu-nurbs gives positions only");
+    refuse_unsupported(name(), capabilities(), scene, request);
     request_ = request;
     surfaces_.clear();
     for (const Surface& s : scene.surfaces)
