@@ -70,6 +70,17 @@ Record measure(const StrategyEntry& entry, const StrategyOptions& options, const
       evaluate_s.push_back(time_seconds([&] { strategy->evaluate(); }));
       if (auto device = strategy->device_times().evaluate_s) device_evaluate_s.push_back(*device);
     }
+    // Drawing, for strategies that have a render path: one warm-up (shader variants are compiled
+    // at the first draw), then the repetitions, each after the evaluation it draws.
+    auto time_render = [&](const char* phase, bool (Strategy::*draw)()) {
+      if (!(strategy.get()->*draw)()) return;
+      std::vector<double> seconds;
+      for (int i = 0; i < repetitions; ++i)
+        seconds.push_back(time_seconds([&] { (strategy.get()->*draw)(); }));
+      r.extra_phases[phase] = PhaseStats::of(seconds);
+    };
+    time_render("render", &Strategy::render);
+    time_render("render_via_read_back", &Strategy::render_via_read_back);
     // The full path, each phase timed where it runs, as a user pays it per update.
     std::vector<double> upload_s, read_back_s, end_to_end_s;
     EvalResult result;

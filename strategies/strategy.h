@@ -82,6 +82,13 @@ class Strategy {
   virtual EvalResult read_back() = 0;
   virtual void update_control_points(const Scene&) {}
   virtual DeviceTimes device_times() const { return {}; }
+  // Strategies that can draw what they evaluated into an offscreen image (returning when the
+  // device is done), timed by the runner as extra phases: `render` draws from where evaluate()
+  // left the results, without reading them back (002 §4.2); `render_via_read_back` is the
+  // traditional path it is compared with (read back, upload as vertex buffers, draw; 002 §4.1).
+  // Each returns false when the strategy has no such path.
+  virtual bool render() { return false; }
+  virtual bool render_via_read_back() { return false; }
 };
 
 // Options a user can pass to any strategy's factory; each strategy reads what concerns it.

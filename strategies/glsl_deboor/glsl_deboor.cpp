@@ -3,11 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
+#include <cmath>
 
 #include "reference/validation.h"
 #include "strategies/gl_context/gl_context.h"
 #include "strategies/glsl_deboor/deboor_evaluator.h"
+#include "strategies/glsl_deboor/renderer.h"
 #include "strategies/strategy_options.h"
 
 namespace nurbs {
@@ -16,6 +19,33 @@ namespace {
 constexpr const char* kSource =
     "002 §3.3 (Tan et al. 2012): de Boor in one fragment pass per direction, one quad per "
     "non-empty knot span with its knots as uniforms";
+
+// The image the render phases draw (the size of 002's §4.2 timings is not given; 512² keeps the
+// raster cost visible next to the evaluation without dominating it).
+constexpr int kRenderSize = 512;
+
+// Column-major orthographic view looking down -z at the scene's control-point bounding box,
+// scaled so the box fits in 90% of clip space in every axis (so nothing is clipped).
+std::array<float, 16> orthographic_view(const Scene& scene) {
+  Point3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (const Surface& s : scene.surfaces)
+    for (const Point3& p : s.points)
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = std::min(lo[c], p[c]);
+        hi[c] = std::max(hi[c], p[c]);
+      }
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-30});
+  const double scale = 1.8 / extent;
+  std::array<float, 16> m{};
+  m[0] = static_cast<float>(scale);
+  m[5] = static_cast<float>(scale);
+  m[10] = static_cast<float>(-scale);
+  m[12] = static_cast<float>(-scale * 0.5 * (lo[0] + hi[0]));
+  m[13] = static_cast<float>(-scale * 0.5 * (lo[1] + hi[1]));
+  m[14] = static_cast<float>(scale * 0.5 * (lo[2] + hi[2]));
+  m[15] = 1;
+  return m;
+}
 
 Capabilities deboor_capabilities() {
   Capabilities c;
@@ -43,6 +73,7 @@ class GlslDeBoor final : public Strategy {
 
   ~GlslDeBoor() override {
     context_->make_current();
+    renderer_.reset();
     evaluator_.reset();
     if (query_) context_->gl().DeleteQueries(1, &query_);
   }
@@ -63,6 +94,7 @@ class GlslDeBoor final : public Strategy {
   void prepare(const Scene& scene, const EvalRequest& request) override {
     refuse_unsupported(name(), capabilities(), scene, request);
     samples_ = sample_parameters(scene, request.sampling);
+    view_ = orthographic_view(scene);
     context_->make_current();
     bytes_uploaded_ = evaluator_->prepare(scene, samples_);
     context_->gl().Finish();
@@ -84,6 +116,22 @@ class GlslDeBoor final : public Strategy {
 
   DeviceTimes device_times() const override { return {device_evaluate_s_}; }
 
+  bool render() override {
+    context_->make_current();
+    renderer().draw_without_read_back(*evaluator_, view_.data());
+    context_->gl().Finish();
+    context_->check("glsl-deboor render");
+    return true;
+  }
+
+  bool render_via_read_back() override {
+    context_->make_current();
+    renderer().draw_with_read_back(*evaluator_, view_.data());
+    context_->gl().Finish();
+    context_->check("glsl-deboor render via read-back");
+    return true;
+  }
+
   EvalResult read_back() override {
     context_->make_current();
     std::vector<std::vector<float>> xyz = evaluator_->read_back();
@@ -99,8 +147,17 @@ class GlslDeBoor final : public Strategy {
   }
 
  private:
+  // Created at the first draw: a run that never renders allocates no framebuffer.
+  glsl_deboor::Renderer& renderer() {
+    if (!renderer_)
+      renderer_ = std::make_unique<glsl_deboor::Renderer>(*context_, kRenderSize, kRenderSize);
+    return *renderer_;
+  }
+
   std::unique_ptr<gl::Context> context_;
   std::unique_ptr<glsl_deboor::Evaluator> evaluator_;
+  std::unique_ptr<glsl_deboor::Renderer> renderer_;
+  std::array<float, 16> view_{};
   int tile_ = 0;
   std::vector<SurfaceSamples> samples_;
   GLuint query_ = 0;

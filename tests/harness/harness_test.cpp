@@ -341,6 +341,42 @@ TEST(Runner, OtherSamplesThanRequestedFailUnlessDeclared) {
   EXPECT_NE(r.reason.find("requested samples"), std::string::npos) << r.reason;
 }
 
+// cpu-coxdeboor with a render path that only counts its draws.
+class DrawingStrategy final : public Strategy {
+ public:
+  explicit DrawingStrategy(int& draws)
+      : inner_(find_strategy("cpu-coxdeboor")->create({})), draws_(draws) {}
+  std::string_view name() const override { return "drawing"; }
+  Capabilities capabilities() const override { return inner_->capabilities(); }
+  DeviceInfo device() const override { return inner_->device(); }
+  void prepare(const Scene& s, const EvalRequest& r) override { inner_->prepare(s, r); }
+  void evaluate() override { inner_->evaluate(); }
+  EvalResult read_back() override { return inner_->read_back(); }
+  bool render() override { return ++draws_ > 0; }
+
+ private:
+  std::unique_ptr<Strategy> inner_;
+  int& draws_;
+};
+
+TEST(Runner, RenderPhaseOnlyForStrategiesThatDraw) {
+  const Scene scene = flat_scene();
+  ReferenceCache references;
+  const EvalRequest request{Sampling{}, Precision::f32, false};
+  int draws = 0;
+  StrategyEntry drawing = *find_strategy("cpu-coxdeboor");
+  drawing.create = [&draws](const StrategyOptions&) -> std::unique_ptr<Strategy> {
+    return std::make_unique<DrawingStrategy>(draws);
+  };
+  const Record r = measure(drawing, {}, scene, request, 3, references);
+  ASSERT_EQ(r.status, Status::ok) << r.reason;
+  EXPECT_EQ(draws, 1 + 3) << "one warm-up draw, then one per repetition";
+  ASSERT_EQ(r.extra_phases.size(), 1u);
+  EXPECT_EQ(r.extra_phases.count("render"), 1u);
+  const Record plain = measure(*find_strategy("cpu-coxdeboor"), {}, scene, request, 3, references);
+  EXPECT_TRUE(plain.extra_phases.empty());
+}
+
 TEST(Metrics, SameSamplesComparesLayoutAndValues) {
   const std::vector<SurfaceSamples> a = {{true, {0, 1}, {0, 0.5, 1}}};
   std::vector<SurfaceSamples> b = a;

@@ -105,6 +105,24 @@ TEST_P(GlslDeBoorGl, RecordsDeviceTimesAndOneQuadPerSpanWithSamples) {
   EXPECT_EQ(d.details.at("bytes_uploaded"), std::to_string(144 * 16 + 2 * 16 * 4));
 }
 
+// 002 §4.2 in `run`: the record carries both render phases beside evaluate.
+TEST_P(GlslDeBoorGl, RunRecordsBothRenderPhases) {
+  const auto platform = gl::parse_platform(GetParam());
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  const Scene scene = *make_builtin_scene("sphere");
+  Sampling grid;
+  grid.grid_u = 32;
+  grid.grid_v = 32;
+  ReferenceCache references;
+  const Record r = measure(*find_strategy("glsl-deboor"), options_for(GetParam()), scene,
+                           EvalRequest{grid, Precision::f32, false}, 2, references);
+  ASSERT_EQ(r.status, Status::ok) << r.reason;
+  for (const char* phase : {"render", "render_via_read_back"}) {
+    ASSERT_EQ(r.extra_phases.count(phase), 1u) << phase;
+    EXPECT_GT(r.extra_phases.at(phase).min_s, 0.0) << phase;
+  }
+}
+
 TEST(GlslDeBoorGl, OsmesaAndEglAgree) {
   if (!gl::Context::probe(gl::Platform::osmesa).available ||
       !gl::Context::probe(gl::Platform::egl).available)
