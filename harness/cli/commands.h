@@ -56,6 +56,17 @@ struct RunOptions {
 };
 int run_command(const RunOptions& options);
 
+struct LodOptions {
+  std::string scene = "tan21x23";
+  std::string samples = "128x128,512x512,1024x1024";
+  int levels = 3;
+  int repetitions = 7;
+  std::string out = "results/latest";
+  int threads = 0;
+  std::string gl;
+};
+int lod_command(const LodOptions& options);
+
 struct CheckOptions {
   std::string gates;
   std::string results = "results/latest";

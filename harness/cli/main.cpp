@@ -75,6 +75,19 @@ int main(int argc, char** argv) {
                       "present, else the first)");
   run_cmd->add_option("--out", run.out, "output directory (default results/latest)");
 
+  LodOptions lod;
+  auto* lod_cmd = app.add_subcommand(
+      "lod", "002 Fig 15: level-of-detail change by Haar wavelet vs re-evaluation (glsl-deboor)");
+  lod_cmd->add_option("--scene", lod.scene, "one-surface scene (default tan21x23, the paper's)");
+  lod_cmd->add_option("--samples", lod.samples,
+                      "comma list of grids (default 128x128,512x512,1024x1024)");
+  lod_cmd->add_option("--levels", lod.levels, "coarser levels measured (default 3)");
+  lod_cmd->add_option("--repetitions", lod.repetitions, "timed repetitions (default 7)");
+  lod_cmd->add_option("--threads", lod.threads, "threads for llvmpipe (0: every core)");
+  lod_cmd->add_option("--gl", lod.gl, "OpenGL platform: egl (default) or osmesa")
+      ->check(CLI::IsMember({"osmesa", "egl"}));
+  lod_cmd->add_option("--out", lod.out, "output directory for lod.json (default results/latest)");
+
   CheckOptions check;
   auto* check_cmd =
       app.add_subcommand("check", "check results against accuracy gates; exit 1 on any violation");
@@ -91,10 +104,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const std::string first = argc > 1 ? argv[1] : "";
     const bool known_verb = first == "list" || first == "scene" || first == "eval" ||
-                            first == "run" || first == "check";
+                            first == "run" || first == "check" || first == "lod";
     if (!first.empty() && first[0] != '-' && !known_verb) {
       std::cerr << "nurbsbench: error: unknown verb '" << argv[1]
-                << "' (verbs: list, scene, eval, run, check; see nurbsbench --help)\n";
+                << "' (verbs: list, scene, eval, run, lod, check; see nurbsbench --help)\n";
       return 2;
     }
     std::cerr << "nurbsbench: error: " << e.what() << " (see nurbsbench --help)\n";
@@ -108,6 +121,7 @@ int main(int argc, char** argv) {
     if (*scene_cmd) return scene_command(scene);
     if (*eval_cmd) return eval_command(eval);
     if (*run_cmd) return run_command(run);
+    if (*lod_cmd) return lod_command(lod);
     if (*check_cmd) return check_command(check);
   } catch (const std::exception& e) {
     std::string message = e.what();

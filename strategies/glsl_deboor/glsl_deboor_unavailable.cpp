@@ -1,6 +1,10 @@
 // glsl-deboor when the build has no OpenGL (no OSMesa/EGL development packages, or
 // NURBSBENCH_CPU_ONLY): still registered, so `list` and results say why it did not run.
+#include <stdexcept>
+#include <string>
+
 #include "strategies/glsl_deboor/glsl_deboor.h"
+#include "strategies/glsl_deboor/lod_experiment.h"
 
 namespace nurbs {
 
@@ -18,4 +22,11 @@ StrategyEntry glsl_deboor_entry() {
           }};
 }
 
+namespace glsl_deboor {
+
+LodMeasurement measure_lod(const Scene&, int, int, int, int, const StrategyOptions&) {
+  throw std::runtime_error(std::string("unavailable: ") + NURBSBENCH_GL_MISSING);
+}
+
+}  // namespace glsl_deboor
 }  // namespace nurbs

@@ -122,6 +122,7 @@ TEST(CliHelp, EveryVerbHasHelpAndExitsZero) {
                                              {"scene", "--help"},
                                              {"eval", "--help"},
                                              {"run", "--help"},
+                                             {"lod", "--help"},
                                              {"check", "--help"}}) {
     SCOPED_TRACE(args.front());
     const CliResult r = run_cli(args);
@@ -430,6 +431,31 @@ TEST(CliRun, BadArgumentsLeaveNoOutputDirectory) {
                                  c.sampling_option, c.sampling, "--repetitions", c.repetitions,
                                  "--precision", c.precision, "--out", out});
     expect_usage_error(r, c.expect);
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+// ----------------------------------------------------------------------------------------- lod
+
+// Checked before any GL work or output: these hold in every build (the measurement itself is
+// tested with glsl-deboor's GL tests).
+TEST(CliLod, BadArgumentsLeaveNoOutputDirectory) {
+  TempDir tmp;
+  const std::string out = tmp / "lod";
+  const std::vector<std::pair<std::vector<std::string>, std::vector<std::string>>> cases = {
+      {{"--scene", "many-4"}, {"--scene", "'many-4'", "4 surfaces"}},
+      {{"--scene", "nosuch"}, {"'nosuch'", "neither a file nor a built-in scene"}},
+      {{"--samples", "100x100"}, {"--samples", "100x100", "halve 3 times", "multiples of 8"}},
+      {{"--samples", "64x64", "--levels", "7"}, {"--samples", "64x64", "halve 7 times"}},
+      {{"--levels", "0"}, {"--levels", "0", "1..8"}},
+      {{"--repetitions", "0"}, {"--repetitions", "0"}},
+      {{"--samples", "1x1"}, {"--samples", "'1x1'"}},
+  };
+  for (const auto& [args, expect] : cases) {
+    SCOPED_TRACE(expect.front());
+    std::vector<std::string> argv = {"lod", "--out", out};
+    argv.insert(argv.end(), args.begin(), args.end());
+    expect_usage_error(run_cli(argv), expect);
     EXPECT_FALSE(fs::exists(out));
   }
 }
