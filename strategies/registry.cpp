@@ -27,6 +27,7 @@ const std::vector<StrategyEntry>& strategy_registry() {
       glu_nurbs_entry(),
       sisl_entry(),
       occt_entry(),
+      occt_cached_entry(),
   };
   // clang-format on
   return entries;

@@ -9,5 +9,7 @@
 namespace nurbs {
 
 StrategyEntry occt_entry();
+// The same through GeomAdaptor_Surface, whose per-span cache OCCT users rely on for grids.
+StrategyEntry occt_cached_entry();
 
 }  // namespace nurbs

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Issue 6's CPU goals, each ratio taken within one `nurbsbench run` (DESIGN.md: speed is measured
+# as ratios in one run): cpu-tensor f64 vs SISL s1506 (goal >= 10x, stretch 20x); cpu-tensor f32
+# vs the machine's store bandwidth (limit-store-bandwidth row; goal >= 50%); cpu-tensor vs
+# cpu-coxdeboor on one thread (goal >= 5x). On patch144 and the random bicubic 12x12, 1024x1024.
+# Writes results/cpu-goals/{f64,f32,f64-1thread}/results.{json,csv} and results/cpu-goals/RATIOS.md.
+# Run on an otherwise idle machine: OpenMP timings collapse when other processes share the cores.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin=build/release/harness/nurbsbench
+out=${1:-results/cpu-goals}
+scenes=patch144,random-bicubic-12x12
+"$bin" run --strategies cpu-tensor,sisl,occt,occt-cached,cpu-horner,cpu-coxdeboor \
+  --scenes "$scenes" --samples 1024x1024 --precision f64 --repetitions 7 --out "$out/f64"
+"$bin" run --strategies limit-store-bandwidth,cpu-tensor --scenes "$scenes" --samples 1024x1024 \
+  --precision f32 --repetitions 15 --out "$out/f32"
+"$bin" run --strategies cpu-tensor,cpu-horner,cpu-coxdeboor,sisl --scenes "$scenes" \
+  --samples 1024x1024 --precision f64 --threads 1 --repetitions 5 --out "$out/f64-1thread"
+python3 scripts/cpu_goals.py "$out" | tee "$out/RATIOS.md"
