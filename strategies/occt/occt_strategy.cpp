@@ -188,7 +188,11 @@ StrategyEntry occt_entry(bool cached) {
 
 }  // namespace
 
-StrategyEntry occt_entry() { return occt_entry(false); }
-StrategyEntry occt_cached_entry() { return occt_entry(true); }
+StrategyEntry occt_entry() {
+  return occt_entry(false);
+}
+StrategyEntry occt_cached_entry() {
+  return occt_entry(true);
+}
 
 }  // namespace nurbs
