@@ -117,16 +117,28 @@ void fill_tables_in_team(TensorSurface<T>& t, bool normals) {
   }
 }
 
+// extra["simd"]: "on" (default) or "off" (the kernels compiled without vectorisation).
+bool simd_option(const StrategyOptions& options) {
+  const auto it = options.extra.find("simd");
+  if (it == options.extra.end() || it->second.empty() || it->second == "on") return true;
+  if (it->second == "off") return false;
+  throw std::invalid_argument(
+      fmt::format("cpu-tensor option simd = '{}': must be on or off", it->second));
+}
+
 class CpuTensor final : public Strategy {
  public:
-  explicit CpuTensor(const StrategyOptions& options) : threads_(resolve_threads(options.threads)) {}
+  explicit CpuTensor(const StrategyOptions& options)
+      : threads_(resolve_threads(options.threads)), simd_(simd_option(options)) {}
 
   std::string_view name() const override { return "cpu-tensor"; }
   Capabilities capabilities() const override { return tensor_capabilities(); }
   DeviceInfo device() const override {
     return {fmt::format("host CPU, {} thread{} (OpenMP)", threads_, threads_ == 1 ? "" : "s"),
             "cpu",
-            {{"threads", std::to_string(threads_)}, {"simd", simd_description()}}};
+            {{"threads", std::to_string(threads_)},
+             {"simd", simd_ ? simd_description()
+                            : "off: kernels built with -fno-tree-vectorize (simd=off)"}}};
   }
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
@@ -203,11 +215,15 @@ class CpuTensor final : public Strategy {
     T* curve = p.curve[thread].data();
     T* curve_du = normals ? p.curve_du[thread].data() : nullptr;
     const int first_row = t.spans_u[a] - t.net.degree_u;
-    tensor::contract_rows(net, t.net.count_v, first_row, t.net.degree_u,
-                          t.basis_u.data() + a * order_u, curve);
+    using Contraction = void (*)(const T*, int, int, int, const T*, T*);
+    const Contraction contract_rows =
+        simd_ ? static_cast<Contraction>(tensor::contract_rows)
+              : static_cast<Contraction>(tensor::no_simd::contract_rows);
+    contract_rows(net, t.net.count_v, first_row, t.net.degree_u, t.basis_u.data() + a * order_u,
+                  curve);
     if (normals)
-      tensor::contract_rows(net, t.net.count_v, first_row, t.net.degree_u,
-                            t.basis_du.data() + a * order_u, curve_du);
+      contract_rows(net, t.net.count_v, first_row, t.net.degree_u, t.basis_du.data() + a * order_u,
+                    curve_du);
     tensor::RowJob<T> job;
     job.curve = curve;
     job.curve_du = curve_du;
@@ -222,7 +238,10 @@ class CpuTensor final : public Strategy {
     job.positions = data_of<T>(positions_[surface]) + offset;
     job.normals = normals ? data_of<T>(normals_[surface]) + offset : nullptr;
     job.unresolved = normals ? p.unresolved[thread].data() : nullptr;
-    tensor::evaluate_row(job);
+    if (simd_)
+      tensor::evaluate_row(job);
+    else
+      tensor::no_simd::evaluate_row(job);
     if (!normals) return;
     // Collapsed edges and other places where Su x Sv is rounding noise: the reference's own
     // limit-normal rule (nurbs_math.h surface_normal), rare, so scalar.
@@ -246,6 +265,7 @@ class CpuTensor final : public Strategy {
   }
 
   int threads_;
+  bool simd_;
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;
   std::variant<Prepared<float>, Prepared<double>> prepared_;

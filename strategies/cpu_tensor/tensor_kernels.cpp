@@ -6,8 +6,10 @@
 // Each public kernel is compiled for AVX-512, AVX2+FMA and the baseline; the loader picks the best
 // one the CPU has (GCC function multi-versioning), so the binary stays portable while using the
 // widest vectors of the machine it runs on.
+// Compiled a second time by tensor_kernels_no_simd.cpp, without vectorisation and without clones,
+// into tensor::no_simd (cpu-tensor's simd=off option).
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(NURBSBENCH_NO_TARGET_CLONES)
+    !defined(NURBSBENCH_NO_TARGET_CLONES) && !defined(NURBSBENCH_TENSOR_NO_SIMD)
 #define NURBSBENCH_SIMD_CLONES \
   __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
@@ -15,7 +17,11 @@
 #endif
 #define NURBSBENCH_INLINE inline __attribute__((always_inline))
 
+#ifdef NURBSBENCH_TENSOR_NO_SIMD
+namespace nurbs::tensor::no_simd {
+#else
 namespace nurbs::tensor {
+#endif
 namespace {
 
 template <typename T>
@@ -182,4 +188,4 @@ NURBSBENCH_SIMD_CLONES void evaluate_row(const RowJob<double>& job) {
   evaluate_row_impl(job);
 }
 
-}  // namespace nurbs::tensor
+}  // namespace nurbs::tensor (or nurbs::tensor::no_simd)

@@ -40,4 +40,15 @@ void contract_rows(const double* net, int count_v, int first, int degree_u, cons
 void evaluate_row(const RowJob<float>& job);
 void evaluate_row(const RowJob<double>& job);
 
+// The same kernels compiled without vectorisation (-fno-tree-vectorize -fno-tree-slp-vectorize, no
+// clones): cpu-tensor's `simd=off`, so a run can tell what SIMD contributes.
+namespace no_simd {
+void contract_rows(const float* net, int count_v, int first, int degree_u, const float* basis,
+                   float* out);
+void contract_rows(const double* net, int count_v, int first, int degree_u, const double* basis,
+                   double* out);
+void evaluate_row(const RowJob<float>& job);
+void evaluate_row(const RowJob<double>& job);
+}  // namespace no_simd
+
 }  // namespace nurbs::tensor

@@ -4,6 +4,8 @@
 
 #include <cfloat>
 #include <cmath>
+#include <map>
+#include <string>
 
 #include "harness/runner.h"
 #include "scenes/builtin_scenes.h"
@@ -12,10 +14,11 @@
 namespace nurbs {
 namespace {
 
-EvalResult run(const std::string& name, const Scene& scene, const EvalRequest& request,
-               int threads) {
+EvalResult run(const std::string& name, const Scene& scene, const EvalRequest& request, int threads,
+               std::map<std::string, std::string> extra = {}) {
   StrategyOptions options;
   options.threads = threads;
+  options.extra = std::move(extra);
   auto s = find_strategy(name)->create(options);
   s->prepare(scene, request);
   s->evaluate();
@@ -60,6 +63,35 @@ TEST(CpuTensor, AgreesWithCoxDeBoorInDoublePrecision) {
                       tolerance)
               << scene_name << " sample " << k;
   }
+}
+
+// simd=off runs the same kernels compiled without vectorisation: the same sums in the same order,
+// so the results agree to the last bits FMA contraction may change (the AVX2/AVX-512 clones fuse
+// multiply-adds, the baseline build cannot).
+TEST(CpuTensor, SimdOffAgreesAndSaysSo) {
+  const Scene scene = *make_builtin_scene("patch144");
+  Sampling grid;
+  grid.grid_u = 33;
+  grid.grid_v = 29;
+  for (Precision precision : {Precision::f32, Precision::f64}) {
+    const EvalRequest request{grid, precision, true};
+    const EvalResult simd = run("cpu-tensor", scene, request, 2);
+    const EvalResult scalar = run("cpu-tensor", scene, request, 2, {{"simd", "off"}});
+    const double eps = precision == Precision::f32 ? FLT_EPSILON : DBL_EPSILON;
+    const double tolerance = 8 * eps * scene.largest_coordinate();
+    for (std::size_t k = 0; k < simd.surfaces[0].positions.size(); ++k)
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_NEAR(simd.surfaces[0].positions[k][c], scalar.surfaces[0].positions[k][c],
+                    tolerance);
+        ASSERT_NEAR(simd.surfaces[0].normals[k][c], scalar.surfaces[0].normals[k][c], 64 * eps);
+      }
+  }
+  StrategyOptions off;
+  off.extra["simd"] = "off";
+  EXPECT_EQ(find_strategy("cpu-tensor")->create(off)->device().details.at("simd").rfind("off", 0),
+            0u);
+  off.extra["simd"] = "fast";
+  EXPECT_THROW(find_strategy("cpu-tensor")->create(off), std::invalid_argument);
 }
 
 TEST(CpuTensor, RefusesExplicitLists) {
