@@ -75,6 +75,14 @@ int main(int argc, char** argv) {
                       "present, else the first)");
   run_cmd->add_option("--out", run.out, "output directory (default results/latest)");
 
+  MemoryOptions memory;
+  auto* memory_cmd = app.add_subcommand(
+      "memory",
+      "RPNS Table 1: control points and bytes as NURBS vs after Bezier decomposition, KSQuads");
+  memory_cmd->add_option("--scenes", memory.scenes,
+                         "comma list of scene names/files, 'default' or 'all'");
+  memory_cmd->add_flag("--json", memory.json, "machine-readable output");
+
   CheckOptions check;
   auto* check_cmd =
       app.add_subcommand("check", "check results against accuracy gates; exit 1 on any violation");
@@ -91,10 +99,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const std::string first = argc > 1 ? argv[1] : "";
     const bool known_verb = first == "list" || first == "scene" || first == "eval" ||
-                            first == "run" || first == "check";
+                            first == "run" || first == "check" || first == "memory";
     if (!first.empty() && first[0] != '-' && !known_verb) {
       std::cerr << "nurbsbench: error: unknown verb '" << argv[1]
-                << "' (verbs: list, scene, eval, run, check; see nurbsbench --help)\n";
+                << "' (verbs: list, scene, eval, run, check, memory; see nurbsbench --help)\n";
       return 2;
     }
     std::cerr << "nurbsbench: error: " << e.what() << " (see nurbsbench --help)\n";
@@ -109,6 +117,7 @@ int main(int argc, char** argv) {
     if (*eval_cmd) return eval_command(eval);
     if (*run_cmd) return run_command(run);
     if (*check_cmd) return check_command(check);
+    if (*memory_cmd) return memory_command(memory);
   } catch (const std::exception& e) {
     std::string message = e.what();
     std::replace(message.begin(), message.end(), '\n', ' ');

@@ -17,18 +17,6 @@ namespace nurbs::cli {
 
 namespace {
 
-// "default": every listed built-in scene except those whose default grids exceed the per-request
-// sample limit (many-4096); "all": every listed built-in scene.
-std::vector<std::string> scene_list(const std::string& text) {
-  if (text == "default" || text == "all") {
-    std::vector<std::string> names;
-    for (const BuiltinSceneInfo& s : builtin_scenes())
-      if (text == "all" || s.name != "many-4096") names.push_back(s.name);
-    return names;
-  }
-  return split_list(text);
-}
-
 std::vector<const StrategyEntry*> strategy_list(const std::string& text) {
   std::vector<const StrategyEntry*> out;
   if (text == "all") {
