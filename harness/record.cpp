@@ -59,20 +59,37 @@ std::string csv_text(std::string_view text) {
   return quoted + "\"";
 }
 
+json accuracy_to_json(const Accuracy& a) {
+  json j = {{"max_abs", finite_or_null(a.max_abs)},
+            {"rms_abs", finite_or_null(a.rms_abs)},
+            {"max_rel", finite_or_null(a.max_rel)},
+            {"max_ulp", finite_or_null(a.max_ulp)},
+            {"non_finite", a.non_finite},
+            {"worst", {{"surface", a.worst_surface}, {"u", a.worst_u}, {"v", a.worst_v}}}};
+  if (a.max_normal_angle_deg) j["max_normal_angle_deg"] = finite_or_null(*a.max_normal_angle_deg);
+  return j;
+}
+
+Accuracy accuracy_from_json(const json& a) {
+  Accuracy r;
+  r.max_abs = number_or_inf(a, "max_abs");
+  r.rms_abs = number_or_inf(a, "rms_abs");
+  r.max_rel = number_or_inf(a, "max_rel");
+  r.max_ulp = number_or_inf(a, "max_ulp");
+  r.non_finite = a.value("non_finite", std::size_t{0});
+  if (a.contains("worst")) {
+    r.worst_surface = a["worst"].value("surface", 0);
+    r.worst_u = a["worst"].value("u", 0.0);
+    r.worst_v = a["worst"].value("v", 0.0);
+  }
+  if (a.contains("max_normal_angle_deg"))
+    r.max_normal_angle_deg = number_or_inf(a, "max_normal_angle_deg");
+  return r;
+}
+
 }  // namespace
 
 json record_to_json(const Record& r) {
-  json accuracy = {{"max_abs", finite_or_null(r.accuracy.max_abs)},
-                   {"rms_abs", finite_or_null(r.accuracy.rms_abs)},
-                   {"max_rel", finite_or_null(r.accuracy.max_rel)},
-                   {"max_ulp", finite_or_null(r.accuracy.max_ulp)},
-                   {"non_finite", r.accuracy.non_finite},
-                   {"worst",
-                    {{"surface", r.accuracy.worst_surface},
-                     {"u", r.accuracy.worst_u},
-                     {"v", r.accuracy.worst_v}}}};
-  if (r.accuracy.max_normal_angle_deg)
-    accuracy["max_normal_angle_deg"] = finite_or_null(*r.accuracy.max_normal_angle_deg);
   json j = {
       {"scene", r.scene},
       {"strategy", r.strategy},
@@ -90,10 +107,20 @@ json record_to_json(const Record& r) {
       {"read_back", phase_to_json(r.read_back)},
       {"end_to_end", phase_to_json(r.end_to_end)},
       {"throughput_pts_per_s", r.throughput_pts_per_s},
-      {"accuracy", accuracy},
+      {"accuracy", r.accuracy ? accuracy_to_json(*r.accuracy) : json(nullptr)},
       {"status", to_string(r.status)},
       {"reason", r.reason}};
   if (r.device_evaluate_median_s) j["device_evaluate_median_s"] = *r.device_evaluate_median_s;
+  if (!r.extra_phases.empty()) {
+    json phases = json::object();
+    for (const auto& [name, stats] : r.extra_phases) phases[name] = phase_to_json(stats);
+    j["extra_phases"] = phases;
+  }
+  if (!r.figures.empty()) {
+    json figures = json::object();
+    for (const auto& [name, value] : r.figures) figures[name] = finite_or_null(value);
+    j["figures"] = figures;
+  }
   return j;
 }
 
@@ -122,21 +149,15 @@ Record record_from_json(const json& j) {
   if (j.contains("device_evaluate_median_s"))
     r.device_evaluate_median_s = j["device_evaluate_median_s"].get<double>();
   r.throughput_pts_per_s = j.value("throughput_pts_per_s", 0.0);
-  if (j.contains("accuracy")) {
-    const json& a = j["accuracy"];
-    r.accuracy.max_abs = number_or_inf(a, "max_abs");
-    r.accuracy.rms_abs = number_or_inf(a, "rms_abs");
-    r.accuracy.max_rel = number_or_inf(a, "max_rel");
-    r.accuracy.max_ulp = number_or_inf(a, "max_ulp");
-    r.accuracy.non_finite = a.value("non_finite", std::size_t{0});
-    if (a.contains("worst")) {
-      r.accuracy.worst_surface = a["worst"].value("surface", 0);
-      r.accuracy.worst_u = a["worst"].value("u", 0.0);
-      r.accuracy.worst_v = a["worst"].value("v", 0.0);
-    }
-    if (a.contains("max_normal_angle_deg"))
-      r.accuracy.max_normal_angle_deg = number_or_inf(a, "max_normal_angle_deg");
-  }
+  if (j.contains("accuracy") && j["accuracy"].is_object())
+    r.accuracy = accuracy_from_json(j["accuracy"]);
+  if (j.contains("extra_phases") && j["extra_phases"].is_object())
+    for (const auto& [name, stats] : j["extra_phases"].items())
+      r.extra_phases[name] = phase_from_json(stats);
+  if (j.contains("figures") && j["figures"].is_object())
+    for (const auto& [name, value] : j["figures"].items())
+      r.figures[name] =
+          value.is_null() ? std::numeric_limits<double>::infinity() : value.get<double>();
   if (!parse_status(j.value("status", "failed"), r.status)) r.status = Status::failed;
   r.reason = j.value("reason", "");
   return r;
@@ -151,13 +172,16 @@ std::string csv_header() {
 std::string csv_row(const Record& r) {
   const bool measured = r.status == Status::ok;
   auto number = [measured](double x) { return measured ? fmt::format("{}", x) : std::string(); };
+  auto accuracy = [&](double Accuracy::*metric) {
+    return r.accuracy ? number((*r.accuracy).*metric) : std::string();
+  };
   return fmt::format(
       "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_text(r.scene),
       csv_text(r.strategy), csv_text(r.device.name), r.precision, r.sampling, r.samples, r.points,
       number(r.setup_s), number(r.upload.median_s), number(r.evaluate.min_s),
       number(r.evaluate.median_s), number(r.evaluate.max_s), number(r.read_back.median_s),
-      number(r.end_to_end.median_s), number(r.throughput_pts_per_s), number(r.accuracy.max_abs),
-      number(r.accuracy.rms_abs), number(r.accuracy.max_rel), number(r.accuracy.max_ulp),
+      number(r.end_to_end.median_s), number(r.throughput_pts_per_s), accuracy(&Accuracy::max_abs),
+      accuracy(&Accuracy::rms_abs), accuracy(&Accuracy::max_rel), accuracy(&Accuracy::max_ulp),
       to_string(r.status), csv_text(r.reason));
 }
 

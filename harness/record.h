@@ -2,6 +2,7 @@
 // its status. The runner emits these; the writers, `check` and later `report` read them.
 #pragma once
 
+#include <map>
 #include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
@@ -20,7 +21,7 @@ bool parse_status(std::string_view text, Status& out);
 struct Record {
   std::string scene;
   std::string strategy;
-  std::string role;  // strategy / baseline / peer
+  std::string role;  // strategy / baseline / peer / limit
   DeviceInfo device;
   std::string precision;  // f32 / f64
   std::string sampling;   // grid / span_grid / explicit
@@ -32,8 +33,15 @@ struct Record {
   double setup_s = 0;
   PhaseStats upload, evaluate, read_back, end_to_end;
   std::optional<double> device_evaluate_median_s;
+  // Phases beyond the four every strategy has, where a strategy or mode has them: "render"
+  // (drawing without read-back), "render_via_read_back", "frame" (one deforming frame)...
+  std::map<std::string, PhaseStats> extra_phases;
+  // Named measurements that are not times, e.g. a limit row's "store_bytes_per_s".
+  std::map<std::string, double> figures;
   double throughput_pts_per_s = 0;
-  Accuracy accuracy;
+  // Absent when nothing was evaluated: a record of role "limit" (a machine ceiling measured in
+  // the same run, such as the memory store bandwidth) or one that did not run.
+  std::optional<Accuracy> accuracy;
   Status status = Status::ok;
   std::string reason;
 };

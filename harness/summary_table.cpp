@@ -25,7 +25,7 @@ std::string summary_table(const std::vector<Record>& records) {
     rows.push_back({r.scene, r.strategy, r.device.kind.empty() ? "-" : r.device.kind, r.precision,
                     r.samples, ok ? seconds_text(r.evaluate.median_s) : "",
                     ok ? fmt::format("{:.3g}", r.throughput_pts_per_s) : "",
-                    ok ? fmt::format("{:.3g}", r.accuracy.max_ulp) : "",
+                    ok && r.accuracy ? fmt::format("{:.3g}", r.accuracy->max_ulp) : "",
                     ok ? "ok" : fmt::format("{}: {}", to_string(r.status), r.reason)});
   }
   std::array<std::size_t, kColumns> width{};

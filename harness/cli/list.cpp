@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/commands.h"
+#include "harness/store_limit.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
 
@@ -40,6 +41,12 @@ int list_command(const ListOptions& options) {
     text += fmt::format("  {:<20} {:<9} {:<40} {}\n", e.name, e.role,
                         a.available ? "available" : "unavailable: " + a.reason, e.source);
   }
+  // Not strategies: machine ceilings `run` measures beside them (harness/store_limit.h).
+  const std::string limit_description =
+      "memory store bandwidth for the request's output (points x bytes per point), same threads";
+  text += fmt::format("limits:\n  {:<20} {:<9} {}\n", kStoreLimitName, "limit", limit_description);
+  nlohmann::json limits = nlohmann::json::array(
+      {{{"name", kStoreLimitName}, {"role", "limit"}, {"description", limit_description}}});
   nlohmann::json scenes = nlohmann::json::array();
   text += "scenes:\n";
   for (const BuiltinSceneInfo& s : builtin_scenes()) {
@@ -47,7 +54,9 @@ int list_command(const ListOptions& options) {
     text += fmt::format("  {:<20} {}\n", s.name, s.description);
   }
   if (options.json)
-    std::cout << nlohmann::json{{"strategies", strategies}, {"scenes", scenes}}.dump(2) << "\n";
+    std::cout << nlohmann::json{{"strategies", strategies}, {"limits", limits}, {"scenes", scenes}}
+                     .dump(2)
+              << "\n";
   else
     std::cout << text;
   return 0;

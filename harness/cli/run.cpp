@@ -8,6 +8,7 @@
 #include "harness/machine.h"
 #include "harness/results_writer.h"
 #include "harness/runner.h"
+#include "harness/store_limit.h"
 #include "harness/summary_table.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
@@ -17,20 +18,31 @@ namespace nurbs::cli {
 
 namespace {
 
-std::vector<const StrategyEntry*> strategy_list(const std::string& text) {
-  std::vector<const StrategyEntry*> out;
+struct StrategySelection {
+  std::vector<const StrategyEntry*> entries;
+  bool store_limit = false;  // the limit-store-bandwidth row (harness/store_limit.h)
+};
+
+// "all": every registered strategy and the store-bandwidth limit row.
+StrategySelection strategy_list(const std::string& text) {
+  StrategySelection out;
   if (text == "all") {
-    for (const StrategyEntry& e : strategy_registry()) out.push_back(&e);
+    for (const StrategyEntry& e : strategy_registry()) out.entries.push_back(&e);
+    out.store_limit = true;
     return out;
   }
   for (const std::string& name : split_list(text)) {
+    if (name == kStoreLimitName) {
+      out.store_limit = true;
+      continue;
+    }
     const StrategyEntry* e = find_strategy(name);
     if (!e)
-      throw InputError(fmt::format("--strategies: '{}' is not a strategy (known: {})", name,
-                                   fmt::join(strategy_names(), ", ")));
-    out.push_back(e);
+      throw InputError(fmt::format("--strategies: '{}' is not a strategy (known: {}, {})", name,
+                                   fmt::join(strategy_names(), ", "), kStoreLimitName));
+    out.entries.push_back(e);
   }
-  if (out.empty()) throw InputError("--strategies: empty list");
+  if (out.entries.empty() && !out.store_limit) throw InputError("--strategies: empty list");
   return out;
 }
 
@@ -41,7 +53,8 @@ int run_command(const RunOptions& options) {
   const int threads = apply_thread_setting(options.threads);
   if (options.repetitions < 1 || options.repetitions > 1000)
     throw InputError(fmt::format("--repetitions = {}: must be in 1..1000", options.repetitions));
-  const std::vector<const StrategyEntry*> strategies = strategy_list(options.strategies);
+  const StrategySelection selection = strategy_list(options.strategies);
+  const std::vector<const StrategyEntry*>& strategies = selection.entries;
   std::vector<Scene> scenes;
   for (const std::string& name : scene_list(options.scenes)) scenes.push_back(load_scene(name));
   if (scenes.empty()) throw InputError("--scenes: empty list");
@@ -64,6 +77,7 @@ int run_command(const RunOptions& options) {
                              {"reference", std::string(to_string(reference_precision))}};
   for (const Scene& s : scenes) settings["scenes"].push_back(s.name);
   for (const StrategyEntry* e : strategies) settings["strategies"].push_back(e->name);
+  if (selection.store_limit) settings["strategies"].push_back(kStoreLimitName);
   for (const Sampling& s : samplings) settings["samplings"].push_back(s.label());
   ResultsWriter writer(options.out, machine_record(threads), settings);
 
@@ -72,7 +86,12 @@ int run_command(const RunOptions& options) {
   std::size_t done = 0;
   ReferenceCache references(reference_precision);
   for (const Scene& scene : scenes)
-    for (const Sampling& sampling : samplings)
+    for (const Sampling& sampling : samplings) {
+      // The machine's ceiling for this request, measured in the same run as the strategies so
+      // their ratios to it are comparable.
+      if (selection.store_limit)
+        writer.append(measure_store_limit(scene, EvalRequest{sampling, precision, options.normals},
+                                          options.repetitions));
       for (const StrategyEntry* entry : strategies) {
         if (progress)
           std::cerr << fmt::format("\r[{}/{}] {} on {} ({})\x1b[K", ++done, total, entry->name,
@@ -83,6 +102,7 @@ int run_command(const RunOptions& options) {
                               StrategyOptions{threads, backend_extra(options.gl, options.device)},
                               scene, request, options.repetitions, references));
       }
+    }
   if (progress) std::cerr << "\r\x1b[K";
   std::cout << summary_table(writer.records());
   std::cout << fmt::format(

@@ -7,10 +7,10 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <random>
 
 #include "harness/metrics.h"
 #include "harness/runner.h"
+#include "harness/store_limit.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
 
@@ -45,59 +45,30 @@ void evaluate_benchmark(benchmark::State& state, const StrategyEntry* entry, con
   state.SetLabel(strategy->device().name);
 }
 
-// The memory-write ceiling a grid evaluator's output stream runs into: every thread storing
-// floats into its own share of a buffer the size of a 1024x1024 float32 xyz result (12 MiB, well
-// past the caches). Reported as bytes/s; the cpu-tensor f32 goal is a fraction of it.
+// The memory-write ceiling a grid evaluator's output stream runs into (harness/store_limit.h):
+// a buffer the size of a 1024x1024 float32 xyz result (12 MiB, well past the caches).
 void store_bandwidth(benchmark::State& state) {
-  const std::size_t n = static_cast<std::size_t>(state.range(0)) * state.range(0) * 3;
-  std::vector<float> buffer(n);
-  float value = 1.0f;
+  const std::size_t values = static_cast<std::size_t>(state.range(0)) * state.range(0) * 3;
+  std::vector<float> buffer(values);
+  int pass = 0;
   for (auto _ : state) {
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) buffer[i] = value;
-    benchmark::DoNotOptimize(buffer.data());
-    benchmark::ClobberMemory();
-    value += 1.0f;
+    const double seconds = time_store_pass(buffer.data(), values, sizeof(float), pass++);
+    state.SetIterationTime(seconds);
   }
-  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * n * sizeof(float));
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * values * sizeof(float));
   state.SetLabel(fmt::format("{} threads", omp_get_max_threads()));
-}
-
-// A random rational bicubic 12x12 patch: random non-uniform interior knots, points in [-10, 10]^3,
-// weights in [0.5, 2] (fixed seed, so every run times the same surface).
-Scene random_bicubic_12x12() {
-  std::mt19937_64 rng(2024);
-  std::uniform_real_distribution<double> unit(0.0, 1.0), coordinate(-10.0, 10.0), weight(0.5, 2.0);
-  Surface s;
-  s.name = "random";
-  s.degree_u = s.degree_v = 3;
-  s.count_u = s.count_v = 12;
-  for (std::vector<double>* knots : {&s.knots_u, &s.knots_v}) {
-    std::vector<double> interior(8);
-    for (double& k : interior) k = unit(rng);
-    std::sort(interior.begin(), interior.end());
-    knots->assign(4, 0.0);
-    knots->insert(knots->end(), interior.begin(), interior.end());
-    knots->insert(knots->end(), 4, 1.0);
-  }
-  for (int k = 0; k < 144; ++k) {
-    s.points.push_back({coordinate(rng), coordinate(rng), coordinate(rng)});
-    s.weights.push_back(weight(rng));
-  }
-  return Scene{"random-bicubic-12x12", "random rational bicubic 12x12 patch", {s}};
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   static std::vector<Scene> scenes;
-  for (const char* name : {"patch144", "tan64", "sphere", "degree-5"})
+  for (const char* name : {"patch144", "random-bicubic-12x12", "tan64", "sphere", "degree-5"})
     scenes.push_back(*make_builtin_scene(name));
-  scenes.push_back(random_bicubic_12x12());
   benchmark::RegisterBenchmark("limit-store-bandwidth/1024x1024/f32", store_bandwidth)
       ->Arg(1024)
       ->Unit(benchmark::kMillisecond)
-      ->UseRealTime();
+      ->UseManualTime();
   for (const StrategyEntry& entry : strategy_registry()) {
     if (!entry.probe().available) continue;
     for (const Scene& scene : scenes)

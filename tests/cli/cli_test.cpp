@@ -67,6 +67,7 @@ TEST(CliList, TextNamesStrategiesAndScenes) {
     EXPECT_NE(r.out.find(name), std::string::npos) << name;
   for (const BuiltinSceneInfo& s : builtin_scenes())
     EXPECT_NE(r.out.find(s.name), std::string::npos) << s.name;
+  EXPECT_NE(r.out.find("limits:\n  limit-store-bandwidth"), std::string::npos) << r.out;
 }
 
 TEST(CliList, JsonDescribesEveryStrategyAndScene) {
@@ -75,6 +76,8 @@ TEST(CliList, JsonDescribesEveryStrategyAndScene) {
   const json doc = json::parse(r.out);  // throws (fails the test) when not valid JSON
   ASSERT_TRUE(doc.contains("strategies") && doc["strategies"].is_array());
   ASSERT_TRUE(doc.contains("scenes") && doc["scenes"].is_array());
+  ASSERT_EQ(doc["limits"].size(), 1u);
+  EXPECT_EQ(doc["limits"][0]["name"], "limit-store-bandwidth");
 
   std::set<std::string> strategies;
   for (const json& s : doc["strategies"]) {
@@ -342,7 +345,8 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
   const CliResult r = run_cli({"run", "--scenes", "patch144,sphere", "--samples", "8x8",
                                "--repetitions", "1", "--out", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const std::size_t measurements = 2 * strategy_registry().size();
+  // Every strategy plus the store-bandwidth limit row, per scene.
+  const std::size_t measurements = 2 * (strategy_registry().size() + 1);
 
   const std::vector<std::string> lines = split_lines(read_text(fs::path(out) / "results.csv"));
   ASSERT_EQ(lines.size(), 1 + measurements);
@@ -360,6 +364,11 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
       EXPECT_EQ(row[6], "64");
       EXPECT_LE(parse_exact(row[18]), 64.0) << "max_ulp";
     }
+    if (row[1] == "limit-store-bandwidth") {
+      EXPECT_EQ(row[19], "ok") << lines[k];
+      EXPECT_GT(parse_exact(row[14]), 0.0) << "throughput";
+      EXPECT_EQ(row[18], "") << "a limit row has no accuracy";
+    }
   }
   EXPECT_EQ(scenes.count("patch144"), measurements / 2);
   EXPECT_EQ(scenes.count("sphere"), measurements / 2);
@@ -369,6 +378,28 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
   ASSERT_TRUE(results["records"].is_array());
   EXPECT_EQ(results["records"].size(), measurements);
   EXPECT_TRUE(results["machine"].is_object());
+}
+
+// The store-bandwidth ceiling is a row of the same run, selectable by name, without accuracy.
+TEST(CliRun, StoreLimitRowIsMeasuredInTheSameRun) {
+  TempDir tmp;
+  const std::string out = tmp / "r";
+  const CliResult r = run_cli(
+      {"run", "--scenes", "many-4", "--strategies", "limit-store-bandwidth,cpu-coxdeboor",
+       "--samples", "16x8", "--precision", "f64", "--normals", "--repetitions", "2", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json results = json::parse(read_text(fs::path(out) / "results.json"));
+  ASSERT_EQ(results["records"].size(), 2u);
+  const json& limit = results["records"][0];
+  EXPECT_EQ(limit["strategy"], "limit-store-bandwidth");
+  EXPECT_EQ(limit["role"], "limit");
+  EXPECT_EQ(limit["points"], 4 * 16 * 8);
+  EXPECT_TRUE(limit["accuracy"].is_null());
+  EXPECT_EQ(limit["figures"]["bytes_per_point"], 48);  // xyz + normal, doubles
+  EXPECT_DOUBLE_EQ(limit["figures"]["store_bytes_per_s"].get<double>(),
+                   48 * limit["throughput_pts_per_s"].get<double>());
+  EXPECT_EQ(results["settings"]["strategies"][1], "limit-store-bandwidth");
+  EXPECT_EQ(results["records"][1]["strategy"], "cpu-coxdeboor");
 }
 
 TEST(CliRun, BadArgumentsLeaveNoOutputDirectory) {

@@ -6,12 +6,14 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "harness/atomic_file.h"
 #include "harness/gates.h"
 #include "harness/metrics.h"
 #include "harness/record.h"
 #include "harness/runner.h"
+#include "harness/store_limit.h"
 #include "harness/timing.h"
 #include "scenes/builtin_scenes.h"
 
@@ -106,8 +108,9 @@ Record sample_record() {
   r.points = 4096;
   r.evaluate = {0.1, 0.2, 0.3};
   r.throughput_pts_per_s = 4096 / 0.2;
-  r.accuracy.max_ulp = 1.5;
-  r.accuracy.max_normal_angle_deg = 0.01;
+  r.accuracy = Accuracy{};
+  r.accuracy->max_ulp = 1.5;
+  r.accuracy->max_normal_angle_deg = 0.01;
   r.reason = "a, \"quoted\" reason";
   return r;
 }
@@ -118,16 +121,34 @@ TEST(Record, JsonRoundTrip) {
   EXPECT_EQ(back.scene, r.scene);
   EXPECT_EQ(back.device.details, r.device.details);
   EXPECT_EQ(back.evaluate.median_s, 0.2);
-  EXPECT_EQ(back.accuracy.max_ulp, 1.5);
-  EXPECT_EQ(back.accuracy.max_normal_angle_deg, 0.01);
+  ASSERT_TRUE(back.accuracy);
+  EXPECT_EQ(back.accuracy->max_ulp, 1.5);
+  EXPECT_EQ(back.accuracy->max_normal_angle_deg, 0.01);
   EXPECT_EQ(back.reason, r.reason);
+}
+
+TEST(Record, ExtraPhasesFiguresAndMissingAccuracyRoundTrip) {
+  Record r = sample_record();
+  r.extra_phases["render"] = {0.5, 0.75, 1.0};
+  r.figures["store_bytes_per_s"] = 1.25e10;
+  r.accuracy.reset();
+  const nlohmann::json j = record_to_json(r);
+  EXPECT_TRUE(j["accuracy"].is_null());
+  const Record back = record_from_json(nlohmann::json::parse(j.dump()));
+  EXPECT_FALSE(back.accuracy);
+  ASSERT_EQ(back.extra_phases.count("render"), 1u);
+  EXPECT_EQ(back.extra_phases.at("render").median_s, 0.75);
+  EXPECT_EQ(back.figures.at("store_bytes_per_s"), 1.25e10);
+  // No accuracy: the CSV's four accuracy cells are empty, the row keeps its columns.
+  const std::string row = csv_row(r);
+  EXPECT_NE(row.find(",,,,ok,"), std::string::npos) << row;
 }
 
 TEST(Record, InfiniteErrorsSurviveJson) {
   Record r = sample_record();
-  r.accuracy.max_abs = r.accuracy.max_ulp = INFINITY;
+  r.accuracy->max_abs = r.accuracy->max_ulp = INFINITY;
   const Record back = record_from_json(nlohmann::json::parse(record_to_json(r).dump()));
-  EXPECT_TRUE(std::isinf(back.accuracy.max_ulp));
+  EXPECT_TRUE(std::isinf(back.accuracy->max_ulp));
 }
 
 TEST(Record, CsvHasTheIssueColumnsAndQuotes) {
@@ -144,7 +165,7 @@ TEST(Record, CsvHasTheIssueColumnsAndQuotes) {
 TEST(Gates, ViolationsAreListedWithValues) {
   std::vector<Record> records = {sample_record(), sample_record()};
   records[1].scene = "sphere";
-  records[1].accuracy.max_ulp = 40;
+  records[1].accuracy->max_ulp = 40;
   Record failed = sample_record();
   failed.strategy = "gl-pingpong";
   failed.status = Status::failed;
@@ -168,6 +189,54 @@ TEST(Gates, ViolationsAreListedWithValues) {
       << "a gate matching only refusals matches nothing measured";
   EXPECT_EQ(check_gates({{"nothing", "*", "max_ulp", 1}}, records).size(), 1u);
   EXPECT_EQ(check_gates({{"*", "*", "max_normal_angle_deg", 1}}, {sample_record()}).size(), 0u);
+}
+
+TEST(Gates, LimitRowsAreNotGatedAndMissingAccuracyIsAViolation) {
+  Record limit = sample_record();
+  limit.strategy = "limit-store-bandwidth";
+  limit.role = "limit";
+  limit.accuracy.reset();
+  // A wildcard gate sees the strategy's row and skips the limit row.
+  EXPECT_TRUE(check_gates({{"*", "*", "max_ulp", 2}}, {sample_record(), limit}).empty());
+  EXPECT_EQ(check_gates({{"limit-*", "*", "max_ulp", 2}}, {limit}).size(), 1u)
+      << "a gate matching only a limit row matches nothing measured";
+  Record unmeasured = sample_record();
+  unmeasured.accuracy.reset();
+  const auto violations = check_gates({{"*", "*", "max_ulp", 2}}, {unmeasured});
+  ASSERT_EQ(violations.size(), 1u);
+  EXPECT_NE(violations[0].find("no accuracy"), std::string::npos) << violations[0];
+}
+
+TEST(StoreLimit, RowDescribesTheRequestsOutputStream) {
+  const Scene scene = *make_builtin_scene("many-4");
+  Sampling grid;
+  grid.grid_u = 32;
+  grid.grid_v = 16;
+  for (const auto& [precision, normals, bytes] :
+       {std::tuple{Precision::f32, false, 12}, std::tuple{Precision::f32, true, 24},
+        std::tuple{Precision::f64, false, 24}, std::tuple{Precision::f64, true, 48}}) {
+    const EvalRequest request{grid, precision, normals};
+    EXPECT_EQ(result_bytes_per_point(request), static_cast<std::size_t>(bytes));
+    const Record r = measure_store_limit(scene, request, 3);
+    EXPECT_EQ(r.status, Status::ok);
+    EXPECT_EQ(r.role, "limit");
+    EXPECT_FALSE(r.accuracy);
+    EXPECT_EQ(r.points, 4u * 32 * 16);
+    EXPECT_EQ(r.samples, "32x16");
+    EXPECT_LE(r.evaluate.min_s, r.evaluate.median_s);
+    EXPECT_GT(r.evaluate.min_s, 0.0);
+    EXPECT_DOUBLE_EQ(r.throughput_pts_per_s, r.points / r.evaluate.median_s);
+    EXPECT_DOUBLE_EQ(r.figures.at("store_bytes_per_s"), bytes * r.throughput_pts_per_s);
+  }
+}
+
+TEST(StoreLimit, StorePassWritesEveryValue) {
+  std::vector<double> buffer(1000, 0.0);
+  time_store_pass(buffer.data(), buffer.size(), sizeof(double), 6);
+  for (double x : buffer) ASSERT_EQ(x, 7.0);
+  std::vector<float> floats(999, 0.0f);
+  time_store_pass(floats.data(), floats.size(), sizeof(float), 0);
+  for (float x : floats) ASSERT_EQ(x, 1.0f);
 }
 
 TEST(AtomicFile, ReplacesWholeAndLeavesNoTemporary) {
@@ -251,16 +320,16 @@ TEST(Runner, StrategyChoosingItsSamplesIsMeasuredWhereItSampled) {
   ASSERT_EQ(exact.status, Status::ok) << exact.reason;
   EXPECT_EQ(exact.points, 3 * scene.surfaces.size());  // produced, not the 9x5 requested
   EXPECT_EQ(exact.samples, "9x5");
-  EXPECT_LE(exact.accuracy.max_ulp, 1.0);  // float rounding of the reference's own values
+  EXPECT_LE(exact.accuracy->max_ulp, 1.0);  // float rounding of the reference's own values
 
   // An error at its samples is seen as such, at the sample where it is.
   const Record shifted = measure(own_samples_entry(true, 1e-3), {}, scene, request, 2, references);
   ASSERT_EQ(shifted.status, Status::ok) << shifted.reason;
-  EXPECT_NEAR(shifted.accuracy.max_abs, 1e-3, 1e-6);
-  const Surface& worst = scene.surfaces[shifted.accuracy.worst_surface];
-  EXPECT_TRUE(shifted.accuracy.worst_u == worst.u_min() ||
-              shifted.accuracy.worst_u == worst.u_max() ||
-              shifted.accuracy.worst_u == 0.3 * worst.u_min() + 0.7 * worst.u_max());
+  EXPECT_NEAR(shifted.accuracy->max_abs, 1e-3, 1e-6);
+  const Surface& worst = scene.surfaces[shifted.accuracy->worst_surface];
+  EXPECT_TRUE(shifted.accuracy->worst_u == worst.u_min() ||
+              shifted.accuracy->worst_u == worst.u_max() ||
+              shifted.accuracy->worst_u == 0.3 * worst.u_min() + 0.7 * worst.u_max());
 }
 
 TEST(Runner, OtherSamplesThanRequestedFailUnlessDeclared) {

@@ -1,0 +1,74 @@
+#include "harness/store_limit.h"
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <vector>
+
+#include "harness/machine.h"
+#include "harness/timing.h"
+
+namespace nurbs {
+
+namespace {
+
+template <typename T>
+void store(T* data, std::size_t values, T value) {
+  // STREAM-like store kernel; schedule(static) gives each thread one contiguous share, as a grid
+  // evaluator splitting rows across threads writes its output.
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < values; ++i) data[i] = value;
+}
+
+}  // namespace
+
+double time_store_pass(void* buffer, std::size_t values, std::size_t scalar_bytes, int pass) {
+  return time_seconds([&] {
+    if (scalar_bytes == sizeof(float))
+      store(static_cast<float*>(buffer), values, static_cast<float>(pass + 1));
+    else
+      store(static_cast<double*>(buffer), values, static_cast<double>(pass + 1));
+    // The stores must happen: the buffer escapes to an opaque barrier the optimiser cannot see
+    // through.
+    asm volatile("" : : "r"(buffer) : "memory");
+  });
+}
+
+std::size_t result_bytes_per_point(const EvalRequest& request) {
+  const std::size_t scalar = request.precision == Precision::f32 ? sizeof(float) : sizeof(double);
+  return (request.normals ? 6 : 3) * scalar;
+}
+
+Record measure_store_limit(const Scene& scene, const EvalRequest& request, int repetitions) {
+  Record r;
+  r.scene = scene.name;
+  r.strategy = std::string(kStoreLimitName);
+  r.role = "limit";
+  r.device = {fmt::format("host CPU ({})", cpu_model()),
+              "cpu",
+              {{"threads", std::to_string(omp_get_max_threads())},
+               {"kernel", "OpenMP static store loop (STREAM-like), one share per thread"}}};
+  r.precision = std::string(to_string(request.precision));
+  r.sampling = sampling_mode_name(request.sampling.mode);
+  r.samples = request.sampling.label();
+  r.points = total_samples(sample_parameters(scene, request.sampling));
+  r.surfaces = scene.surfaces.size();
+  r.repetitions = repetitions;
+  const std::size_t scalar = request.precision == Precision::f32 ? sizeof(float) : sizeof(double);
+  const std::size_t bytes_per_point = result_bytes_per_point(request);
+  const std::size_t values = r.points * bytes_per_point / scalar;
+  // Allocated and first touched outside the timing: a strategy's output buffer is allocated once.
+  std::vector<unsigned char> buffer(values * scalar);
+  r.setup_s = time_store_pass(buffer.data(), values, scalar, 0);
+  std::vector<double> seconds;
+  for (int i = 0; i < repetitions; ++i)
+    seconds.push_back(time_store_pass(buffer.data(), values, scalar, i + 1));
+  r.evaluate = PhaseStats::of(seconds);
+  r.throughput_pts_per_s = r.evaluate.median_s > 0 ? r.points / r.evaluate.median_s : 0;
+  r.figures["bytes_per_point"] = static_cast<double>(bytes_per_point);
+  r.figures["store_bytes_per_s"] = r.throughput_pts_per_s * static_cast<double>(bytes_per_point);
+  r.status = Status::ok;
+  return r;
+}
+
+}  // namespace nurbs
