@@ -48,6 +48,7 @@ struct RunOptions {
   std::string precision = "f32";
   bool normals = false;
   int repetitions = 5;
+  int deforming = 0;  // --deforming FRAMES: the deforming-surface benchmark (0: off)
   std::string reference = "long-double";
   std::string out = "results/latest";
   int threads = 0;

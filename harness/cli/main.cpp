@@ -65,6 +65,10 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--precision", run.precision, "f32 (default) or f64");
   run_cmd->add_flag("--normals", run.normals, "also evaluate and check normals");
   run_cmd->add_option("--repetitions", run.repetitions, "timed repetitions per phase (default 5)");
+  run_cmd->add_option("--deforming", run.deforming,
+                      "deforming-surface benchmark: FRAMES frames of a travelling wave, each "
+                      "update_control_points (or prepare) -> evaluate -> read back, timed as "
+                      "extra phase 'frame'; accuracy on the last frame");
   run_cmd->add_option("--reference", run.reference, "long-double (default) or float128");
   run_cmd->add_option("--threads", run.threads, "threads for every backend (0: every core)");
   run_cmd

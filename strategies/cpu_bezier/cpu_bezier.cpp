@@ -15,6 +15,7 @@ namespace {
 Capabilities bezier_capabilities() {
   Capabilities c;
   c.max_degree = kMaxDegree;
+  c.updates_control_points = true;
   return c;
 }
 

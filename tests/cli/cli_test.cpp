@@ -435,6 +435,41 @@ TEST(CliRun, BadArgumentsLeaveNoOutputDirectory) {
   }
 }
 
+TEST(CliRun, DeformingRecordsFrameTimesAndLastFrameAccuracy) {
+  TempDir tmp;
+  const std::string out = tmp / "r";
+  const CliResult r =
+      run_cli({"run", "--scenes", "patch144", "--strategies", "cpu-bezier,cpu-coxdeboor",
+               "--samples", "8x8", "--deforming", "3", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("deforming, 3 frames"), std::string::npos) << r.out;
+  const json results = json::parse(read_text(fs::path(out) / "results.json"));
+  EXPECT_EQ(results["settings"]["deforming_frames"], 3);
+  ASSERT_EQ(results["records"].size(), 2u);  // no store-limit row in this mode
+  for (const json& rec : results["records"]) {
+    ASSERT_EQ(rec["status"], "ok") << rec.dump();
+    EXPECT_TRUE(rec["extra_phases"].contains("frame")) << rec.dump();
+    EXPECT_EQ(rec["figures"]["frames"], 3);
+    EXPECT_LE(rec["accuracy"]["max_ulp"].get<double>(), 32.0);
+    // cpu-bezier updates its control points; cpu-coxdeboor is prepared again, and says so.
+    const bool updates = rec["strategy"] == "cpu-bezier";
+    EXPECT_EQ(rec["extra_phases"].contains("frame_update"), updates) << rec.dump();
+    EXPECT_EQ(rec["extra_phases"].contains("frame_prepare"), !updates) << rec.dump();
+  }
+}
+
+TEST(CliRun, BadDeformingFrameCountsAreRefused) {
+  TempDir tmp;
+  const std::string out = tmp / "r";
+  for (const std::string bad : {"-1", "abc", "1000001"}) {
+    SCOPED_TRACE(bad);
+    expect_usage_error(run_cli({"run", "--scenes", "patch144", "--strategies", "cpu-bezier",
+                                "--deforming", bad, "--out", out}),
+                       {"--deforming"});
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
 // -------------------------------------------------------------------------------------- memory
 
 TEST(CliMemory, TextHasOneRowPerSceneAndStatesItsUnits) {
