@@ -4,7 +4,9 @@
 // nurbs_math.h. This is the preprocessing of RPNS's baseline (003 §2: "each knot with
 // multiplicity lower than the degree ... has to be replicated until it appears p times"), and the
 // count of the resulting patches -- one per non-empty (u-span, v-span) pair -- is also RPNS's
-// KSQuad count (003 §2; its bound (r-2p)(s-2q) is reached only when every span is non-empty).
+// KSQuad count (003 §2). The paper bounds it by (r-2p)(s-2q) with r, s "the number of knots"; a
+// domain has count - p = r - 1 - 2p spans, so that bound is one span loose per direction and
+// exact with r read as the last knot's index (count + p), reached when no span is empty.
 //
 // Two generalisations of the book's A5.6, which assumes a clamped knot vector:
 // - only the domain [knots[p], knots[count]] is decomposed (an unclamped vector has knots outside

@@ -25,7 +25,7 @@ Capabilities bezier_capabilities() {
 // same stability -- but it costs O(p^2) once per parameter (shared by a whole row or column of a
 // grid) and then O(pq) per sample, where surface de Casteljau costs O(p^2 q + q^2) four-vectors
 // per sample. Derivatives (for normals) come from the degree p-1 row of the same triangle:
-// dB_{i,p}/dt = p (B_{i-1,p-1} - B_{i,p-1}) (The NURBS Book Eq. 1.9).
+// dB_{i,p}/dt = p (B_{i-1,p-1} - B_{i,p-1}) (The NURBS Book ch. 1, Bernstein derivatives).
 template <typename T>
 struct AxisSample {
   int segment = 0;
