@@ -5,6 +5,8 @@
 #include <exception>
 #include <stdexcept>
 
+#include "scenes/deforming.h"
+
 namespace nurbs {
 
 const std::vector<ReferenceSurface>& ReferenceCache::get(const Scene& scene,
@@ -38,23 +40,30 @@ Record skeleton(const StrategyEntry& entry, const Scene& scene, const EvalReques
   return r;
 }
 
+// Unavailable and refused strategies are results, not runs: fills r and returns false.
+bool runnable(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
+              Record& r) {
+  const Availability availability = entry.probe();
+  if (!availability.available) {
+    r.status = Status::unavailable;
+    r.reason = availability.reason;
+    return false;
+  }
+  if (auto refused = refusal_reason(entry.capabilities(), scene, request)) {
+    r.status = Status::refused;
+    r.reason = *refused;
+    return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 Record measure(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
                const EvalRequest& request, int repetitions, ReferenceCache& references) {
   Record r = skeleton(entry, scene, request, sample_parameters(scene, request.sampling));
   r.repetitions = repetitions;
-  const Availability availability = entry.probe();
-  if (!availability.available) {
-    r.status = Status::unavailable;
-    r.reason = availability.reason;
-    return r;
-  }
-  if (auto refused = refusal_reason(entry.capabilities(), scene, request)) {
-    r.status = Status::refused;
-    r.reason = *refused;
-    return r;
-  }
+  if (!runnable(entry, scene, request, r)) return r;
   try {
     std::unique_ptr<Strategy> strategy;
     // setup: context, compilation and the first (cold) prepare; paid once.
@@ -111,6 +120,71 @@ Record measure(const StrategyEntry& entry, const StrategyOptions& options, const
           scene, result,
           evaluate_reference(scene, produced, request.normals, references.precision()));
     }
+    r.throughput_pts_per_s =
+        r.evaluate.median_s > 0 ? static_cast<double>(r.points) / r.evaluate.median_s : 0;
+    r.status = Status::ok;
+  } catch (const RefusedError& e) {
+    r.status = Status::refused;
+    r.reason = e.what();
+  } catch (const std::exception& e) {
+    r.status = Status::failed;
+    r.reason = e.what();
+  }
+  return r;
+}
+
+Record measure_deforming(const StrategyEntry& entry, const StrategyOptions& options,
+                         const Scene& scene, const EvalRequest& request, int frames,
+                         ReferencePrecision reference_precision) {
+  const std::vector<SurfaceSamples> samples = sample_parameters(scene, request.sampling);
+  Record r = skeleton(entry, scene, request, samples);
+  r.repetitions = frames;
+  r.figures["frames"] = frames;
+  if (!runnable(entry, scene, request, r)) return r;
+  try {
+    const bool updates = entry.capabilities().updates_control_points;
+    Scene frame_scene = deformed_scene(scene, 0);
+    std::unique_ptr<Strategy> strategy;
+    r.setup_s = time_seconds([&] {
+      strategy = entry.create(options);
+      strategy->prepare(frame_scene, request);
+    });
+    r.device = strategy->device();
+    strategy->evaluate();  // warm-up
+
+    std::vector<double> update_s, evaluate_s, read_back_s, frame_s;
+    EvalResult result;
+    for (int f = 1; f <= frames; ++f) {
+      deform_scene(scene, f, frame_scene);
+      const double update = time_seconds([&] {
+        if (updates)
+          strategy->update_control_points(frame_scene);
+        else
+          strategy->prepare(frame_scene, request);
+      });
+      const double evaluate = time_seconds([&] { strategy->evaluate(); });
+      const double read_back = time_seconds([&] { result = strategy->read_back(); });
+      update_s.push_back(update);
+      evaluate_s.push_back(evaluate);
+      read_back_s.push_back(read_back);
+      frame_s.push_back(update + evaluate + read_back);
+    }
+    r.upload = PhaseStats::of(update_s);
+    r.evaluate = PhaseStats::of(evaluate_s);
+    r.read_back = PhaseStats::of(read_back_s);
+    r.end_to_end = PhaseStats::of(frame_s);
+    r.extra_phases["frame"] = r.end_to_end;
+    r.extra_phases[updates ? "frame_update" : "frame_prepare"] = r.upload;
+    // Compared where the strategy sampled, as in measure().
+    const std::vector<SurfaceSamples> produced = result_samples(result);
+    if (!same_samples(produced, samples)) {
+      if (!entry.capabilities().chooses_own_samples)
+        throw std::runtime_error("result carries other (u, v) than the requested samples");
+      r.points = total_samples(produced);
+    }
+    r.accuracy = measure_accuracy(
+        frame_scene, result,
+        evaluate_reference(frame_scene, produced, request.normals, reference_precision));
     r.throughput_pts_per_s =
         r.evaluate.median_s > 0 ? static_cast<double>(r.points) / r.evaluate.median_s : 0;
     r.status = Status::ok;

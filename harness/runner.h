@@ -31,4 +31,16 @@ class ReferenceCache {
 Record measure(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
                const EvalRequest& request, int repetitions, ReferenceCache& references);
 
+// The deforming-surface benchmark (003 §2): setup prepares frame 0 of deformed_scene(scene, f)
+// (scenes/deforming.h); then for f = 1..frames the scene is deformed (not timed: the application
+// moving points) and update_control_points() -> evaluate() -> read_back() is timed as one frame.
+// A strategy whose capabilities do not say updates_control_points gets prepare() instead, inside
+// the frame. extra_phases: "frame" (the whole frame), "frame_update" or "frame_prepare";
+// upload / evaluate / read_back hold the frame's parts and end_to_end the frame;
+// figures["frames"] = frames. Accuracy: the last frame against the reference of that frame's
+// scene (not cached: every frame is a new scene).
+Record measure_deforming(const StrategyEntry& entry, const StrategyOptions& options,
+                         const Scene& scene, const EvalRequest& request, int frames,
+                         ReferencePrecision reference_precision);
+
 }  // namespace nurbs

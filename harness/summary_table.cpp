@@ -40,4 +40,31 @@ std::string summary_table(const std::vector<Record>& records) {
   return out;
 }
 
+std::string deforming_table(const std::vector<Record>& records) {
+  constexpr std::size_t kColumns = 9;
+  using Row = std::array<std::string, kColumns>;
+  std::vector<Row> rows = {{"scene", "strategy", "prec", "samples", "frame (median)", "per frame",
+                            "update/prepare", "evaluate", "max_ulp (last)"}};
+  for (const Record& r : records) {
+    const auto frame = r.extra_phases.find("frame");
+    if (r.status != Status::ok || frame == r.extra_phases.end()) continue;
+    const bool updates = r.extra_phases.count("frame_update") > 0;
+    rows.push_back({r.scene, r.strategy, r.precision, r.samples,
+                    seconds_text(frame->second.median_s),
+                    updates ? "update_control_points" : "prepare again",
+                    seconds_text(r.upload.median_s), seconds_text(r.evaluate.median_s),
+                    r.accuracy ? fmt::format("{:.3g}", r.accuracy->max_ulp) : ""});
+  }
+  std::array<std::size_t, kColumns> width{};
+  for (const Row& row : rows)
+    for (std::size_t c = 0; c < kColumns; ++c) width[c] = std::max(width[c], row[c].size());
+  std::string out;
+  for (const Row& row : rows) {
+    for (std::size_t c = 0; c < kColumns; ++c)
+      out += c + 1 < kColumns ? fmt::format("{:<{}}  ", row[c], width[c]) : row[c];
+    out += "\n";
+  }
+  return out;
+}
+
 }  // namespace nurbs

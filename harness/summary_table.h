@@ -10,5 +10,8 @@
 namespace nurbs {
 
 std::string summary_table(const std::vector<Record>& records);
+// The deforming benchmark's view (records with extra phase "frame"): median frame time and its
+// parts, and whether the strategy updated its control points or was prepared again.
+std::string deforming_table(const std::vector<Record>& records);
 
 }  // namespace nurbs

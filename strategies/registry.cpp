@@ -1,6 +1,7 @@
 #include "strategies/registry.h"
 
 #include "strategies/cl_stair/cl_stair.h"
+#include "strategies/cpu_bezier/cpu_bezier.h"
 #include "strategies/cpu_coxdeboor/cpu_coxdeboor.h"
 #include "strategies/cpu_horner/cpu_horner.h"
 #include "strategies/cpu_tensor/cpu_tensor.h"
@@ -24,6 +25,7 @@ const std::vector<StrategyEntry>& strategy_registry() {
       cl_stair_entry(),
       cpu_tensor_entry(),
       cpu_horner_entry(),
+      cpu_bezier_entry(),
       glu_nurbs_entry(),
       sisl_entry(),
       occt_entry(),

@@ -39,6 +39,10 @@ struct Capabilities {
   // SurfaceSamples are what it produced, not sample_parameters(request), and are compared with
   // the reference there.
   bool chooses_own_samples = false;
+  // update_control_points() re-uploads moved control points (deforming surfaces, 003 §2). When
+  // false (the default update does nothing) the deforming benchmark calls prepare() again each
+  // frame and records that phase as "frame_prepare" instead of "frame_update".
+  bool updates_control_points = false;
   bool supports(Precision p) const { return p == Precision::f32 ? fp32 : fp64; }
 };
 

@@ -48,6 +48,7 @@ struct RunOptions {
   std::string precision = "f32";
   bool normals = false;
   int repetitions = 5;
+  int deforming = 0;  // --deforming FRAMES: the deforming-surface benchmark (0: off)
   std::string reference = "long-double";
   std::string out = "results/latest";
   int threads = 0;
@@ -73,12 +74,21 @@ struct CheckOptions {
 };
 int check_command(const CheckOptions& options);
 
+struct MemoryOptions {
+  std::string scenes = "default";
+  bool json = false;
+};
+int memory_command(const MemoryOptions& options);
+
 // Shared parsing of CLI values; each throws InputError naming the option and the value.
 std::vector<Sampling> parse_grid_list(std::string_view option, std::string_view text);
 std::vector<Sampling> parse_span_list(std::string_view option, std::string_view text);
 Precision parse_precision(std::string_view text);
 ReferencePrecision parse_reference(std::string_view text);
 std::vector<std::string> split_list(std::string_view text);
+// --scenes: "default" = every listed built-in scene except those whose default grids exceed the
+// per-request sample limit (many-4096); "all" = every listed built-in scene; else a comma list.
+std::vector<std::string> scene_list(const std::string& text);
 // StrategyOptions.extra for --gl and --device (empty: the strategies' defaults).
 std::map<std::string, std::string> backend_extra(const std::string& gl, const std::string& device);
 // The thread setting shared by OpenMP, llvmpipe/lavapipe and PoCL; returns the count in force.

@@ -19,11 +19,9 @@ nlohmann::json capabilities_json(const Capabilities& c) {
   nlohmann::json precisions = nlohmann::json::array();
   if (c.fp32) precisions.push_back("f32");
   if (c.fp64) precisions.push_back("f64");
-  return {{"max_degree", c.max_degree},
-          {"rational", c.rational},
-          {"normals", c.normals},
-          {"precisions", precisions},
-          {"sampling", sampling}};
+  return {{"max_degree", c.max_degree}, {"rational", c.rational},
+          {"normals", c.normals},       {"precisions", precisions},
+          {"sampling", sampling},       {"updates_control_points", c.updates_control_points}};
 }
 }  // namespace
 

@@ -65,6 +65,10 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--precision", run.precision, "f32 (default) or f64");
   run_cmd->add_flag("--normals", run.normals, "also evaluate and check normals");
   run_cmd->add_option("--repetitions", run.repetitions, "timed repetitions per phase (default 5)");
+  run_cmd->add_option("--deforming", run.deforming,
+                      "deforming-surface benchmark: FRAMES frames of a travelling wave, each "
+                      "update_control_points (or prepare) -> evaluate -> read back, timed as "
+                      "extra phase 'frame'; accuracy on the last frame");
   run_cmd->add_option("--reference", run.reference, "long-double (default) or float128");
   run_cmd->add_option("--threads", run.threads, "threads for every backend (0: every core)");
   run_cmd
@@ -88,6 +92,14 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"osmesa", "egl"}));
   lod_cmd->add_option("--out", lod.out, "output directory for lod.json (default results/latest)");
 
+  MemoryOptions memory;
+  auto* memory_cmd = app.add_subcommand(
+      "memory",
+      "RPNS Table 1: control points and bytes as NURBS vs after Bezier decomposition, KSQuads");
+  memory_cmd->add_option("--scenes", memory.scenes,
+                         "comma list of scene names/files, 'default' or 'all'");
+  memory_cmd->add_flag("--json", memory.json, "machine-readable output");
+
   CheckOptions check;
   auto* check_cmd =
       app.add_subcommand("check", "check results against accuracy gates; exit 1 on any violation");
@@ -104,10 +116,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const std::string first = argc > 1 ? argv[1] : "";
     const bool known_verb = first == "list" || first == "scene" || first == "eval" ||
-                            first == "run" || first == "check" || first == "lod";
+                            first == "run" || first == "check" || first == "lod" ||
+                            first == "memory";
     if (!first.empty() && first[0] != '-' && !known_verb) {
       std::cerr << "nurbsbench: error: unknown verb '" << argv[1]
-                << "' (verbs: list, scene, eval, run, lod, check; see nurbsbench --help)\n";
+                << "' (verbs: list, scene, eval, run, lod, memory, check; see nurbsbench --help)\n";
       return 2;
     }
     std::cerr << "nurbsbench: error: " << e.what() << " (see nurbsbench --help)\n";
@@ -123,6 +136,7 @@ int main(int argc, char** argv) {
     if (*run_cmd) return run_command(run);
     if (*lod_cmd) return lod_command(lod);
     if (*check_cmd) return check_command(check);
+    if (*memory_cmd) return memory_command(memory);
   } catch (const std::exception& e) {
     std::string message = e.what();
     std::replace(message.begin(), message.end(), '\n', ' ');

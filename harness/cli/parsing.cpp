@@ -8,6 +8,7 @@
 
 #include "harness/cli/commands.h"
 #include "reference/validation.h"
+#include "scenes/builtin_scenes.h"
 
 namespace nurbs::cli {
 
@@ -23,6 +24,16 @@ std::vector<std::string> split_list(std::string_view text) {
     start = comma + 1;
   }
   return out;
+}
+
+std::vector<std::string> scene_list(const std::string& text) {
+  if (text == "default" || text == "all") {
+    std::vector<std::string> names;
+    for (const BuiltinSceneInfo& s : builtin_scenes())
+      if (text == "all" || s.name != "many-4096") names.push_back(s.name);
+    return names;
+  }
+  return split_list(text);
 }
 
 namespace {

@@ -18,18 +18,6 @@ namespace nurbs::cli {
 
 namespace {
 
-// "default": every listed built-in scene except those whose default grids exceed the per-request
-// sample limit (many-4096); "all": every listed built-in scene.
-std::vector<std::string> scene_list(const std::string& text) {
-  if (text == "default" || text == "all") {
-    std::vector<std::string> names;
-    for (const BuiltinSceneInfo& s : builtin_scenes())
-      if (text == "all" || s.name != "many-4096") names.push_back(s.name);
-    return names;
-  }
-  return split_list(text);
-}
-
 struct StrategySelection {
   std::vector<const StrategyEntry*> entries;
   bool store_limit = false;  // the limit-store-bandwidth row (harness/store_limit.h)
@@ -65,6 +53,10 @@ int run_command(const RunOptions& options) {
   const int threads = apply_thread_setting(options.threads);
   if (options.repetitions < 1 || options.repetitions > 1000)
     throw InputError(fmt::format("--repetitions = {}: must be in 1..1000", options.repetitions));
+  if (options.deforming < 0 || options.deforming > 100000)
+    throw InputError(
+        fmt::format("--deforming = {}: must be in 1..100000 (frames)", options.deforming));
+  const bool deforming = options.deforming > 0;
   const StrategySelection selection = strategy_list(options.strategies);
   const std::vector<const StrategyEntry*>& strategies = selection.entries;
   std::vector<Scene> scenes;
@@ -84,6 +76,7 @@ int run_command(const RunOptions& options) {
                              {"precision", options.precision},
                              {"normals", options.normals},
                              {"repetitions", options.repetitions},
+                             {"deforming_frames", options.deforming},
                              {"threads", threads},
                              {"gl", options.gl.empty() ? "egl" : options.gl},
                              {"reference", std::string(to_string(reference_precision))}};
@@ -101,7 +94,8 @@ int run_command(const RunOptions& options) {
     for (const Sampling& sampling : samplings) {
       // The machine's ceiling for this request, measured in the same run as the strategies so
       // their ratios to it are comparable.
-      if (selection.store_limit)
+      // Not in the deforming benchmark: the limit is an evaluate-only ceiling, not a frame's.
+      if (selection.store_limit && !deforming)
         writer.append(measure_store_limit(scene, EvalRequest{sampling, precision, options.normals},
                                           options.repetitions));
       for (const StrategyEntry* entry : strategies) {
@@ -110,13 +104,18 @@ int run_command(const RunOptions& options) {
                                    scene.name, sampling.label())
                     << std::flush;
         EvalRequest request{sampling, precision, options.normals};
-        writer.append(measure(*entry,
-                              StrategyOptions{threads, backend_extra(options.gl, options.device)},
-                              scene, request, options.repetitions, references));
+        const StrategyOptions strategy_options{threads, backend_extra(options.gl, options.device)};
+        writer.append(deforming ? measure_deforming(*entry, strategy_options, scene, request,
+                                                    options.deforming, reference_precision)
+                                : measure(*entry, strategy_options, scene, request,
+                                          options.repetitions, references));
       }
     }
   if (progress) std::cerr << "\r\x1b[K";
   std::cout << summary_table(writer.records());
+  if (deforming)
+    std::cout << "\ndeforming, " << options.deforming << " frames:\n"
+              << deforming_table(writer.records());
   std::cout << fmt::format(
       "\n{} results in {}/results.json and results.csv (CPU: {}, {} threads; commit {})\n",
       writer.records().size(), options.out, cpu_model(), threads, build_info().git_commit);

@@ -123,7 +123,8 @@ TEST(CliHelp, EveryVerbHasHelpAndExitsZero) {
                                              {"eval", "--help"},
                                              {"run", "--help"},
                                              {"lod", "--help"},
-                                             {"check", "--help"}}) {
+                                             {"check", "--help"},
+                                             {"memory", "--help"}}) {
     SCOPED_TRACE(args.front());
     const CliResult r = run_cli(args);
     EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -458,6 +459,81 @@ TEST(CliLod, BadArgumentsLeaveNoOutputDirectory) {
     expect_usage_error(run_cli(argv), expect);
     EXPECT_FALSE(fs::exists(out));
   }
+}
+
+TEST(CliRun, DeformingRecordsFrameTimesAndLastFrameAccuracy) {
+  TempDir tmp;
+  const std::string out = tmp / "r";
+  const CliResult r =
+      run_cli({"run", "--scenes", "patch144", "--strategies", "cpu-bezier,cpu-coxdeboor",
+               "--samples", "8x8", "--deforming", "3", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("deforming, 3 frames"), std::string::npos) << r.out;
+  const json results = json::parse(read_text(fs::path(out) / "results.json"));
+  EXPECT_EQ(results["settings"]["deforming_frames"], 3);
+  ASSERT_EQ(results["records"].size(), 2u);  // no store-limit row in this mode
+  for (const json& rec : results["records"]) {
+    ASSERT_EQ(rec["status"], "ok") << rec.dump();
+    EXPECT_TRUE(rec["extra_phases"].contains("frame")) << rec.dump();
+    EXPECT_EQ(rec["figures"]["frames"], 3);
+    EXPECT_LE(rec["accuracy"]["max_ulp"].get<double>(), 32.0);
+    // cpu-bezier updates its control points; cpu-coxdeboor is prepared again, and says so.
+    const bool updates = rec["strategy"] == "cpu-bezier";
+    EXPECT_EQ(rec["extra_phases"].contains("frame_update"), updates) << rec.dump();
+    EXPECT_EQ(rec["extra_phases"].contains("frame_prepare"), !updates) << rec.dump();
+  }
+}
+
+TEST(CliRun, BadDeformingFrameCountsAreRefused) {
+  TempDir tmp;
+  const std::string out = tmp / "r";
+  for (const std::string bad : {"-1", "abc", "1000001"}) {
+    SCOPED_TRACE(bad);
+    expect_usage_error(run_cli({"run", "--scenes", "patch144", "--strategies", "cpu-bezier",
+                                "--deforming", bad, "--out", out}),
+                       {"--deforming"});
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+// -------------------------------------------------------------------------------------- memory
+
+TEST(CliMemory, TextHasOneRowPerSceneAndStatesItsUnits) {
+  const CliResult r = run_cli({"memory", "--scenes", "patch144,teapot"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<std::string> lines = split_lines(r.out);
+  ASSERT_EQ(lines.size(), 4u) << r.out;  // header, two scenes, the units line
+  EXPECT_NE(lines[0].find("KSQuads"), std::string::npos);
+  EXPECT_NE(lines[0].find("Bezier#CP"), std::string::npos);
+  EXPECT_TRUE(lines[1].starts_with("patch144")) << lines[1];
+  EXPECT_NE(lines[1].find(" 1296 "), std::string::npos) << lines[1];
+  EXPECT_TRUE(lines[2].starts_with("teapot")) << lines[2];
+  EXPECT_NE(lines[3].find("16 bytes"), std::string::npos) << lines[3];
+}
+
+TEST(CliMemory, JsonForEveryDefaultScene) {
+  const CliResult r = run_cli({"memory", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = json::parse(r.out);
+  EXPECT_EQ(doc["format"], "nurbsbench-memory/1");
+  std::set<std::string> scenes;
+  for (const json& row : doc["scenes"]) {
+    scenes.insert(row["scene"].get<std::string>());
+    EXPECT_GE(row["bezier_control_points"].get<double>(), 1.0);
+    EXPECT_EQ(row["ksquads"], row["bezier_patches"]);
+  }
+  EXPECT_TRUE(scenes.count("patch144") && scenes.count("teapot") && scenes.count("duck"));
+  EXPECT_FALSE(scenes.count("many-4096"));  // 'default', as in run
+}
+
+TEST(CliMemory, BadScenesAreExitTwoWithOneLine) {
+  for (const std::string bad : {"patch144,nosuch", "many-0"}) {
+    const CliResult r = run_cli({"memory", "--scenes", bad});
+    expect_usage_error(r, {"neither a file nor a built-in scene"});
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+  expect_usage_error(run_cli({"memory", "--scenes", ","}), {"--scenes", "empty"});
+  expect_usage_error(run_cli({"memory", "--bogus"}), {"--bogus"});
 }
 
 // --------------------------------------------------------------------------------------- check

@@ -1,0 +1,75 @@
+#include "harness/memory_table.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <nlohmann/json.hpp>
+
+#include "reference/bezier_decomposition.h"
+
+namespace nurbs {
+
+MemoryRow memory_row(const Scene& scene) {
+  MemoryRow row;
+  row.scene = scene.name;
+  row.surfaces = scene.surfaces.size();
+  for (const Surface& s : scene.surfaces) {
+    const std::size_t quads = ksquad_count(s);
+    row.ksquads += quads;
+    row.nurbs_control_points += static_cast<std::size_t>(s.count_u) * s.count_v;
+    row.bezier_control_points +=
+        quads * static_cast<std::size_t>(s.degree_u + 1) * (s.degree_v + 1);
+  }
+  return row;
+}
+
+std::string memory_table_text(const std::vector<MemoryRow>& rows) {
+  constexpr std::size_t kColumns = 8;
+  using Line = std::array<std::string, kColumns>;
+  std::vector<Line> lines = {{"scene", "surfaces", "KSQuads", "NURBS#CP", "NURBS#M (KiB)",
+                              "Bezier#CP", "Bezier#M (KiB)", "Bezier/NURBS"}};
+  for (const MemoryRow& r : rows)
+    lines.push_back({r.scene, std::to_string(r.surfaces), std::to_string(r.ksquads),
+                     std::to_string(r.nurbs_control_points),
+                     fmt::format("{:.1f}", static_cast<double>(r.nurbs_bytes()) / 1024),
+                     std::to_string(r.bezier_control_points),
+                     fmt::format("{:.1f}", static_cast<double>(r.bezier_bytes()) / 1024),
+                     fmt::format("{:.2f}", r.ratio())});
+  std::array<std::size_t, kColumns> width{};
+  for (const Line& line : lines)
+    for (std::size_t c = 0; c < kColumns; ++c) width[c] = std::max(width[c], line[c].size());
+  std::string out;
+  for (const Line& line : lines) {
+    out += fmt::format("{:<{}}", line[0], width[0]);
+    for (std::size_t c = 1; c < kColumns; ++c) out += fmt::format("  {:>{}}", line[c], width[c]);
+    out += "\n";
+  }
+  out += fmt::format(
+      "control points as homogeneous float32 (w*x, w*y, w*z, w), {} bytes each; knots not "
+      "counted; Bezier points per patch ((p+1)(q+1) each); KSQuads = Bezier patches = non-empty "
+      "span pairs (RPNS 2014, Table 1)\n",
+      kBytesPerControlPoint);
+  return out;
+}
+
+nlohmann::json memory_table_json(const std::vector<MemoryRow>& rows) {
+  nlohmann::json scenes = nlohmann::json::array();
+  for (const MemoryRow& r : rows)
+    scenes.push_back({{"scene", r.scene},
+                      {"surfaces", r.surfaces},
+                      {"ksquads", r.ksquads},
+                      {"bezier_patches", r.ksquads},
+                      {"nurbs_control_points", r.nurbs_control_points},
+                      {"nurbs_bytes", r.nurbs_bytes()},
+                      {"bezier_control_points", r.bezier_control_points},
+                      {"bezier_bytes", r.bezier_bytes()},
+                      {"ratio", r.ratio()}});
+  return {{"format", "nurbsbench-memory/1"},
+          {"control_point_format", "homogeneous float32 (w*x, w*y, w*z, w)"},
+          {"bytes_per_control_point", kBytesPerControlPoint},
+          {"knots_counted", false},
+          {"scenes", scenes}};
+}
+
+}  // namespace nurbs
