@@ -1,0 +1,173 @@
+// vk-ksquad on the Vulkan device (lavapipe here): accuracy on every built-in scene at its own
+// (u, v), pipeline statistics against the levels it chose, cutting past the tessellator's cap,
+// control-point updates and the device record.
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+#include "harness/metrics.h"
+#include "reference/reference_evaluator.h"
+#include "scenes/builtin_scenes.h"
+#include "strategies/registry.h"
+#include "strategies/vk_ksquad/vk_ksquad_strategy.h"
+
+namespace nurbs {
+namespace {
+
+Sampling span_grid(int steps) {
+  Sampling s;
+  s.mode = SamplingMode::span_grid;
+  s.span_steps = steps;
+  return s;
+}
+
+Sampling grid(int nu, int nv) {
+  Sampling s;
+  s.grid_u = nu;
+  s.grid_v = nv;
+  return s;
+}
+
+Accuracy run(Strategy& strategy, const Scene& scene, const Sampling& sampling) {
+  strategy.prepare(scene, EvalRequest{sampling, Precision::f32, false});
+  strategy.evaluate();
+  const EvalResult result = strategy.read_back();
+  const auto samples = sample_parameters(scene, sampling);
+  EXPECT_TRUE(same_samples(result_samples(result), samples));
+  return measure_accuracy(scene, result, evaluate_reference(scene, samples, false));
+}
+
+class VkKsquadTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const Availability a = find_strategy("vk-ksquad")->probe();
+    if (!a.available) GTEST_SKIP() << "unavailable: " << a.reason;
+    strategy_ = make_vk_ksquad(StrategyOptions{});
+  }
+  std::unique_ptr<Strategy> strategy_;
+};
+
+// The gate: within 64 float32 ulps of the reference at the strategy's own (u, v) on every
+// built-in scene; the worst case per scene is printed (README / results/gates.json quote it).
+TEST_F(VkKsquadTest, WithinBudgetOnEveryBuiltinScene) {
+  for (const BuiltinSceneInfo& info : builtin_scenes()) {
+    if (info.name == "many-4096") continue;  // the default scene list leaves it out too
+    const Scene scene = *make_builtin_scene(info.name);
+    for (const Sampling& sampling : {span_grid(16), grid(64, 64)}) {
+      Accuracy acc;
+      try {
+        acc = run(*strategy_, scene, sampling);
+      } catch (const RefusedError& e) {
+        // A device limit (maxStorageBufferRange for the output) is a refusal, never a
+        // truncation; only the largest span grids meet it.
+        EXPECT_EQ(sampling.mode, SamplingMode::span_grid) << info.name << ": " << e.what();
+        std::cout << "vk-ksquad " << info.name << " " << sampling.label()
+                  << ": refused: " << e.what() << "\n";
+        continue;
+      }
+      EXPECT_EQ(acc.non_finite, 0u) << info.name;
+      EXPECT_LE(acc.max_ulp, 64.0)
+          << info.name << " " << sampling.label() << ": worst at surface " << acc.worst_surface
+          << " u=" << acc.worst_u << " v=" << acc.worst_v;
+      std::cout << "vk-ksquad " << info.name << " " << sampling.label() << ": max_ulp "
+                << acc.max_ulp << " (surface " << acc.worst_surface << " u=" << acc.worst_u
+                << " v=" << acc.worst_v << ")\n";
+    }
+  }
+}
+
+// TES invocations (pipeline statistics) = KSDice evaluated = what the chosen levels imply;
+// TCS patches = rows of the Info-KSQuad table.
+TEST_F(VkKsquadTest, PipelineStatisticsMatchTheChosenLevels) {
+  for (const auto& [scene_name, sampling] :
+       {std::pair{"patch144", span_grid(8)}, std::pair{"teapot", span_grid(3)},
+        std::pair{"tan16", grid(33, 29)}, std::pair{"degree-9", span_grid(5)}}) {
+    const Scene scene = *make_builtin_scene(scene_name);
+    strategy_->prepare(scene, EvalRequest{sampling, Precision::f32, false});
+    strategy_->evaluate();
+    const KsquadStatistics st = ksquad_statistics(*strategy_);
+    EXPECT_GT(st.patches_drawn, 0u);
+    EXPECT_EQ(st.control_patches, st.patches_drawn) << scene_name;
+    EXPECT_EQ(st.evaluation_invocations, st.implied_vertices) << scene_name;
+    std::cout << scene_name << " " << sampling.label() << ": " << st.patches_drawn << " patches, "
+              << st.evaluation_invocations << " TES invocations\n";
+  }
+}
+
+// Span grid T = 16 on patch144: one patch per KSQuad, (T+1)^2 vertices each (DESIGN's span grid).
+TEST_F(VkKsquadTest, SpanGridIsOnePatchPerKsquadWithTheLattice) {
+  const Scene scene = *make_builtin_scene("patch144");
+  strategy_->prepare(scene, EvalRequest{span_grid(16), Precision::f32, false});
+  strategy_->evaluate();
+  const KsquadStatistics st = ksquad_statistics(*strategy_);
+  const Surface& s = scene.surfaces[0];
+  std::uint64_t spans_u = 0, spans_v = 0;
+  for (int i = s.degree_u; i < s.count_u; ++i) spans_u += s.knots_u[i] < s.knots_u[i + 1];
+  for (int j = s.degree_v; j < s.count_v; ++j) spans_v += s.knots_v[j] < s.knots_v[j + 1];
+  EXPECT_EQ(st.patches_drawn, spans_u * spans_v);
+  EXPECT_LE(st.patches_drawn,
+            static_cast<std::uint64_t>((s.count_u - s.degree_u) * (s.count_v - s.degree_v)));
+  EXPECT_EQ(st.evaluation_invocations, st.patches_drawn * 17 * 17);
+  EXPECT_EQ(st.max_level, 16);
+}
+
+// T past maxTessellationGenerationLevel: each KSQuad is cut into several patches, levels within
+// the cap, every sample still evaluated and as accurate.
+TEST_F(VkKsquadTest, LevelsPastTheCapAreCutNotClamped) {
+  for (const char* scene_name : {"patch144", "degree-9"}) {
+    const Scene scene = *make_builtin_scene(scene_name);
+    strategy_->prepare(scene, EvalRequest{span_grid(100), Precision::f32, false});
+    const KsquadStatistics before = ksquad_statistics(*strategy_);
+    ASSERT_GT(before.level_cap, 0);
+    ASSERT_LT(before.level_cap, 100) << "the device's cap is no test of cutting";
+    const Accuracy acc = run(*strategy_, scene, span_grid(100));
+    const KsquadStatistics st = ksquad_statistics(*strategy_);
+    EXPECT_LE(st.max_level, st.level_cap);
+    EXPECT_EQ(st.evaluation_invocations, st.implied_vertices);
+    EXPECT_EQ(acc.non_finite, 0u);
+    EXPECT_LE(acc.max_ulp, 64.0) << scene_name;
+    std::cout << scene_name << " span100: " << st.patches_drawn << " patches (cap " << st.level_cap
+              << "), max_ulp " << acc.max_ulp << "\n";
+  }
+}
+
+// update_control_points re-uploads only the points: the result is the moved surface's.
+TEST_F(VkKsquadTest, UpdateControlPointsEvaluatesTheMovedNet) {
+  Scene scene = *make_builtin_scene("teapot");
+  const Sampling sampling = span_grid(4);
+  strategy_->prepare(scene, EvalRequest{sampling, Precision::f32, false});
+  for (Surface& s : scene.surfaces)
+    for (auto& p : s.points) p[2] += 0.25 * p[0];
+  strategy_->update_control_points(scene);
+  strategy_->evaluate();
+  const EvalResult result = strategy_->read_back();
+  const Accuracy acc = measure_accuracy(
+      scene, result, evaluate_reference(scene, sample_parameters(scene, sampling), false));
+  EXPECT_LE(acc.max_ulp, 64.0);
+}
+
+TEST_F(VkKsquadTest, DeviceRecordSaysCpuForASoftwareDevice) {
+  const DeviceInfo d = strategy_->device();
+  EXPECT_FALSE(d.name.empty());
+  if (d.name.find("llvmpipe") != std::string::npos) {
+    EXPECT_EQ(d.kind, "cpu");
+  }
+  EXPECT_EQ(d.details.count("max_tessellation_generation_level"), 1u);
+}
+
+TEST_F(VkKsquadTest, DeviceOutOfRangeIsAnError) {
+  StrategyOptions options;
+  options.extra["device"] = "99";
+  EXPECT_THROW(make_vk_ksquad(options), std::runtime_error);
+}
+
+TEST_F(VkKsquadTest, RefusesWhatItCannotDo) {
+  const Scene scene = *make_builtin_scene("patch144");
+  EXPECT_THROW(strategy_->prepare(scene, EvalRequest{grid(8, 8), Precision::f64, false}),
+               RefusedError);
+  EXPECT_THROW(strategy_->prepare(scene, EvalRequest{grid(8, 8), Precision::f32, true}),
+               RefusedError);
+}
+
+}  // namespace
+}  // namespace nurbs
