@@ -36,6 +36,7 @@ struct EvalOptions {
   int threads = 0;
   std::string gl;      // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
+  std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
 };
 int eval_command(const EvalOptions& options);
 
@@ -53,6 +54,7 @@ struct RunOptions {
   int threads = 0;
   std::string gl;      // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
+  std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
 };
 int run_command(const RunOptions& options);
 
@@ -68,8 +70,11 @@ std::vector<Sampling> parse_span_list(std::string_view option, std::string_view 
 Precision parse_precision(std::string_view text);
 ReferencePrecision parse_reference(std::string_view text);
 std::vector<std::string> split_list(std::string_view text);
-// StrategyOptions.extra for --gl and --device (empty: the strategies' defaults).
-std::map<std::string, std::string> backend_extra(const std::string& gl, const std::string& device);
+// StrategyOptions.extra for --gl, --device and each --strategy-option KEY=VALUE (empty: the
+// strategies' defaults).
+std::map<std::string, std::string> backend_extra(
+    const std::string& gl, const std::string& device,
+    const std::vector<std::string>& strategy_options = {});
 // The thread setting shared by OpenMP, llvmpipe/lavapipe and PoCL; returns the count in force.
 int apply_thread_setting(int threads);
 

@@ -73,6 +73,7 @@ int run_command(const RunOptions& options) {
                              {"repetitions", options.repetitions},
                              {"threads", threads},
                              {"gl", options.gl.empty() ? "egl" : options.gl},
+                             {"strategy_options", options.strategy_options},
                              {"reference", std::string(to_string(reference_precision))}};
   for (const Scene& s : scenes) settings["scenes"].push_back(s.name);
   for (const StrategyEntry* e : strategies) settings["strategies"].push_back(e->name);
@@ -92,7 +93,8 @@ int run_command(const RunOptions& options) {
                     << std::flush;
         EvalRequest request{sampling, precision, options.normals};
         writer.append(measure(*entry,
-                              StrategyOptions{threads, backend_extra(options.gl, options.device)},
+                              StrategyOptions{threads, backend_extra(options.gl, options.device,
+                                                                     options.strategy_options)},
                               scene, request, options.repetitions, references));
       }
   if (progress) std::cerr << "\r\x1b[K";

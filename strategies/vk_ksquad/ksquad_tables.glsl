@@ -7,10 +7,25 @@ layout(std430, set = 0, binding = 2) readonly buffer Constants { float consts[];
 layout(std430, set = 0, binding = 3) readonly buffer Points { vec4 points[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Params { float params[]; };
 layout(std430, set = 0, binding = 5) writeonly buffer Positions { float positions[]; };
+// Adaptive mode: the KSQuad corners S(x_k, y_l) (xyz, w unused), computed once per scene on the
+// host, and the levels each patch chose (4 outer as set, then 4 as wanted before the cap).
+layout(std430, set = 0, binding = 6) readonly buffer Corners { vec4 corners[]; };
+layout(std430, set = 0, binding = 7) writeonly buffer Levels { float levels[]; };
+
+layout(push_constant) uniform Mode {
+  mat4 view_projection;  // adaptive: world -> clip (column-major)
+  vec2 viewport;         // adaptive: pixels
+  float mu;              // adaptive: largest projected KSDie edge, pixels (003 eq. 3)
+  int adaptive;          // 0: uniform (levels from the table), 1: adaptive
+  int max_level;         // adaptive: the level cap (<= maxTessellationGenerationLevel)
+  int region;            // adaptive: capture slots per patch
+} mode;
 
 // surfaces: degree_u, degree_v, count_u, count_v, first point, first u parameter,
 //           first v parameter, v parameters (nv), first output sample, 3 x pad
 #define SURFACE_INTS 12
 // patches: surface, span_u, span_v, u constants, v constants, u_begin, u_count, v_begin, v_count,
-//          level_u, level_v, pad
-#define PATCH_INTS 12
+//          level_u, level_v, pad, corners (u_lo,v_lo), (u_hi,v_lo), (u_lo,v_hi), (u_hi,v_hi)
+#define PATCH_INTS 16
+// adaptive capture: per slot u, v, x, y, z
+#define SLOT_FLOATS 5

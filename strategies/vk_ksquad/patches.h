@@ -16,10 +16,10 @@ namespace nurbs::vk_ksquad {
 // same level). Never clamped: every sample of the run is in a piece. A run of one sample is one
 // piece of level 1 whose two tessellator ends both land on it.
 inline std::vector<ksquad::SpanRun> split_run(const ksquad::SpanRun& run, int max_level) {
-  const int segments = std::max(run.count - 1, 1);
-  const int pieces = (segments + max_level - 1) / max_level;
-  std::vector<ksquad::SpanRun> out;
   if (run.count <= 1) return {run};
+  const int segments = run.count - 1;
+  const int pieces = segments / max_level + (segments % max_level != 0);  // no overflow
+  std::vector<ksquad::SpanRun> out;
   for (int k = 0; k < pieces; ++k) {
     const int first = k * segments / pieces, last = (k + 1) * segments / pieces;
     out.push_back({run.span, run.begin + first, last - first + 1});

@@ -16,12 +16,22 @@
 //  * Capture: storage-buffer writes from the evaluation stage (vertexPipelineStoresAndAtomics),
 //    rasterization discarded; transform feedback would need a vertex order the tessellator does
 //    not specify.
+//  * Adaptive mode (003 §3.1, local area average): the KSQuad corners S(x_k, y_l) are KSQuad data
+//    computed once per scene on the host (the reference, rounded to float) into one table shared
+//    by the KSQuads meeting there; the control stage projects an edge's two corners with the
+//    camera and sets that edge's level alone from them (ksquad.tesc). One patch per KSQuad: a
+//    level past the cap (vk-max-level, at most maxTessellationGenerationLevel) is capped and
+//    counted (KsquadStatistics::capped_edges), not cut -- cutting would need the levels on the
+//    host before the draw.
 #include "strategies/vk_ksquad/vk_ksquad.h"
 
 #include <fmt/format.h>
 
 #include <array>
+#include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -30,6 +40,7 @@
 #include "reference/nurbs_math.h"
 #include "strategies/cl_stair/stair_basis.h"
 #include "strategies/ksquad/ksquad_table.h"
+#include "strategies/strategy_options.h"
 #include "strategies/vk_ksquad/patches.h"
 #include "strategies/vk_ksquad/vk_ksquad_strategy.h"
 #include "strategies/vulkan/vk_device.h"
@@ -44,11 +55,114 @@ namespace nurbs {
 namespace {
 
 constexpr int kSurfaceInts = 12;  // ksquad_tables.glsl: SURFACE_INTS
-constexpr int kPatchInts = 12;    // ksquad_tables.glsl: PATCH_INTS
+constexpr int kPatchInts = 16;    // ksquad_tables.glsl: PATCH_INTS
+constexpr int kSlotFloats = 5;    // ksquad_tables.glsl: SLOT_FLOATS
 constexpr int kConstantFloats = 119;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
               "stair_basis.glsl reads StairConstants<float> as 119 packed floats");
-constexpr int kBuffers = 6;
+constexpr int kBuffers = 8;
+
+// ksquad_tables.glsl: Mode (push constants).
+struct ModeConstants {
+  float view_projection[16];
+  float viewport[2];
+  float mu;
+  std::int32_t adaptive, max_level, region;
+};
+static_assert(sizeof(ModeConstants) == 88);
+
+std::vector<double> option_numbers(const StrategyOptions& options, const std::string& key,
+                                   std::size_t count, char separator) {
+  const auto it = options.extra.find(key);
+  if (it == options.extra.end() || it->second.empty()) return {};
+  std::vector<double> values;
+  std::size_t start = 0;
+  const std::string& text = it->second;
+  while (start <= text.size()) {
+    const std::size_t end = std::min(text.find(separator, start), text.size());
+    const std::string item = text.substr(start, end - start);
+    std::size_t used = 0;
+    double value = 0;
+    try {
+      value = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(value))
+      throw std::invalid_argument(
+          fmt::format("vk-ksquad option {} = '{}': expected {} numbers", key, text, count));
+    values.push_back(value);
+    start = end + 1;
+  }
+  if (values.size() != count)
+    throw std::invalid_argument(
+        fmt::format("vk-ksquad option {} = '{}': expected {} numbers", key, text, count));
+  return values;
+}
+
+// Column-major perspective(fov_y) * look_at(eye, center, up = +z, or +y when looking along z).
+std::array<float, 16> view_projection(const std::array<double, 3>& eye,
+                                      const std::array<double, 3>& center, double fov_y_deg,
+                                      double aspect) {
+  using V = std::array<double, 3>;
+  const auto sub = [](V a, V b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+  const auto cross = [](V a, V b) {
+    return V{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  const auto dot = [](V a, V b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  const auto unit = [&](V a) {
+    const double n = std::sqrt(dot(a, a));
+    return V{a[0] / n, a[1] / n, a[2] / n};
+  };
+  const V f = unit(sub(center, eye));
+  const V up = std::abs(f[2]) > 0.99 ? V{0, 1, 0} : V{0, 0, 1};
+  const V r = unit(cross(f, up));
+  const V u = cross(r, f);
+  const double t = 1.0 / std::tan(fov_y_deg * M_PI / 360.0);
+  // rows of the product (near/far do not matter to projected x, y; w = depth along f)
+  const double rows[4][4] = {
+      {t / aspect * r[0], t / aspect * r[1], t / aspect * r[2], -t / aspect * dot(r, eye)},
+      {t * u[0], t * u[1], t * u[2], -t * dot(u, eye)},
+      {f[0], f[1], f[2], -dot(f, eye)},
+      {f[0], f[1], f[2], -dot(f, eye)}};
+  std::array<float, 16> m{};
+  for (int c = 0; c < 4; ++c)
+    for (int k = 0; k < 4; ++k) m[4 * c + k] = static_cast<float>(rows[k][c]);
+  return m;
+}
+
+// Adaptive mode's settings (StrategyOptions.extra): vk-mode = uniform|adaptive, vk-eye and
+// vk-center = "x,y,z" (default: the scene's bounding sphere seen from (1, 0.8, 0.6) at 2.5
+// radii), vk-fov = degrees (45), vk-viewport = "WxH" (1024x768), vk-mu = pixels (4),
+// vk-max-level = N (the device's maxTessellationGenerationLevel).
+struct AdaptiveSettings {
+  bool adaptive = false;
+  std::vector<double> eye, center, viewport;
+  double fov = 45, mu = 4;
+  int max_level = 0;
+};
+
+AdaptiveSettings adaptive_settings(const StrategyOptions& options) {
+  AdaptiveSettings a;
+  if (auto it = options.extra.find("vk-mode"); it != options.extra.end() && !it->second.empty()) {
+    if (it->second != "uniform" && it->second != "adaptive")
+      throw std::invalid_argument("vk-ksquad option vk-mode = '" + it->second +
+                                  "': must be uniform or adaptive");
+    a.adaptive = it->second == "adaptive";
+  }
+  a.eye = option_numbers(options, "vk-eye", 3, ',');
+  a.center = option_numbers(options, "vk-center", 3, ',');
+  a.viewport = option_numbers(options, "vk-viewport", 2, 'x');
+  if (a.viewport.empty()) a.viewport = {1024, 768};
+  if (auto fov = option_numbers(options, "vk-fov", 1, ','); !fov.empty()) a.fov = fov[0];
+  if (auto mu = option_numbers(options, "vk-mu", 1, ','); !mu.empty()) a.mu = mu[0];
+  if (a.mu <= 0 || a.fov <= 0 || a.fov >= 180 || a.viewport[0] < 1 || a.viewport[1] < 1)
+    throw std::invalid_argument("vk-ksquad: vk-mu, vk-fov and vk-viewport must be positive");
+  a.max_level = positive_option(options, "vk-max-level", "vk-ksquad");
+  return a;
+}
+constexpr VkShaderStageFlags kModeStages =
+    VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT;
 constexpr VkQueryPipelineStatisticFlags kStatistics =
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_CONTROL_SHADER_PATCHES_BIT |
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_EVALUATION_SHADER_INVOCATIONS_BIT;
@@ -67,14 +181,25 @@ Capabilities ksquad_capabilities() {
   c.normals = false;
   c.fp64 = false;  // Vulkan tessellation stages in float; shaderFloat64 is optional
   c.sampling.explicit_list = false;  // not a tensor of runs
+  // In adaptive mode the tessellator chooses the samples (uniform mode returns the requested ones).
+  c.chooses_own_samples = true;
   return c;
 }
 
 class VkKsquad final : public Strategy {
  public:
-  explicit VkKsquad(int device_index)
-      : device_(device_index, ksquad_requirements()), queries_(device_, kStatistics) {
+  VkKsquad(int device_index, const AdaptiveSettings& adaptive)
+      : device_(device_index, ksquad_requirements()),
+        queries_(device_, kStatistics),
+        adaptive_(adaptive) {
     record_ = device_.record();
+    const int cap = static_cast<int>(device_.limits().maxTessellationGenerationLevel);
+    if (adaptive_.max_level == 0) adaptive_.max_level = cap;
+    if (adaptive_.max_level > cap)
+      throw std::invalid_argument(
+          fmt::format("vk-ksquad: vk-max-level {} exceeds maxTessellationGenerationLevel {}",
+                      adaptive_.max_level, cap));
+    if (adaptive_.adaptive) record_.details["vk_mode"] = "adaptive";
     create_pipeline();
   }
   ~VkKsquad() override {
@@ -102,6 +227,17 @@ class VkKsquad final : public Strategy {
 
   void evaluate() override {
     device_.submit_and_wait([&](VkCommandBuffer cb) {
+      if (adaptive_.adaptive) {
+        // Unwritten capture slots read back as NaN (a quiet NaN's bits in every word).
+        vkCmdFillBuffer(cb, positions_.handle(), 0, VK_WHOLE_SIZE, 0x7fc00000u);
+        VkMemoryBarrier filled{};
+        filled.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+        filled.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        filled.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT, 0, 1, &filled, 0,
+                             nullptr, 0, nullptr);
+      }
       queries_.reset(cb);
       queries_.begin(cb);
       VkRenderPassBeginInfo begin{};
@@ -113,6 +249,7 @@ class VkKsquad final : public Strategy {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
       vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0,
                               nullptr);
+      vkCmdPushConstants(cb, layout_, kModeStages, 0, sizeof mode_, &mode_);
       vkCmdDraw(cb, static_cast<std::uint32_t>(patch_count_), 1, 0, 0);
       vkCmdEndRenderPass(cb);
       queries_.end(cb);
@@ -131,6 +268,7 @@ class VkKsquad final : public Strategy {
   }
 
   EvalResult read_back() override {
+    if (adaptive_.adaptive) return read_back_adaptive();
     std::vector<float> host(total_ * 3);
     positions_.read(host.data(), host.size() * sizeof(float));
     EvalResult out;
@@ -156,7 +294,62 @@ class VkKsquad final : public Strategy {
   }
 
   DeviceTimes device_times() const override { return {evaluate_s_}; }
-  const KsquadStatistics& statistics() const { return stats_; }
+
+  // Adaptive mode: the levels the control stage chose, read back from its storage buffer.
+  KsquadStatistics statistics() const {
+    KsquadStatistics st = stats_;
+    if (!adaptive_.adaptive || patch_count_ == 0) return st;
+    std::vector<float> levels(8 * patch_count_);
+    levels_.read(levels.data(), levels.size() * sizeof(float));
+    st.implied_vertices = 0;
+    st.max_level = 0;
+    for (std::size_t k = 0; k < patch_count_; ++k) {
+      const float* o = &levels[8 * k];
+      const int i0 = static_cast<int>(std::max({o[1], o[3], 2.0f}));
+      const int i1 = static_cast<int>(std::max({o[0], o[2], 2.0f}));
+      st.implied_vertices += static_cast<std::uint64_t>(o[0] + o[1] + o[2] + o[3]) +
+                             static_cast<std::uint64_t>(i0 - 1) * (i1 - 1);
+      for (int e = 0; e < 4; ++e) {
+        st.max_level = std::max(st.max_level, static_cast<int>(o[e]));
+        st.capped_edges += o[4 + e] > o[e];
+      }
+    }
+    return st;
+  }
+
+  // Adaptive mode: every captured vertex on each KSQuad's four edges, keyed by the edge.
+  std::vector<CapturedEdge> captured_edges() const {
+    std::vector<CapturedEdge> edges;
+    if (!adaptive_.adaptive) return edges;
+    const std::vector<float> slots = read_slots();
+    const int per_edge = adaptive_.max_level + 1;
+    for (std::size_t k = 0; k < patch_count_; ++k) {
+      const int* row = &patches_[kPatchInts * k];
+      const float* c_u = &constants_[row[3]];
+      const float* c_v = &constants_[row[4]];
+      const int pu = surfaces_[kSurfaceInts * row[0]], pv = surfaces_[kSurfaceInts * row[0] + 1];
+      const float u0 = c_u[pu - 1], u1 = c_u[pu], v0 = c_v[pv - 1], v1 = c_v[pv];
+      // outer edge e: u = u0 (0), v = v0 (1), u = u1 (2), v = v1 (3)
+      const CapturedEdge keys[4] = {{row[0], 0, u0, v0, v1, {}},
+                                    {row[0], 1, v0, u0, u1, {}},
+                                    {row[0], 0, u1, v0, v1, {}},
+                                    {row[0], 1, v1, u0, u1, {}}};
+      // A corner's slot is on one edge only (ksquad.tese: adaptive_slot); an edge holds every
+      // edge-slot vertex whose (u, v) lies on it (t = 0 and 1 give the knots exactly).
+      std::vector<std::array<float, 5>> ring;
+      for (int j = 0; j < 4 * per_edge; ++j) {
+        const float* slot = &slots[kSlotFloats * (k * region_ + j)];
+        if (!std::isnan(slot[0])) ring.push_back({slot[0], slot[1], slot[2], slot[3], slot[4]});
+      }
+      for (int e = 0; e < 4; ++e) {
+        CapturedEdge edge = keys[e];
+        for (const auto& vertex : ring)
+          if (vertex[edge.direction] == edge.fixed) edge.vertices.push_back(vertex);
+        edges.push_back(std::move(edge));
+      }
+    }
+    return edges;
+  }
 
  private:
   static std::vector<float> homogeneous_points(const Scene& scene) {
@@ -166,6 +359,100 @@ class VkKsquad final : public Strategy {
       for (const Vec4<float>& h : net.homogeneous) points.insert(points.end(), h.begin(), h.end());
     }
     return points;
+  }
+
+  std::vector<float> read_slots() const {
+    std::vector<float> slots(patch_count_ * region_ * kSlotFloats);
+    positions_.read(slots.data(), slots.size() * sizeof(float));
+    return slots;
+  }
+
+  EvalResult read_back_adaptive() {
+    const std::vector<float> slots = read_slots();
+    EvalResult out;
+    out.surfaces.resize(surface_count_);
+    for (SurfaceResult& r : out.surfaces) r.samples.tensor = false;
+    std::vector<std::vector<float>> xyz(surface_count_);
+    for (std::size_t k = 0; k < patch_count_; ++k) {
+      const int surface = patches_[kPatchInts * k];
+      for (std::size_t j = 0; j < region_; ++j) {
+        const float* slot = &slots[kSlotFloats * (k * region_ + j)];
+        if (std::isnan(slot[0])) continue;
+        out.surfaces[surface].samples.u.push_back(slot[0]);
+        out.surfaces[surface].samples.v.push_back(slot[1]);
+        xyz[surface].insert(xyz[surface].end(), slot + 2, slot + 5);
+      }
+    }
+    for (std::size_t i = 0; i < surface_count_; ++i) {
+      SurfaceResult& r = out.surfaces[i];
+      r.positions = PointArray(Precision::f32, r.samples.count());
+      std::memcpy(r.positions.f32(), xyz[i].data(), xyz[i].size() * sizeof(float));
+    }
+    return out;
+  }
+
+  // The adaptive camera: given, or fitted to the scene's control-point bounding sphere.
+  void set_mode(const Scene& scene) {
+    mode_ = {};
+    mode_.adaptive = adaptive_.adaptive ? 1 : 0;
+    mode_.max_level = adaptive_.max_level;
+    mode_.region = static_cast<std::int32_t>(region_);
+    mode_.mu = static_cast<float>(adaptive_.mu);
+    mode_.viewport[0] = static_cast<float>(adaptive_.viewport[0]);
+    mode_.viewport[1] = static_cast<float>(adaptive_.viewport[1]);
+    std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const Surface& s : scene.surfaces)
+      for (const auto& p : s.points)
+        for (int c = 0; c < 3; ++c) {
+          lo[c] = std::min(lo[c], p[c]);
+          hi[c] = std::max(hi[c], p[c]);
+        }
+    std::array<double, 3> center{}, eye{};
+    const double radius =
+        0.5 * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    const double dir[3] = {1 / std::sqrt(2.0), 0.8 / std::sqrt(2.0), 0.6 / std::sqrt(2.0)};
+    for (int c = 0; c < 3; ++c) {
+      center[c] = adaptive_.center.empty() ? 0.5 * (lo[c] + hi[c]) : adaptive_.center[c];
+      eye[c] = adaptive_.eye.empty() ? center[c] + 2.5 * std::max(radius, 1e-30) * dir[c]
+                                     : adaptive_.eye[c];
+    }
+    const auto m =
+        view_projection(eye, center, adaptive_.fov, adaptive_.viewport[0] / adaptive_.viewport[1]);
+    std::copy(m.begin(), m.end(), mode_.view_projection);
+  }
+
+  // One corner per (distinct knot value in u, distinct knot value in v) of each surface's domain:
+  // S(x_k, y_l) by the reference, rounded to float; corner_index_ maps (surface, first knot index
+  // of the u value, first knot index of the v value) to its row.
+  std::vector<float> corner_table(const Scene& scene) {
+    std::vector<float> corners;
+    corner_index_.clear();
+    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+      const Surface& s = scene.surfaces[i];
+      const SurfaceNet<double> net(s);
+      const auto breaks = [](const std::vector<double>& k, int p, int n) {
+        std::vector<int> at;  // first knot index of each distinct value in [k_p, k_n]
+        for (int a = p; a <= n; ++a)
+          if (a == p || k[a] > k[a - 1]) at.push_back(a);
+        return at;
+      };
+      for (int a : breaks(s.knots_u, s.degree_u, s.count_u))
+        for (int b : breaks(s.knots_v, s.degree_v, s.count_v)) {
+          const Vec3<double> p = surface_point(net, s.knots_u[a], s.knots_v[b]);
+          corner_index_[{static_cast<int>(i), a, b}] = static_cast<int>(corners.size() / 4);
+          corners.insert(corners.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]),
+                                         static_cast<float>(p[2]), 1.0f});
+        }
+    }
+    return corners;
+  }
+
+  // The corner at (knots_u[a], knots_v[b]), found by the first knot index of each value.
+  int corner(const Surface& s, int surface, int a, int b) const {
+    while (a > s.degree_u && s.knots_u[a - 1] == s.knots_u[a]) --a;
+    while (b > s.degree_v && s.knots_v[b - 1] == s.knots_v[b]) --b;
+    return corner_index_.at({surface, a, b});
   }
 
   // Surface table, per-span stair constants and the Info-KSQuad table (one row per patch).
@@ -218,15 +505,34 @@ class VkKsquad final : public Strategy {
     };
     const int cap = static_cast<int>(device_.limits().maxTessellationGenerationLevel);
     stats_ = {};
-    stats_.level_cap = cap;
-    for (const ksquad::KSQuad& q :
-         ksquad::build_ksquads<float>(scene, samples_, request_.sampling)) {
+    stats_.level_cap = adaptive_.adaptive ? adaptive_.max_level : cap;
+    surface_count_ = scene.surfaces.size();
+    // Adaptive: one patch per KSQuad of the span grid (the tessellator chooses the samples).
+    Sampling one_per_span;
+    one_per_span.mode = SamplingMode::span_grid;
+    one_per_span.span_steps = 1;
+    const auto quads = adaptive_.adaptive
+                           ? ksquad::build_ksquads<float>(
+                                 scene, sample_parameters(scene, one_per_span), one_per_span)
+                           : ksquad::build_ksquads<float>(scene, samples_, request_.sampling);
+    if (adaptive_.adaptive) corner_index_.clear();
+    const std::vector<float> corner_rows =
+        adaptive_.adaptive ? corner_table(scene) : std::vector<float>{};
+    corners_ = corner_rows;
+    for (const ksquad::KSQuad& q : quads) {
+      const Surface& s = scene.surfaces[q.surface];
       const int cu = constants(q.surface, 0, q.u.span), cv = constants(q.surface, 1, q.v.span);
-      for (const ksquad::SpanRun& a : vk_ksquad::split_run(q.u, cap))
-        for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, cap)) {
+      int c[4] = {0, 0, 0, 0};
+      if (adaptive_.adaptive)
+        for (int k = 0; k < 4; ++k)
+          c[k] = corner(s, q.surface, q.u.span + (k & 1), q.v.span + (k >> 1));
+      const int piece_cap = adaptive_.adaptive ? std::numeric_limits<int>::max() : cap;
+      for (const ksquad::SpanRun& a : vk_ksquad::split_run(q.u, piece_cap))
+        for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, piece_cap)) {
           const int lu = vk_ksquad::run_level(a), lv = vk_ksquad::run_level(b);
-          const int row[kPatchInts] = {q.surface, q.u.span, q.v.span, cu, cv, a.begin,
-                                       a.count,   b.begin,  b.count,  lu, lv, 0};
+          const int row[kPatchInts] = {q.surface, q.u.span, q.v.span, cu,  cv, a.begin,
+                                       a.count,   b.begin,  b.count,  lu,  lv, 0,
+                                       c[0],      c[1],     c[2],     c[3]};
           patches_.insert(patches_.end(), row, row + kPatchInts);
           stats_.implied_vertices += vk_ksquad::quad_domain_vertices(lu, lv);
           stats_.max_level = std::max({stats_.max_level, lu, lv});
@@ -244,15 +550,26 @@ class VkKsquad final : public Strategy {
   }
 
   void upload_tables(const Scene& scene) {
+    const int level = adaptive_.max_level;
+    region_ = adaptive_.adaptive
+                  ? static_cast<std::size_t>(4 * (level + 1) + (level - 1) * (level - 1))
+                  : 0;
+    set_mode(scene);
+    const std::size_t output_floats =
+        adaptive_.adaptive ? patch_count_ * region_ * kSlotFloats : total_ * 3;
+    corners_buf_ = storage(corners_, "KSQuad corners");
+    levels_ = vulkan::Buffer(device_, 8 * patch_count_ * sizeof(float),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chosen levels");
     surfaces_buf_ = storage(surfaces_, "surface table");
     patches_buf_ = storage(patches_, "Info-KSQuad table");
     constants_buf_ = storage(constants_, "stair constants");
     points_ = storage(homogeneous_points(scene), "control points");
     params_buf_ = storage(params_, "parameters");
-    positions_ = vulkan::Buffer(device_, total_ * 3 * sizeof(float),
+    positions_ = vulkan::Buffer(device_, output_floats * sizeof(float),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output positions");
     const vulkan::Buffer* buffers[kBuffers] = {&surfaces_buf_, &patches_buf_, &constants_buf_,
-                                               &points_,       &params_buf_,  &positions_};
+                                               &points_,       &params_buf_,  &positions_,
+                                               &corners_buf_,  &levels_};
     std::array<VkDescriptorBufferInfo, kBuffers> infos{};
     std::array<VkWriteDescriptorSet, kBuffers> writes{};
     for (int k = 0; k < kBuffers; ++k) {
@@ -300,6 +617,9 @@ class VkKsquad final : public Strategy {
     layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
     layout_info.setLayoutCount = 1;
     layout_info.pSetLayouts = &set_layout_;
+    const VkPushConstantRange push{kModeStages, 0, sizeof(ModeConstants)};
+    layout_info.pushConstantRangeCount = 1;
+    layout_info.pPushConstantRanges = &push;
     vulkan::check(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_),
                   "vkCreatePipelineLayout");
 
@@ -383,8 +703,13 @@ class VkKsquad final : public Strategy {
   std::vector<SurfaceSamples> samples_;
   std::vector<int> surfaces_, patches_;
   std::vector<float> constants_, params_;
-  vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_;
-  std::size_t patch_count_ = 0, total_ = 0;
+  std::vector<float> corners_;
+  vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_,
+      corners_buf_, levels_;
+  std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
+  AdaptiveSettings adaptive_;
+  ModeConstants mode_{};
+  std::map<std::array<int, 3>, int> corner_index_;
   std::optional<double> evaluate_s_;
   KsquadStatistics stats_;
 };
@@ -393,16 +718,26 @@ class VkKsquad final : public Strategy {
 
 std::unique_ptr<Strategy> make_vk_ksquad(const StrategyOptions& options) {
   try {
-    return std::make_unique<VkKsquad>(vulkan::device_option(options));
+    return std::make_unique<VkKsquad>(vulkan::device_option(options), adaptive_settings(options));
   } catch (const vulkan::MissingFeature& e) {
     throw std::runtime_error(std::string("unavailable: ") + e.what());
   }
 }
 
-KsquadStatistics ksquad_statistics(const Strategy& strategy) {
+namespace {
+const VkKsquad& as_vk_ksquad(const Strategy& strategy) {
   const auto* vk = dynamic_cast<const VkKsquad*>(&strategy);
-  if (!vk) throw std::invalid_argument("ksquad_statistics: not a vk-ksquad strategy");
-  return vk->statistics();
+  if (!vk) throw std::invalid_argument("not a vk-ksquad strategy");
+  return *vk;
+}
+}  // namespace
+
+KsquadStatistics ksquad_statistics(const Strategy& strategy) {
+  return as_vk_ksquad(strategy).statistics();
+}
+
+std::vector<CapturedEdge> ksquad_captured_edges(const Strategy& strategy) {
+  return as_vk_ksquad(strategy).captured_edges();
 }
 
 StrategyEntry vk_ksquad_entry() {

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 namespace nurbs::vk_ksquad {
 namespace {
 
@@ -31,6 +33,10 @@ TEST(SplitRun, LongRunIsCutIntoPiecesSharingTheirEnds) {
 TEST(SplitRun, ExactlyTheCapIsOnePatch) {
   EXPECT_EQ(split_run({0, 0, 65}, 64).size(), 1u);
   EXPECT_EQ(split_run({0, 0, 66}, 64).size(), 2u);
+}
+
+TEST(SplitRun, NoCapIsOnePatch) {
+  EXPECT_EQ(split_run({0, 0, 1000}, std::numeric_limits<int>::max()).size(), 1u);
 }
 
 TEST(SplitRun, SingleSampleIsOnePatchOfLevelOne) {

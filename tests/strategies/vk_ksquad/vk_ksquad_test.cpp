@@ -3,7 +3,12 @@
 // control-point updates and the device record.
 #include <gtest/gtest.h>
 
+#include <cfloat>
+#include <cmath>
 #include <iostream>
+#include <map>
+#include <set>
+#include <tuple>
 
 #include "harness/metrics.h"
 #include "reference/reference_evaluator.h"
@@ -167,6 +172,114 @@ TEST_F(VkKsquadTest, RefusesWhatItCannotDo) {
                RefusedError);
   EXPECT_THROW(strategy_->prepare(scene, EvalRequest{grid(8, 8), Precision::f32, true}),
                RefusedError);
+}
+
+// Adaptive mode (003 §3.1): a close camera so the levels vary over the surface.
+std::unique_ptr<Strategy> adaptive_strategy(const std::string& eye, const std::string& center,
+                                            const std::string& mu) {
+  StrategyOptions options;
+  options.extra = {{"vk-mode", "adaptive"}, {"vk-eye", eye}, {"vk-center", center}, {"vk-mu", mu}};
+  return make_vk_ksquad(options);
+}
+
+struct AdaptiveCase {
+  const char* scene;
+  const char* eye;
+  const char* center;
+  const char* mu;
+};
+const AdaptiveCase kAdaptiveCases[] = {
+    {"patch144", "", "", "4"}, {"torus", "", "", "8"}, {"tan16", "", "", "4"}};
+
+TEST_F(VkKsquadTest, AdaptiveStatisticsMatchTheChosenLevels) {
+  for (const AdaptiveCase& c : kAdaptiveCases) {
+    auto strategy = adaptive_strategy(c.eye, c.center, c.mu);
+    const Scene scene = *make_builtin_scene(c.scene);
+    strategy->prepare(scene, EvalRequest{span_grid(1), Precision::f32, false});
+    strategy->evaluate();
+    const KsquadStatistics st = ksquad_statistics(*strategy);
+    EXPECT_EQ(st.control_patches, st.patches_drawn) << c.scene;
+    EXPECT_EQ(st.evaluation_invocations, st.implied_vertices) << c.scene;
+    EXPECT_EQ(st.capped_edges, 0u) << c.scene;
+    std::cout << c.scene << " adaptive: " << st.patches_drawn << " patches, max level "
+              << st.max_level << ", " << st.evaluation_invocations << " TES invocations\n";
+  }
+}
+
+// At the (u, v) it chose, adaptive mode is as accurate as uniform mode.
+TEST_F(VkKsquadTest, AdaptiveWithinBudgetAtItsOwnSamples) {
+  for (const AdaptiveCase& c : kAdaptiveCases) {
+    auto strategy = adaptive_strategy(c.eye, c.center, c.mu);
+    const Scene scene = *make_builtin_scene(c.scene);
+    strategy->prepare(scene, EvalRequest{span_grid(1), Precision::f32, false});
+    strategy->evaluate();
+    const EvalResult result = strategy->read_back();
+    const auto produced = result_samples(result);
+    ASSERT_GT(total_samples(produced), 0u);
+    const Accuracy acc =
+        measure_accuracy(scene, result, evaluate_reference(scene, produced, false));
+    EXPECT_EQ(acc.non_finite, 0u);
+    EXPECT_LE(acc.max_ulp, 64.0) << c.scene;
+    std::cout << c.scene << " adaptive: " << total_samples(produced) << " vertices, max_ulp "
+              << acc.max_ulp << "\n";
+  }
+}
+
+// No cracks: every vertex on an edge shared by two KSQuads of a surface coincides with a vertex
+// of the neighbour's copy of that edge -- same (u, v), positions within a few float ulps (each
+// side evaluates with its own span's basis) -- and both sides hold the same number of vertices.
+TEST_F(VkKsquadTest, AdaptiveMeshHasNoCracksBetweenKsquads) {
+  for (const AdaptiveCase& c : kAdaptiveCases) {
+    auto strategy = adaptive_strategy(c.eye, c.center, c.mu);
+    const Scene scene = *make_builtin_scene(c.scene);
+    strategy->prepare(scene, EvalRequest{span_grid(1), Precision::f32, false});
+    strategy->evaluate();
+    double largest = 0;
+    for (const Surface& s : scene.surfaces)
+      for (const auto& p : s.points)
+        for (double x : p) largest = std::max(largest, std::abs(x));
+    const double tolerance = 16 * FLT_EPSILON * largest;
+    std::map<std::tuple<int, int, float, float, float>, std::vector<const CapturedEdge*>> shared;
+    const std::vector<CapturedEdge> edges = ksquad_captured_edges(*strategy);
+    for (const CapturedEdge& e : edges)
+      shared[{e.surface, e.direction, e.fixed, e.lo, e.hi}].push_back(&e);
+    int checked = 0, levels_differ = 0;
+    double worst = 0;
+    std::set<std::size_t> sizes;
+    for (const auto& [key, pair] : shared) {
+      if (pair.size() != 2) continue;  // a surface boundary edge
+      ++checked;
+      const auto& a = pair[0]->vertices;
+      const auto& b = pair[1]->vertices;
+      EXPECT_EQ(a.size(), b.size()) << c.scene << ": the two sides chose different levels";
+      sizes.insert(a.size());
+      for (const auto& va : a) {
+        double best = 1e300;
+        for (const auto& vb : b)
+          if (std::abs(va[0] - vb[0]) <= 1e-6f && std::abs(va[1] - vb[1]) <= 1e-6f)
+            best = std::min<double>(best, std::hypot(va[2] - vb[2], va[3] - vb[3], va[4] - vb[4]));
+        EXPECT_LE(best, tolerance) << c.scene << ": vertex (" << va[0] << ", " << va[1]
+                                   << ") has no partner on the neighbour's edge";
+        worst = std::max(worst, best);
+      }
+    }
+    levels_differ = static_cast<int>(sizes.size());
+    EXPECT_GT(checked, 0) << c.scene;
+    EXPECT_GT(levels_differ, 1) << c.scene << ": the camera should make the levels vary";
+    std::cout << c.scene << " adaptive: " << checked << " shared edges, " << levels_differ
+              << " distinct levels, worst partner distance " << worst << " (tolerance " << tolerance
+              << ")\n";
+  }
+}
+
+TEST_F(VkKsquadTest, AdaptiveOptionsAreChecked) {
+  StrategyOptions options;
+  options.extra = {{"vk-mode", "sometimes"}};
+  EXPECT_THROW(make_vk_ksquad(options), std::invalid_argument);
+  options.extra = {{"vk-mode", "adaptive"}, {"vk-eye", "1,2"}};
+  EXPECT_THROW(make_vk_ksquad(options), std::invalid_argument);
+  options.extra = {{"vk-mode", "adaptive"}, {"vk-max-level", "100000"}};
+  EXPECT_THROW(make_vk_ksquad(options), std::invalid_argument);
 }
 
 }  // namespace
