@@ -11,7 +11,10 @@
 //    exact at t = 0 and 1, so both sides of a knot line see the same parameter), captured with
 //    (u, v) in the patch's region of slots: one per vertex of each outer edge, then the inner
 //    lattice; a slot again depends only on the vertex.
+//  * raster (specialization constant 0 = 1; the render() path, 003 §4's pipeline end to end): the
+//    same evaluation, the position projected to gl_Position and rasterized; nothing is stored.
 layout(quads, equal_spacing, ccw) in;
+layout(constant_id = 0) const int kRaster = 0;
 #include "ksquad_tables.glsl"
 #include "stair_basis.glsl"
 
@@ -62,7 +65,9 @@ void main() {
     sum += bu[i] * row_sum;
   }
   const vec3 position = sum.xyz / sum.w;
-  if (mode.adaptive == 0) {
+  if (kRaster != 0) {
+    gl_Position = mode.view_projection * vec4(position, 1.0);
+  } else if (mode.adaptive == 0) {
     const int o = 3 * (surfaces[s + 8] + a * surfaces[s + 7] + b);
     positions[o] = position.x;
     positions[o + 1] = position.y;

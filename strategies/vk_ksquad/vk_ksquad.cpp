@@ -27,12 +27,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <tuple>
@@ -49,6 +51,7 @@ namespace nurbs::embedded {
 extern const std::string_view vk_ksquad_vert;
 extern const std::string_view vk_ksquad_tesc;
 extern const std::string_view vk_ksquad_tese;
+extern const std::string_view vk_ksquad_frag;
 }  // namespace nurbs::embedded
 
 namespace nurbs {
@@ -103,7 +106,7 @@ std::vector<double> option_numbers(const StrategyOptions& options, const std::st
 // Column-major perspective(fov_y) * look_at(eye, center, up = +z, or +y when looking along z).
 std::array<float, 16> view_projection(const std::array<double, 3>& eye,
                                       const std::array<double, 3>& center, double fov_y_deg,
-                                      double aspect) {
+                                      double aspect, double near, double far) {
   using V = std::array<double, 3>;
   const auto sub = [](V a, V b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
   const auto cross = [](V a, V b) {
@@ -119,11 +122,13 @@ std::array<float, 16> view_projection(const std::array<double, 3>& eye,
   const V r = unit(cross(f, up));
   const V u = cross(r, f);
   const double t = 1.0 / std::tan(fov_y_deg * M_PI / 360.0);
-  // rows of the product (near/far do not matter to projected x, y; w = depth along f)
+  // Vulkan depth in [0, 1] between near and far (render() only)
+  const double a = far / (far - near), b = -far * near / (far - near);
+  // rows of the product (w = distance along f; x, y, w are all the adaptive test uses)
   const double rows[4][4] = {
       {t / aspect * r[0], t / aspect * r[1], t / aspect * r[2], -t / aspect * dot(r, eye)},
       {t * u[0], t * u[1], t * u[2], -t * dot(u, eye)},
-      {f[0], f[1], f[2], -dot(f, eye)},
+      {a * f[0], a * f[1], a * f[2], -a * dot(f, eye) + b},
       {f[0], f[1], f[2], -dot(f, eye)}};
   std::array<float, 16> m{};
   for (int c = 0; c < 4; ++c)
@@ -161,6 +166,7 @@ AdaptiveSettings adaptive_settings(const StrategyOptions& options) {
   a.max_level = positive_option(options, "vk-max-level", "vk-ksquad");
   return a;
 }
+constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkShaderStageFlags kModeStages =
     VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT;
 constexpr VkQueryPipelineStatisticFlags kStatistics =
@@ -206,6 +212,9 @@ class VkKsquad final : public Strategy {
     vkDeviceWaitIdle(device_.handle());
     const VkDevice d = device_.handle();
     if (pipeline_) vkDestroyPipeline(d, pipeline_, nullptr);
+    if (raster_pipeline_) vkDestroyPipeline(d, raster_pipeline_, nullptr);
+    if (raster_framebuffer_) vkDestroyFramebuffer(d, raster_framebuffer_, nullptr);
+    if (raster_pass_) vkDestroyRenderPass(d, raster_pass_, nullptr);
     if (framebuffer_) vkDestroyFramebuffer(d, framebuffer_, nullptr);
     if (render_pass_) vkDestroyRenderPass(d, render_pass_, nullptr);
     if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
@@ -291,9 +300,59 @@ class VkKsquad final : public Strategy {
     if (points.size() * sizeof(float) != points_.size())
       throw std::invalid_argument("vk-ksquad: update_control_points changed the control nets");
     points_.write(points.data(), points.size() * sizeof(float));
+    if (adaptive_.adaptive) {  // the corners move with the points
+      corners_ = corner_table(scene);
+      corners_buf_.write(corners_.data(), corners_.size() * sizeof(float));
+    }
   }
 
   DeviceTimes device_times() const override { return {evaluate_s_}; }
+
+  // 003 §4 end to end: the same patches drawn with rasterization into an offscreen image (the
+  // camera of the adaptive settings; fitted to the scene by default), positions never stored.
+  // Returns when the device is done. Not `override` on this branch: main is adding the
+  // Strategy::render() hook, which this signature overrides there.
+  bool render() {
+    if (!raster_pipeline_) create_raster_target();
+    device_.submit_and_wait([&](VkCommandBuffer cb) {
+      VkClearValue clear[2] = {};
+      clear[0].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+      clear[1].depthStencil = {1.0f, 0};
+      VkRenderPassBeginInfo begin{};
+      begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
+      begin.renderPass = raster_pass_;
+      begin.framebuffer = raster_framebuffer_;
+      begin.renderArea.extent = {image_width(), image_height()};
+      begin.clearValueCount = 2;
+      begin.pClearValues = clear;
+      vkCmdBeginRenderPass(cb, &begin, VK_SUBPASS_CONTENTS_INLINE);
+      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, raster_pipeline_);
+      vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0,
+                              nullptr);
+      vkCmdPushConstants(cb, layout_, kModeStages, 0, sizeof mode_, &mode_);
+      vkCmdDraw(cb, static_cast<std::uint32_t>(patch_count_), 1, 0, 0);
+      vkCmdEndRenderPass(cb);
+    });
+    return true;
+  }
+
+  // Tests: pixels of the last render() that are not the clear colour.
+  std::size_t rendered_pixels() const {
+    if (!color_) return 0;
+    const std::size_t pixels = std::size_t{image_width()} * image_height();
+    vulkan::Buffer staging(device_, pixels * 4, 0, "rendered image");
+    device_.submit_and_wait([&](VkCommandBuffer cb) {
+      VkBufferImageCopy region{};
+      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      region.imageExtent = {image_width(), image_height(), 1};
+      vkCmdCopyImageToBuffer(cb, color_->handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                             staging.handle(), 1, &region);
+    });
+    std::vector<std::uint32_t> rgba(pixels);
+    staging.read(rgba.data(), pixels * 4);
+    return static_cast<std::size_t>(
+        std::count_if(rgba.begin(), rgba.end(), [](std::uint32_t p) { return p != 0; }));
+  }
 
   // Adaptive mode: the levels the control stage chose, read back from its storage buffer.
   KsquadStatistics statistics() const {
@@ -417,8 +476,14 @@ class VkKsquad final : public Strategy {
       eye[c] = adaptive_.eye.empty() ? center[c] + 2.5 * std::max(radius, 1e-30) * dir[c]
                                      : adaptive_.eye[c];
     }
-    const auto m =
-        view_projection(eye, center, adaptive_.fov, adaptive_.viewport[0] / adaptive_.viewport[1]);
+    double distance = 0;
+    for (int c = 0; c < 3; ++c)
+      distance += (eye[c] - 0.5 * (lo[c] + hi[c])) * (eye[c] - 0.5 * (lo[c] + hi[c]));
+    distance = std::sqrt(distance);
+    const double far = distance + 1.5 * radius + 1e-30;
+    const double near = std::max(distance - 1.5 * radius, 1e-4 * far);
+    const auto m = view_projection(eye, center, adaptive_.fov,
+                                   adaptive_.viewport[0] / adaptive_.viewport[1], near, far);
     std::copy(m.begin(), m.end(), mode_.view_projection);
   }
 
@@ -639,9 +704,16 @@ class VkKsquad final : public Strategy {
     fb.layers = 1;
     vulkan::check(vkCreateFramebuffer(d, &fb, nullptr, &framebuffer_), "vkCreateFramebuffer");
 
+    pipeline_ = make_pipeline(false, render_pass_);
+  }
+
+  // Capture (rasterization discarded) or raster (the evaluation stage's kRaster = 1, a fragment
+  // stage, depth test, the viewport of the adaptive settings).
+  VkPipeline make_pipeline(bool raster, VkRenderPass pass) const {
+    const VkDevice d = device_.handle();
     struct Modules {
       VkDevice d;
-      VkShaderModule m[3];
+      VkShaderModule m[4];
       ~Modules() {
         for (VkShaderModule x : m)
           if (x) vkDestroyShaderModule(d, x, nullptr);
@@ -649,18 +721,27 @@ class VkKsquad final : public Strategy {
     } modules{d,
               {device_.shader_module(embedded::vk_ksquad_vert),
                device_.shader_module(embedded::vk_ksquad_tesc),
-               device_.shader_module(embedded::vk_ksquad_tese)}};
-    const VkShaderStageFlagBits stage_bits[3] = {VK_SHADER_STAGE_VERTEX_BIT,
-                                                 VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
-                                                 VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT};
-    std::array<VkPipelineShaderStageCreateInfo, 3> stages{};
-    for (int k = 0; k < 3; ++k) {
+               device_.shader_module(embedded::vk_ksquad_tese),
+               raster ? device_.shader_module(embedded::vk_ksquad_frag) : VK_NULL_HANDLE}};
+    const VkShaderStageFlagBits stage_bits[4] = {
+        VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
+        VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, VK_SHADER_STAGE_FRAGMENT_BIT};
+    const std::int32_t raster_flag = raster ? 1 : 0;
+    const VkSpecializationMapEntry entry{0, 0, sizeof raster_flag};
+    VkSpecializationInfo specialization{};
+    specialization.mapEntryCount = 1;
+    specialization.pMapEntries = &entry;
+    specialization.dataSize = sizeof raster_flag;
+    specialization.pData = &raster_flag;
+    std::array<VkPipelineShaderStageCreateInfo, 4> stages{};
+    for (int k = 0; k < 4; ++k) {
       stages[k] = {};
       stages[k].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
       stages[k].stage = stage_bits[k];
       stages[k].module = modules.m[k];
       stages[k].pName = "main";
     }
+    stages[2].pSpecializationInfo = &specialization;
     VkPipelineVertexInputStateCreateInfo vertex_input{};
     vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
     VkPipelineInputAssemblyStateCreateInfo assembly{};
@@ -669,23 +750,111 @@ class VkKsquad final : public Strategy {
     VkPipelineTessellationStateCreateInfo tessellation{};
     tessellation.sType = VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO;
     tessellation.patchControlPoints = 1;
-    VkPipelineRasterizationStateCreateInfo raster{};
-    raster.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
-    raster.rasterizerDiscardEnable = VK_TRUE;
-    raster.polygonMode = VK_POLYGON_MODE_FILL;
-    raster.lineWidth = 1.0f;
+    VkPipelineRasterizationStateCreateInfo rasterization{};
+    rasterization.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
+    rasterization.rasterizerDiscardEnable = raster ? VK_FALSE : VK_TRUE;
+    rasterization.polygonMode = VK_POLYGON_MODE_FILL;
+    rasterization.cullMode = VK_CULL_MODE_NONE;
+    rasterization.lineWidth = 1.0f;
+    const VkViewport viewport{
+        0, 0, static_cast<float>(image_width()), static_cast<float>(image_height()), 0, 1};
+    const VkRect2D scissor{{0, 0}, {image_width(), image_height()}};
+    VkPipelineViewportStateCreateInfo viewport_state{};
+    viewport_state.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO;
+    viewport_state.viewportCount = 1;
+    viewport_state.pViewports = &viewport;
+    viewport_state.scissorCount = 1;
+    viewport_state.pScissors = &scissor;
+    VkPipelineMultisampleStateCreateInfo multisample{};
+    multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{};
+    depth.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO;
+    depth.depthTestEnable = VK_TRUE;
+    depth.depthWriteEnable = VK_TRUE;
+    depth.depthCompareOp = VK_COMPARE_OP_LESS;
+    VkPipelineColorBlendAttachmentState blend_attachment{};
+    blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                      VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{};
+    blend.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO;
+    blend.attachmentCount = 1;
+    blend.pAttachments = &blend_attachment;
     VkGraphicsPipelineCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO;
-    info.stageCount = 3;
+    info.stageCount = raster ? 4 : 3;
     info.pStages = stages.data();
     info.pVertexInputState = &vertex_input;
     info.pInputAssemblyState = &assembly;
     info.pTessellationState = &tessellation;
-    info.pRasterizationState = &raster;
+    info.pRasterizationState = &rasterization;
+    if (raster) {
+      info.pViewportState = &viewport_state;
+      info.pMultisampleState = &multisample;
+      info.pDepthStencilState = &depth;
+      info.pColorBlendState = &blend;
+    }
     info.layout = layout_;
-    info.renderPass = render_pass_;
-    vulkan::check(vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_),
+    info.renderPass = pass;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    vulkan::check(vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
                   "vkCreateGraphicsPipelines");
+    return pipeline;
+  }
+
+  std::uint32_t image_width() const { return static_cast<std::uint32_t>(adaptive_.viewport[0]); }
+  std::uint32_t image_height() const { return static_cast<std::uint32_t>(adaptive_.viewport[1]); }
+
+  // The render target of render(), made on its first call: RGBA8 colour (copied out by tests),
+  // 32-bit depth, a render pass clearing both, and the raster pipeline.
+  void create_raster_target() {
+    const VkDevice d = device_.handle();
+    color_ = std::make_unique<vulkan::Image>(
+        device_, kColorFormat,
+        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+        VK_IMAGE_ASPECT_COLOR_BIT, image_width(), image_height());
+    depth_ = std::make_unique<vulkan::Image>(
+        device_, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+        VK_IMAGE_ASPECT_DEPTH_BIT, image_width(), image_height());
+    VkAttachmentDescription attachments[2] = {};
+    attachments[0].format = kColorFormat;
+    attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
+    attachments[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    attachments[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    attachments[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    attachments[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    attachments[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    attachments[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    attachments[1] = attachments[0];
+    attachments[1].format = VK_FORMAT_D32_SFLOAT;
+    attachments[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    attachments[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    const VkAttachmentReference color_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    const VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass{};
+    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    subpass.colorAttachmentCount = 1;
+    subpass.pColorAttachments = &color_ref;
+    subpass.pDepthStencilAttachment = &depth_ref;
+    VkRenderPassCreateInfo rp{};
+    rp.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
+    rp.attachmentCount = 2;
+    rp.pAttachments = attachments;
+    rp.subpassCount = 1;
+    rp.pSubpasses = &subpass;
+    vulkan::check(vkCreateRenderPass(d, &rp, nullptr, &raster_pass_), "vkCreateRenderPass");
+    const VkImageView views[2] = {color_->view(), depth_->view()};
+    VkFramebufferCreateInfo fb{};
+    fb.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
+    fb.renderPass = raster_pass_;
+    fb.attachmentCount = 2;
+    fb.pAttachments = views;
+    fb.width = image_width();
+    fb.height = image_height();
+    fb.layers = 1;
+    vulkan::check(vkCreateFramebuffer(d, &fb, nullptr, &raster_framebuffer_),
+                  "vkCreateFramebuffer");
+    raster_pipeline_ = make_pipeline(true, raster_pass_);
   }
 
   vulkan::Device device_;
@@ -698,6 +867,10 @@ class VkKsquad final : public Strategy {
   VkRenderPass render_pass_ = VK_NULL_HANDLE;
   VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
+  std::unique_ptr<vulkan::Image> color_, depth_;
+  VkRenderPass raster_pass_ = VK_NULL_HANDLE;
+  VkFramebuffer raster_framebuffer_ = VK_NULL_HANDLE;
+  VkPipeline raster_pipeline_ = VK_NULL_HANDLE;
 
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;
@@ -738,6 +911,14 @@ KsquadStatistics ksquad_statistics(const Strategy& strategy) {
 
 std::vector<CapturedEdge> ksquad_captured_edges(const Strategy& strategy) {
   return as_vk_ksquad(strategy).captured_edges();
+}
+
+bool ksquad_render(Strategy& strategy) {
+  return const_cast<VkKsquad&>(as_vk_ksquad(strategy)).render();
+}
+
+std::size_t ksquad_rendered_pixels(const Strategy& strategy) {
+  return as_vk_ksquad(strategy).rendered_pixels();
 }
 
 StrategyEntry vk_ksquad_entry() {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -35,5 +36,9 @@ std::unique_ptr<Strategy> make_vk_ksquad(const StrategyOptions& options);
 KsquadStatistics ksquad_statistics(const Strategy& strategy);
 // After evaluate() in adaptive mode (empty in uniform mode).
 std::vector<CapturedEdge> ksquad_captured_edges(const Strategy& strategy);
+// Draws the prepared patches into the offscreen image (003 §4 end to end; timed as `render`
+// where the runner has that phase); the pixels the last render() covered.
+bool ksquad_render(Strategy& strategy);
+std::size_t ksquad_rendered_pixels(const Strategy& strategy);
 
 }  // namespace nurbs

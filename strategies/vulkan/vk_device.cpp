@@ -309,9 +309,11 @@ Buffer::Buffer(const Device& device, VkDeviceSize bytes, VkBufferUsageFlags usag
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device.handle(), buffer_, &req);
   // Device-local first (a real GPU); lavapipe's memory is device-local and host-visible at once.
-  int type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT |
-                                                        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                                        VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  // A buffer with no usage of its own (usage 0) is a staging buffer: host-visible first.
+  const VkMemoryPropertyFlags host =
+      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  int type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | host);
+  if (usage == 0 && type < 0) type = device.memory_type(req.memoryTypeBits, host);
   if (type < 0) type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
   if (type < 0)
     type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
@@ -392,6 +394,58 @@ void Buffer::read(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
     vkCmdCopyBuffer(cb, buffer_, staging.handle(), 1, &region);
   });
   std::memcpy(data, staging.mapped_, bytes);
+}
+
+Image::Image(const Device& device, VkFormat format, VkImageUsageFlags usage,
+             VkImageAspectFlags aspect, std::uint32_t width, std::uint32_t height)
+    : device_(device) {
+  VkImageCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format;
+  info.extent = {width, height, 1};
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = usage;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  check(vkCreateImage(device.handle(), &info, nullptr, &image_), "vkCreateImage");
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(device.handle(), image_, &req);
+  int type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  if (type < 0) type = device.memory_type(req.memoryTypeBits, 0);
+  VkMemoryAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = static_cast<std::uint32_t>(type);
+  try {
+    check(vkAllocateMemory(device.handle(), &alloc, nullptr, &memory_), "vkAllocateMemory");
+    check(vkBindImageMemory(device.handle(), image_, memory_, 0), "vkBindImageMemory");
+    VkImageViewCreateInfo view{};
+    view.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO;
+    view.image = image_;
+    view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    view.format = format;
+    view.subresourceRange = {aspect, 0, 1, 0, 1};
+    check(vkCreateImageView(device.handle(), &view, nullptr, &view_), "vkCreateImageView");
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+Image::~Image() {
+  release();
+}
+
+void Image::release() {
+  if (view_) vkDestroyImageView(device_.handle(), view_, nullptr);
+  if (image_) vkDestroyImage(device_.handle(), image_, nullptr);
+  if (memory_) vkFreeMemory(device_.handle(), memory_, nullptr);
+  view_ = VK_NULL_HANDLE;
+  image_ = VK_NULL_HANDLE;
+  memory_ = VK_NULL_HANDLE;
 }
 
 QueryPools::QueryPools(const Device& device, VkQueryPipelineStatisticFlags statistics)

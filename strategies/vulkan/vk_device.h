@@ -55,6 +55,8 @@ class Device;
 class Buffer {
  public:
   Buffer() = default;
+  // usage 0: a staging buffer (host-visible memory first). Throws RefusedError past
+  // maxStorageBufferRange (storage buffers) or when the device is out of memory.
   Buffer(const Device& device, VkDeviceSize bytes, VkBufferUsageFlags usage, const char* what);
   ~Buffer() { reset(); }
   Buffer(Buffer&& other) noexcept { *this = std::move(other); }
@@ -75,6 +77,25 @@ class Buffer {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkDeviceSize size_ = 0;
   void* mapped_ = nullptr;
+};
+
+// A 2D image with its memory and view (device-local), e.g. an offscreen render target.
+class Image {
+ public:
+  Image(const Device& device, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect,
+        std::uint32_t width, std::uint32_t height);
+  ~Image();
+  Image(const Image&) = delete;
+  Image& operator=(const Image&) = delete;
+  VkImage handle() const { return image_; }
+  VkImageView view() const { return view_; }
+
+ private:
+  void release();
+  const Device& device_;
+  VkImage image_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkImageView view_ = VK_NULL_HANDLE;
 };
 
 class Device {

@@ -282,5 +282,26 @@ TEST_F(VkKsquadTest, AdaptiveOptionsAreChecked) {
   EXPECT_THROW(make_vk_ksquad(options), std::invalid_argument);
 }
 
+// render(): the patches drawn with rasterization into the offscreen image, in both modes.
+TEST_F(VkKsquadTest, RenderDrawsTheSurfaceOffscreen) {
+  const Scene scene = *make_builtin_scene("teapot");
+  strategy_->prepare(scene, EvalRequest{span_grid(8), Precision::f32, false});
+  EXPECT_EQ(ksquad_rendered_pixels(*strategy_), 0u);  // nothing drawn yet
+  ASSERT_TRUE(ksquad_render(*strategy_));
+  const std::size_t covered = ksquad_rendered_pixels(*strategy_);
+  // The default camera fits the scene's bounding sphere into a 1024x768 image: the teapot
+  // covers a good part of it, and not all of it.
+  EXPECT_GT(covered, 1024u * 768u / 20);
+  EXPECT_LT(covered, 1024u * 768u);
+  auto adaptive = adaptive_strategy("", "", "4");
+  adaptive->prepare(scene, EvalRequest{span_grid(1), Precision::f32, false});
+  ASSERT_TRUE(ksquad_render(*adaptive));
+  const std::size_t adaptive_covered = ksquad_rendered_pixels(*adaptive);
+  EXPECT_NEAR(static_cast<double>(adaptive_covered), static_cast<double>(covered),
+              0.05 * static_cast<double>(covered));
+  std::cout << "teapot render: " << covered << " pixels (uniform span8), " << adaptive_covered
+            << " (adaptive)\n";
+}
+
 }  // namespace
 }  // namespace nurbs
