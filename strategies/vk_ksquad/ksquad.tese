@@ -18,6 +18,65 @@ layout(constant_id = 0) const int kRaster = 0;
 #include "ksquad_tables.glsl"
 #include "stair_basis.glsl"
 
+bool normalize_if_resolved(vec3 n, vec3 a, vec3 b, out vec3 unit) {
+  // reference/nurbs_math.h detail::normalize_if_resolved with float's epsilon
+  const float scale = length(a) + length(b);
+  const float len = length(n);
+  if (!(len > 1024.0 * 1.1920929e-7 * scale * scale) || isinf(len) || isnan(len)) return false;
+  unit = n / len;
+  return true;
+}
+
+// Unit normal from the derivatives of the same stair basis (stair_derivative): Su x Sv, or where
+// a tangent vanishes the limit along the surface (reference/nurbs_math.h surface_normal's first
+// two stages, line by line; its third, a nudged neighbour sample, may leave the KSQuad and is not
+// done here: the zero vector is written instead). `span_u`, `cu` (and v) are the span whose
+// basis is used: at a span's end knot the caller passes the next span, as A2.1 assigns the knot
+// to it -- on a crease the two one-sided normals differ, and the reference takes that one.
+void write_normal(int slot, int s, int span_u, int span_v, int cu, int cv, float u, float v) {
+  const int pu = surfaces[s], pv = surfaces[s + 1], count_v = surfaces[s + 3];
+  float bu[MAX_ORDER], bv[MAX_ORDER], du[MAX_ORDER], dv[MAX_ORDER];
+  stair_basis(cu, pu, u, bu, pu);
+  stair_basis(cv, pv, v, bv, pv);
+  stair_derivative(cu, pu, u, du);
+  stair_derivative(cv, pv, v, dv);
+  const int first = surfaces[s + 4] + (span_u - pu) * count_v + (span_v - pv);
+  vec4 a = vec4(0.0), au = vec4(0.0), av = vec4(0.0), auv = vec4(0.0);
+  for (int i = 0; i <= pu; ++i) {
+    vec4 row = vec4(0.0), row_v = vec4(0.0);
+    for (int j = 0; j <= pv; ++j) {
+      const vec4 p = points[first + i * count_v + j];
+      row += bv[j] * p;
+      row_v += dv[j] * p;
+    }
+    a += bu[i] * row;
+    au += du[i] * row;
+    av += bu[i] * row_v;
+    auv += du[i] * row_v;
+  }
+  // The quotient rule for S = A / w (A3.6 / A4.4 to first order in each direction).
+  const vec3 point = a.xyz / a.w;
+  const vec3 su = (au.xyz - au.w * point) / a.w;
+  const vec3 sv = (av.xyz - av.w * point) / a.w;
+  const vec3 suv = (auv.xyz - auv.w * point - au.w * sv - av.w * su) / a.w;
+  vec3 n = vec3(0.0);
+  if (!normalize_if_resolved(cross(su, sv), su, sv, n)) {
+    if (length(su) <= length(sv)) {
+      // side: which end of the v domain the sample is nearer
+      const float v0 = surface_knot_v(s, 0), v1 = surface_knot_v(s, 1);
+      const float side = (v - v0) <= (v1 - v) ? 1.0 : -1.0;
+      if (!normalize_if_resolved(side * cross(suv, sv), suv, sv, n)) n = vec3(0.0);
+    } else {
+      const float u0 = surface_knot_u(s, 0), u1 = surface_knot_u(s, 1);
+      const float side = (u - u0) <= (u1 - u) ? 1.0 : -1.0;
+      if (!normalize_if_resolved(side * cross(su, suv), su, suv, n)) n = vec3(0.0);
+    }
+  }
+  normals[3 * slot] = n.x;
+  normals[3 * slot + 1] = n.y;
+  normals[3 * slot + 2] = n.z;
+}
+
 int adaptive_slot() {
   const vec2 t = gl_TessCoord.xy;
   const int edge = mode.max_level + 1;
@@ -53,8 +112,8 @@ void main() {
     v = (1.0 - gl_TessCoord.y) * C_KNOT(cv, pv - 1) + gl_TessCoord.y * C_KNOT(cv, pv);
   }
   float bu[MAX_ORDER], bv[MAX_ORDER];
-  stair_basis(cu, pu, u, bu);
-  stair_basis(cv, pv, v, bv);
+  stair_basis(cu, pu, u, bu, pu);
+  stair_basis(cv, pv, v, bv, pv);
   // A4.3 on the KSQuad's (p+1)(q+1) homogeneous control points (reference/nurbs_math.h
   // surface_point_from_basis): rows in v first, then u.
   vec4 sum = vec4(0.0);
@@ -65,6 +124,13 @@ void main() {
     sum += bu[i] * row_sum;
   }
   const vec3 position = sum.xyz / sum.w;
+  if (kRaster == 0 && mode.adaptive == 0 && mode.normals != 0) {
+    // C_KNOT(c, p) = x_{i+1}: the span's end knot belongs to the next span (row + 16..19)
+    const bool u_end = u == C_KNOT(cu, pu), v_end = v == C_KNOT(cv, pv);
+    write_normal(surfaces[s + 8] + a * surfaces[s + 7] + b, s,
+                 u_end ? patches[row + 16] : span_u, v_end ? patches[row + 17] : span_v,
+                 u_end ? patches[row + 18] : cu, v_end ? patches[row + 19] : cv, u, v);
+  }
   if (kRaster != 0) {
     gl_Position = mode.view_projection * vec4(position, 1.0);
   } else if (mode.adaptive == 0) {

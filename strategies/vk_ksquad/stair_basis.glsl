@@ -10,13 +10,15 @@
 #define C_COLUMN(c, m) consts[(c) + 99 + (m)]
 #define C_DIAGONAL(c, m) consts[(c) + 109 + (m)]
 
-// stair_basis.h: stair_basis. basis[j] = N_{i-p+j,p}(u), j = 0..p.
-void stair_basis(int c, int degree, float u, out float basis[MAX_ORDER]) {
+// stair_basis.h: stair_basis. basis[j] = N_{i-p+j,p}(u), j = 0..p; knot_degree: the degree the
+// constants were built for (GLSL has no default arguments: pass `degree`).
+void stair_basis(int c, int degree, float u, out float basis[MAX_ORDER], int knot_degree) {
   const int p = degree;
+  const int o = knot_degree;
   float dl[MAX_ORDER], dr[MAX_ORDER];  // u - x_{i-s}, x_{i+1+t} - u
   for (int s = 0; s < p; ++s) {
-    dl[s] = u - C_KNOT(c, p - 1 - s);
-    dr[s] = C_KNOT(c, p + s) - u;
+    dl[s] = u - C_KNOT(c, o - 1 - s);
+    dr[s] = C_KNOT(c, o + s) - u;
   }
   float col[MAX_ORDER], diag[MAX_ORDER];
   col[0] = 1.0;
@@ -45,5 +47,17 @@ void stair_basis(int c, int degree, float u, out float basis[MAX_ORDER]) {
     }
     for (int l = 0; l < w; ++l) sum += t[l] * (dr[w - l] * C_R(c, 0, w - l)) * col[w - l];
     basis[p - k] = sum;
+  }
+}
+
+// stair_basis.h: stair_derivative. derivative[j] = d/du N_{i-p+j,p}(u), j = 0..p.
+void stair_derivative(int c, int degree, float u, out float derivative[MAX_ORDER]) {
+  const int p = degree;
+  float lower[MAX_ORDER];
+  stair_basis(c, p - 1, u, lower, p);
+  for (int j = 0; j <= p; ++j) {
+    const float left = j >= 1 ? lower[j - 1] * C_R(c, p - j, j - 1) : 0.0;
+    const float right = j <= p - 1 ? lower[j] * C_R(c, p - j - 1, j) : 0.0;
+    derivative[j] = float(p) * (left - right);
   }
 }

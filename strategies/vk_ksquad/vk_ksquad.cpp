@@ -29,6 +29,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -57,22 +58,22 @@ extern const std::string_view vk_ksquad_frag;
 namespace nurbs {
 namespace {
 
-constexpr int kSurfaceInts = 12;  // ksquad_tables.glsl: SURFACE_INTS
-constexpr int kPatchInts = 16;    // ksquad_tables.glsl: PATCH_INTS
+constexpr int kSurfaceInts = 16;  // ksquad_tables.glsl: SURFACE_INTS
+constexpr int kPatchInts = 20;    // ksquad_tables.glsl: PATCH_INTS
 constexpr int kSlotFloats = 5;    // ksquad_tables.glsl: SLOT_FLOATS
 constexpr int kConstantFloats = 119;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
               "stair_basis.glsl reads StairConstants<float> as 119 packed floats");
-constexpr int kBuffers = 8;
+constexpr int kBuffers = 9;
 
 // ksquad_tables.glsl: Mode (push constants).
 struct ModeConstants {
   float view_projection[16];
   float viewport[2];
   float mu;
-  std::int32_t adaptive, max_level, region;
+  std::int32_t adaptive, max_level, region, normals;
 };
-static_assert(sizeof(ModeConstants) == 88);
+static_assert(sizeof(ModeConstants) == 92);
 
 std::vector<double> option_numbers(const StrategyOptions& options, const std::string& key,
                                    std::size_t count, char separator) {
@@ -184,8 +185,8 @@ vulkan::Requirements ksquad_requirements() {
 Capabilities ksquad_capabilities() {
   Capabilities c;
   c.max_degree = kStairMaxDegree;
-  c.normals = false;
-  c.fp64 = false;  // Vulkan tessellation stages in float; shaderFloat64 is optional
+  c.normals = true;  // uniform mode: derivatives of the same stair basis (stair_derivative)
+  c.fp64 = false;    // Vulkan tessellation stages in float; shaderFloat64 is optional
   c.sampling.explicit_list = false;  // not a tensor of runs
   // In adaptive mode the tessellator chooses the samples (uniform mode returns the requested ones).
   c.chooses_own_samples = true;
@@ -228,6 +229,8 @@ class VkKsquad final : public Strategy {
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
     refuse_unsupported(name(), capabilities(), scene, request);
+    if (adaptive_.adaptive && request.normals)
+      throw RefusedError("vk-ksquad: normals are computed in uniform mode only");
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     build_tables(scene);
@@ -287,6 +290,10 @@ class VkKsquad final : public Strategy {
       r.samples = s;
       r.positions = PointArray(Precision::f32, s.count());
       std::memcpy(r.positions.f32(), host.data() + base * 3, s.count() * 3 * sizeof(float));
+      if (request_.normals) {
+        r.normals = PointArray(Precision::f32, s.count());
+        normals_.read(r.normals.f32(), s.count() * 3 * sizeof(float), base * 3 * sizeof(float));
+      }
       base += s.count();
       out.surfaces.push_back(std::move(r));
     }
@@ -456,6 +463,7 @@ class VkKsquad final : public Strategy {
     mode_.adaptive = adaptive_.adaptive ? 1 : 0;
     mode_.max_level = adaptive_.max_level;
     mode_.region = static_cast<std::int32_t>(region_);
+    mode_.normals = request_.normals ? 1 : 0;
     mode_.mu = static_cast<float>(adaptive_.mu);
     mode_.viewport[0] = static_cast<float>(adaptive_.viewport[0]);
     mode_.viewport[1] = static_cast<float>(adaptive_.viewport[1]);
@@ -546,7 +554,11 @@ class VkKsquad final : public Strategy {
                                      static_cast<int>(out_base),
                                      0,
                                      0,
-                                     0};
+                                     0,
+                                     std::bit_cast<int>(static_cast<float>(s.u_min())),
+                                     std::bit_cast<int>(static_cast<float>(s.u_max())),
+                                     std::bit_cast<int>(static_cast<float>(s.v_min())),
+                                     std::bit_cast<int>(static_cast<float>(s.v_max()))};
       surfaces_.insert(surfaces_.end(), rec, rec + kSurfaceInts);
       point_base += s.points.size();
       out_base += sm.count();
@@ -591,13 +603,23 @@ class VkKsquad final : public Strategy {
       if (adaptive_.adaptive)
         for (int k = 0; k < 4; ++k)
           c[k] = corner(s, q.surface, q.u.span + (k & 1), q.v.span + (k >> 1));
+      // A2.1 puts a span's end knot in the next non-empty span (the last span keeps the end).
+      const auto next_span = [](const std::vector<double>& k, int span, int count) {
+        for (int t = span + 1; t < count; ++t)
+          if (k[t] < k[t + 1]) return t;
+        return span;
+      };
+      const int next_u = next_span(s.knots_u, q.u.span, s.count_u);
+      const int next_v = next_span(s.knots_v, q.v.span, s.count_v);
+      const int cu_next = constants(q.surface, 0, next_u);
+      const int cv_next = constants(q.surface, 1, next_v);
       const int piece_cap = adaptive_.adaptive ? std::numeric_limits<int>::max() : cap;
       for (const ksquad::SpanRun& a : vk_ksquad::split_run(q.u, piece_cap))
         for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, piece_cap)) {
           const int lu = vk_ksquad::run_level(a), lv = vk_ksquad::run_level(b);
-          const int row[kPatchInts] = {q.surface, q.u.span, q.v.span, cu,  cv, a.begin,
-                                       a.count,   b.begin,  b.count,  lu,  lv, 0,
-                                       c[0],      c[1],     c[2],     c[3]};
+          const int row[kPatchInts] = {
+              q.surface, q.u.span, q.v.span, cu,   cv,   a.begin, a.count, b.begin, b.count, lu, lv,
+              0,         c[0],     c[1],     c[2], c[3], next_u,  next_v,  cu_next, cv_next};
           patches_.insert(patches_.end(), row, row + kPatchInts);
           stats_.implied_vertices += vk_ksquad::quad_domain_vertices(lu, lv);
           stats_.max_level = std::max({stats_.max_level, lu, lv});
@@ -632,9 +654,11 @@ class VkKsquad final : public Strategy {
     params_buf_ = storage(params_, "parameters");
     positions_ = vulkan::Buffer(device_, output_floats * sizeof(float),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output positions");
+    normals_ = vulkan::Buffer(device_, (request_.normals ? total_ * 3 : 0) * sizeof(float),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output normals");
     const vulkan::Buffer* buffers[kBuffers] = {&surfaces_buf_, &patches_buf_, &constants_buf_,
                                                &points_,       &params_buf_,  &positions_,
-                                               &corners_buf_,  &levels_};
+                                               &corners_buf_,  &levels_,      &normals_};
     std::array<VkDescriptorBufferInfo, kBuffers> infos{};
     std::array<VkWriteDescriptorSet, kBuffers> writes{};
     for (int k = 0; k < kBuffers; ++k) {
@@ -878,7 +902,7 @@ class VkKsquad final : public Strategy {
   std::vector<float> constants_, params_;
   std::vector<float> corners_;
   vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_,
-      corners_buf_, levels_;
+      corners_buf_, levels_, normals_;
   std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
   AdaptiveSettings adaptive_;
   ModeConstants mode_{};

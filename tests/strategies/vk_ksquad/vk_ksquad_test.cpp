@@ -33,13 +33,17 @@ Sampling grid(int nu, int nv) {
   return s;
 }
 
-Accuracy run(Strategy& strategy, const Scene& scene, const Sampling& sampling) {
-  strategy.prepare(scene, EvalRequest{sampling, Precision::f32, false});
+std::unique_ptr<Strategy> adaptive_strategy(const std::string& eye, const std::string& center,
+                                            const std::string& mu);
+
+Accuracy run(Strategy& strategy, const Scene& scene, const Sampling& sampling,
+             bool normals = false) {
+  strategy.prepare(scene, EvalRequest{sampling, Precision::f32, normals});
   strategy.evaluate();
   const EvalResult result = strategy.read_back();
   const auto samples = sample_parameters(scene, sampling);
   EXPECT_TRUE(same_samples(result_samples(result), samples));
-  return measure_accuracy(scene, result, evaluate_reference(scene, samples, false));
+  return measure_accuracy(scene, result, evaluate_reference(scene, samples, normals));
 }
 
 class VkKsquadTest : public ::testing::Test {
@@ -53,7 +57,8 @@ class VkKsquadTest : public ::testing::Test {
 };
 
 // The gate: within 64 float32 ulps of the reference at the strategy's own (u, v) on every
-// built-in scene; the worst case per scene is printed (README / results/gates.json quote it).
+// built-in scene, normals within 1 degree; the worst case per scene is printed (README /
+// results/gates.json quote it).
 TEST_F(VkKsquadTest, WithinBudgetOnEveryBuiltinScene) {
   for (const BuiltinSceneInfo& info : builtin_scenes()) {
     if (info.name == "many-4096") continue;  // the default scene list leaves it out too
@@ -61,7 +66,7 @@ TEST_F(VkKsquadTest, WithinBudgetOnEveryBuiltinScene) {
     for (const Sampling& sampling : {span_grid(16), grid(64, 64)}) {
       Accuracy acc;
       try {
-        acc = run(*strategy_, scene, sampling);
+        acc = run(*strategy_, scene, sampling, true);
       } catch (const RefusedError& e) {
         // A device limit (maxStorageBufferRange for the output) is a refusal, never a
         // truncation; only the largest span grids meet it.
@@ -74,9 +79,11 @@ TEST_F(VkKsquadTest, WithinBudgetOnEveryBuiltinScene) {
       EXPECT_LE(acc.max_ulp, 64.0)
           << info.name << " " << sampling.label() << ": worst at surface " << acc.worst_surface
           << " u=" << acc.worst_u << " v=" << acc.worst_v;
+      ASSERT_TRUE(acc.max_normal_angle_deg.has_value());
+      EXPECT_LE(*acc.max_normal_angle_deg, 1.0) << info.name << " " << sampling.label();
       std::cout << "vk-ksquad " << info.name << " " << sampling.label() << ": max_ulp "
                 << acc.max_ulp << " (surface " << acc.worst_surface << " u=" << acc.worst_u
-                << " v=" << acc.worst_v << ")\n";
+                << " v=" << acc.worst_v << "), normals " << *acc.max_normal_angle_deg << " deg\n";
     }
   }
 }
@@ -170,8 +177,9 @@ TEST_F(VkKsquadTest, RefusesWhatItCannotDo) {
   const Scene scene = *make_builtin_scene("patch144");
   EXPECT_THROW(strategy_->prepare(scene, EvalRequest{grid(8, 8), Precision::f64, false}),
                RefusedError);
-  EXPECT_THROW(strategy_->prepare(scene, EvalRequest{grid(8, 8), Precision::f32, true}),
-               RefusedError);
+  auto adaptive = adaptive_strategy("", "", "4");
+  EXPECT_THROW(adaptive->prepare(scene, EvalRequest{grid(8, 8), Precision::f32, true}),
+               RefusedError);  // normals in uniform mode only
 }
 
 // Adaptive mode (003 §3.1): a close camera so the levels vary over the surface.
