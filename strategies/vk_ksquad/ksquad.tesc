@@ -33,7 +33,7 @@ float wanted_level(int a, int b) {
 }
 
 void main() {
-  const int row = gl_PrimitiveID * PATCH_INTS;
+  const int row = PATCH * PATCH_INTS;
   float outer[4];
   if (mode.adaptive == 0) {
     const float level_u = float(patches[row + 9]), level_v = float(patches[row + 10]);
@@ -47,8 +47,8 @@ void main() {
                                      wanted_level(c10, c11), wanted_level(c01, c11));
     for (int e = 0; e < 4; ++e) {
       outer[e] = min(wanted[e], float(mode.max_level));
-      levels[8 * gl_PrimitiveID + e] = outer[e];
-      levels[8 * gl_PrimitiveID + 4 + e] = wanted[e];
+      levels[8 * PATCH + e] = outer[e];
+      levels[8 * PATCH + 4 + e] = wanted[e];
     }
     gl_TessLevelInner[0] = max(max(outer[1], outer[3]), 2.0);
     gl_TessLevelInner[1] = max(max(outer[0], outer[2]), 2.0);

@@ -15,6 +15,13 @@
 //    same evaluation, the position projected to gl_Position and rasterized; nothing is stored.
 layout(quads, equal_spacing, ccw) in;
 layout(constant_id = 0) const int kRaster = 0;
+// One pipeline per degree pair of the scene (patches are drawn grouped by it): the degrees as
+// specialization constants give the basis loops constant bounds (a runtime degree made llvmpipe
+// several times slower, as glsl-deboor found for its fragment passes). 0: read the table.
+layout(constant_id = 1) const int kDegreeU = 0;
+layout(constant_id = 2) const int kDegreeV = 0;
+#define DEGREE_U(s) (kDegreeU > 0 ? kDegreeU : surfaces[s])
+#define DEGREE_V(s) (kDegreeV > 0 ? kDegreeV : surfaces[(s) + 1])
 #include "ksquad_tables.glsl"
 #include "stair_basis.glsl"
 
@@ -34,7 +41,7 @@ bool normalize_if_resolved(vec3 n, vec3 a, vec3 b, out vec3 unit) {
 // basis is used: at a span's end knot the caller passes the next span, as A2.1 assigns the knot
 // to it -- on a crease the two one-sided normals differ, and the reference takes that one.
 void write_normal(int slot, int s, int span_u, int span_v, int cu, int cv, float u, float v) {
-  const int pu = surfaces[s], pv = surfaces[s + 1], count_v = surfaces[s + 3];
+  const int pu = DEGREE_U(s), pv = DEGREE_V(s), count_v = surfaces[s + 3];
   float bu[MAX_ORDER], bv[MAX_ORDER], du[MAX_ORDER], dv[MAX_ORDER];
   stair_basis(cu, pu, u, bu, pu);
   stair_basis(cv, pv, v, bv, pv);
@@ -89,11 +96,11 @@ int adaptive_slot() {
 }
 
 void main() {
-  const int row = gl_PrimitiveID * PATCH_INTS;
+  const int row = PATCH * PATCH_INTS;
   const int s = patches[row] * SURFACE_INTS;
   const int span_u = patches[row + 1], span_v = patches[row + 2];
   const int cu = patches[row + 3], cv = patches[row + 4];
-  const int pu = surfaces[s], pv = surfaces[s + 1], count_v = surfaces[s + 3];
+  const int pu = DEGREE_U(s), pv = DEGREE_V(s), count_v = surfaces[s + 3];
   float u, v;
   int a = 0, b = 0;
   if (mode.adaptive == 0) {
@@ -139,7 +146,7 @@ void main() {
     positions[o + 1] = position.y;
     positions[o + 2] = position.z;
   } else {
-    const int o = SLOT_FLOATS * (gl_PrimitiveID * mode.region + adaptive_slot());
+    const int o = SLOT_FLOATS * (PATCH * mode.region + adaptive_slot());
     positions[o] = u;
     positions[o + 1] = v;
     positions[o + 2] = position.x;

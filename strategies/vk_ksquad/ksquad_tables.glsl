@@ -22,7 +22,10 @@ layout(push_constant) uniform Mode {
   int max_level;         // adaptive: the level cap (<= maxTessellationGenerationLevel)
   int region;            // adaptive: capture slots per patch
   int normals;           // uniform: 1 when normals are requested
+  int patch_base;        // row of this draw's first patch (one draw per degree pair)
 } mode;
+// The patch's row in the Info-KSQuad table.
+#define PATCH (mode.patch_base + gl_PrimitiveID)
 
 // surfaces: degree_u, degree_v, count_u, count_v, first point, first u parameter,
 //           first v parameter, v parameters (nv), first output sample, 3 x pad,

@@ -71,9 +71,9 @@ struct ModeConstants {
   float view_projection[16];
   float viewport[2];
   float mu;
-  std::int32_t adaptive, max_level, region, normals;
+  std::int32_t adaptive, max_level, region, normals, patch_base;
 };
-static_assert(sizeof(ModeConstants) == 92);
+static_assert(sizeof(ModeConstants) == 96);
 
 std::vector<double> option_numbers(const StrategyOptions& options, const std::string& key,
                                    std::size_t count, char separator) {
@@ -212,8 +212,8 @@ class VkKsquad final : public Strategy {
   ~VkKsquad() override {
     vkDeviceWaitIdle(device_.handle());
     const VkDevice d = device_.handle();
-    if (pipeline_) vkDestroyPipeline(d, pipeline_, nullptr);
-    if (raster_pipeline_) vkDestroyPipeline(d, raster_pipeline_, nullptr);
+    for (const auto& pipelines : {capture_pipelines_, raster_pipelines_})
+      for (const auto& [degrees, pipeline] : pipelines) vkDestroyPipeline(d, pipeline, nullptr);
     if (raster_framebuffer_) vkDestroyFramebuffer(d, raster_framebuffer_, nullptr);
     if (raster_pass_) vkDestroyRenderPass(d, raster_pass_, nullptr);
     if (framebuffer_) vkDestroyFramebuffer(d, framebuffer_, nullptr);
@@ -235,6 +235,7 @@ class VkKsquad final : public Strategy {
     samples_ = sample_parameters(scene, request.sampling);
     build_tables(scene);
     upload_tables(scene);
+    for (const Draw& draw : draws_) pipeline_for(capture_pipelines_, false, draw);
   }
 
   void evaluate() override {
@@ -258,11 +259,7 @@ class VkKsquad final : public Strategy {
       begin.framebuffer = framebuffer_;
       begin.renderArea.extent = {1, 1};
       vkCmdBeginRenderPass(cb, &begin, VK_SUBPASS_CONTENTS_INLINE);
-      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
-      vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0,
-                              nullptr);
-      vkCmdPushConstants(cb, layout_, kModeStages, 0, sizeof mode_, &mode_);
-      vkCmdDraw(cb, static_cast<std::uint32_t>(patch_count_), 1, 0, 0);
+      record_draws(cb, capture_pipelines_);
       vkCmdEndRenderPass(cb);
       queries_.end(cb);
       VkMemoryBarrier to_host{};
@@ -320,7 +317,8 @@ class VkKsquad final : public Strategy {
   // Returns when the device is done. Not `override` on this branch: main is adding the
   // Strategy::render() hook, which this signature overrides there.
   bool render() {
-    if (!raster_pipeline_) create_raster_target();
+    if (!raster_pass_) create_raster_target();
+    for (const Draw& draw : draws_) pipeline_for(raster_pipelines_, true, draw);
     device_.submit_and_wait([&](VkCommandBuffer cb) {
       VkClearValue clear[2] = {};
       clear[0].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
@@ -333,11 +331,7 @@ class VkKsquad final : public Strategy {
       begin.clearValueCount = 2;
       begin.pClearValues = clear;
       vkCmdBeginRenderPass(cb, &begin, VK_SUBPASS_CONTENTS_INLINE);
-      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, raster_pipeline_);
-      vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0,
-                              nullptr);
-      vkCmdPushConstants(cb, layout_, kModeStages, 0, sizeof mode_, &mode_);
-      vkCmdDraw(cb, static_cast<std::uint32_t>(patch_count_), 1, 0, 0);
+      record_draws(cb, raster_pipelines_);
       vkCmdEndRenderPass(cb);
     });
     return true;
@@ -625,7 +619,25 @@ class VkKsquad final : public Strategy {
           stats_.max_level = std::max({stats_.max_level, lu, lv});
         }
     }
-    patch_count_ = patches_.size() / kPatchInts;
+    // Grouped by degree pair, one draw (and one specialised pipeline) each.
+    std::vector<std::array<int, kPatchInts>> rows(patches_.size() / kPatchInts);
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      std::copy_n(&patches_[kPatchInts * k], kPatchInts, rows[k].begin());
+    const auto degrees = [&](const std::array<int, kPatchInts>& row) {
+      const Surface& s = scene.surfaces[row[0]];
+      return std::make_pair(s.degree_u, s.degree_v);
+    };
+    std::stable_sort(rows.begin(), rows.end(),
+                     [&](const auto& a, const auto& b) { return degrees(a) < degrees(b); });
+    draws_.clear();
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      std::copy(rows[k].begin(), rows[k].end(), &patches_[kPatchInts * k]);
+      const auto [du, dv] = degrees(rows[k]);
+      if (draws_.empty() || draws_.back().du != du || draws_.back().dv != dv)
+        draws_.push_back({du, dv, static_cast<std::uint32_t>(k), 0});
+      ++draws_.back().count;
+    }
+    patch_count_ = rows.size();
     stats_.patches_drawn = patch_count_;
   }
 
@@ -727,13 +739,36 @@ class VkKsquad final : public Strategy {
     fb.height = 1;
     fb.layers = 1;
     vulkan::check(vkCreateFramebuffer(d, &fb, nullptr, &framebuffer_), "vkCreateFramebuffer");
+  }
 
-    pipeline_ = make_pipeline(false, render_pass_);
+  // One draw per degree pair: patches [first, first + count) of the Info-KSQuad table.
+  struct Draw {
+    int du = 0, dv = 0;
+    std::uint32_t first = 0, count = 0;
+  };
+  using Pipelines = std::map<std::pair<int, int>, VkPipeline>;
+
+  VkPipeline pipeline_for(Pipelines& pipelines, bool raster, const Draw& draw) {
+    auto& pipeline = pipelines[{draw.du, draw.dv}];
+    if (!pipeline)
+      pipeline = make_pipeline(raster, raster ? raster_pass_ : render_pass_, draw.du, draw.dv);
+    return pipeline;
+  }
+
+  void record_draws(VkCommandBuffer cb, const Pipelines& pipelines) {
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
+    for (const Draw& draw : draws_) {
+      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.at({draw.du, draw.dv}));
+      ModeConstants mode = mode_;
+      mode.patch_base = static_cast<std::int32_t>(draw.first);
+      vkCmdPushConstants(cb, layout_, kModeStages, 0, sizeof mode, &mode);
+      vkCmdDraw(cb, draw.count, 1, 0, 0);
+    }
   }
 
   // Capture (rasterization discarded) or raster (the evaluation stage's kRaster = 1, a fragment
   // stage, depth test, the viewport of the adaptive settings).
-  VkPipeline make_pipeline(bool raster, VkRenderPass pass) const {
+  VkPipeline make_pipeline(bool raster, VkRenderPass pass, int du, int dv) const {
     const VkDevice d = device_.handle();
     struct Modules {
       VkDevice d;
@@ -750,13 +785,14 @@ class VkKsquad final : public Strategy {
     const VkShaderStageFlagBits stage_bits[4] = {
         VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
         VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, VK_SHADER_STAGE_FRAGMENT_BIT};
-    const std::int32_t raster_flag = raster ? 1 : 0;
-    const VkSpecializationMapEntry entry{0, 0, sizeof raster_flag};
+    // ksquad.tese: kRaster, kDegreeU, kDegreeV
+    const std::int32_t constants[3] = {raster ? 1 : 0, du, dv};
+    const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
     VkSpecializationInfo specialization{};
-    specialization.mapEntryCount = 1;
-    specialization.pMapEntries = &entry;
-    specialization.dataSize = sizeof raster_flag;
-    specialization.pData = &raster_flag;
+    specialization.mapEntryCount = 3;
+    specialization.pMapEntries = entries;
+    specialization.dataSize = sizeof constants;
+    specialization.pData = constants;
     std::array<VkPipelineShaderStageCreateInfo, 4> stages{};
     for (int k = 0; k < 4; ++k) {
       stages[k] = {};
@@ -878,7 +914,6 @@ class VkKsquad final : public Strategy {
     fb.layers = 1;
     vulkan::check(vkCreateFramebuffer(d, &fb, nullptr, &raster_framebuffer_),
                   "vkCreateFramebuffer");
-    raster_pipeline_ = make_pipeline(true, raster_pass_);
   }
 
   vulkan::Device device_;
@@ -890,11 +925,11 @@ class VkKsquad final : public Strategy {
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkRenderPass render_pass_ = VK_NULL_HANDLE;
   VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  Pipelines capture_pipelines_, raster_pipelines_;  // created once per degree pair, kept
+  std::vector<Draw> draws_;
   std::unique_ptr<vulkan::Image> color_, depth_;
   VkRenderPass raster_pass_ = VK_NULL_HANDLE;
   VkFramebuffer raster_framebuffer_ = VK_NULL_HANDLE;
-  VkPipeline raster_pipeline_ = VK_NULL_HANDLE;
 
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;
