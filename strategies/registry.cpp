@@ -10,6 +10,7 @@
 #include "strategies/glu_nurbs/glu_nurbs.h"
 #include "strategies/occt/occt_strategy.h"
 #include "strategies/sisl/sisl_strategy.h"
+#include "strategies/vk_ksquad/vk_ksquad.h"
 
 namespace nurbs {
 
@@ -23,6 +24,7 @@ const std::vector<StrategyEntry>& strategy_registry() {
       gl_pingpong_packed_entry(),
       glsl_deboor_entry(),
       cl_stair_entry(),
+      vk_ksquad_entry(),
       cpu_tensor_entry(),
       cpu_horner_entry(),
       cpu_bezier_entry(),

@@ -36,6 +36,7 @@ struct EvalOptions {
   int threads = 0;
   std::string gl;      // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
+  std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
 };
 int eval_command(const EvalOptions& options);
 
@@ -54,6 +55,7 @@ struct RunOptions {
   int threads = 0;
   std::string gl;      // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
+  std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
 };
 int run_command(const RunOptions& options);
 
@@ -89,8 +91,11 @@ std::vector<std::string> split_list(std::string_view text);
 // --scenes: "default" = every listed built-in scene except those whose default grids exceed the
 // per-request sample limit (many-4096); "all" = every listed built-in scene; else a comma list.
 std::vector<std::string> scene_list(const std::string& text);
-// StrategyOptions.extra for --gl and --device (empty: the strategies' defaults).
-std::map<std::string, std::string> backend_extra(const std::string& gl, const std::string& device);
+// StrategyOptions.extra for --gl, --device and each --strategy-option KEY=VALUE (empty: the
+// strategies' defaults).
+std::map<std::string, std::string> backend_extra(
+    const std::string& gl, const std::string& device,
+    const std::vector<std::string>& strategy_options = {});
 // The thread setting shared by OpenMP, llvmpipe/lavapipe and PoCL; returns the count in force.
 int apply_thread_setting(int threads);
 

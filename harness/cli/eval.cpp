@@ -123,8 +123,8 @@ int eval_command(const EvalOptions& options) {
     throw InputError(
         fmt::format("strategy {} refuses scene {}: {}", entry->name, scene.name, *refused));
 
-  std::unique_ptr<Strategy> strategy =
-      entry->create(StrategyOptions{options.threads, backend_extra(options.gl, options.device)});
+  std::unique_ptr<Strategy> strategy = entry->create(StrategyOptions{
+      options.threads, backend_extra(options.gl, options.device, options.strategy_options)});
   strategy->prepare(scene, request);
   strategy->evaluate();
   const EvalResult result = strategy->read_back();

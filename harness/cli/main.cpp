@@ -46,8 +46,11 @@ int main(int argc, char** argv) {
       ->add_option("--gl", eval.gl, "OpenGL platform of the GL strategies: egl (default) or osmesa")
       ->check(CLI::IsMember({"osmesa", "egl"}));
   eval_cmd->add_option("--device", eval.device,
-                       "OpenCL device index across all platforms (see `list`; default: a GPU if "
-                       "present, else the first)");
+                       "OpenCL device index across all platforms, or Vulkan physical device index "
+                       "(default: a GPU if present, else the first)");
+  eval_cmd->add_option("--strategy-option", eval.strategy_options,
+                       "KEY=VALUE for the strategies that read KEY (repeatable), e.g. "
+                       "vk-mode=adaptive, vk-eye=x,y,z, vk-center=x,y,z, vk-mu=4 (vk-ksquad)");
   eval_cmd->add_option("--out", eval.out,
                        "CSV file surface,u,v,x,y,z[,nx,ny,nz] (default: stdout)");
 
@@ -75,8 +78,11 @@ int main(int argc, char** argv) {
       ->add_option("--gl", run.gl, "OpenGL platform of the GL strategies: egl (default) or osmesa")
       ->check(CLI::IsMember({"osmesa", "egl"}));
   run_cmd->add_option("--device", run.device,
-                      "OpenCL device index across all platforms (see `list`; default: a GPU if "
-                      "present, else the first)");
+                      "OpenCL device index across all platforms, or Vulkan physical device index "
+                      "(default: a GPU if present, else the first)");
+  run_cmd->add_option("--strategy-option", run.strategy_options,
+                      "KEY=VALUE for the strategies that read KEY (repeatable), e.g. "
+                      "vk-mode=adaptive, vk-eye=x,y,z, vk-center=x,y,z, vk-mu=4 (vk-ksquad)");
   run_cmd->add_option("--out", run.out, "output directory (default results/latest)");
 
   LodOptions lod;

@@ -98,8 +98,16 @@ ReferencePrecision parse_reference(std::string_view text) {
   return precision;
 }
 
-std::map<std::string, std::string> backend_extra(const std::string& gl, const std::string& device) {
+std::map<std::string, std::string> backend_extra(const std::string& gl, const std::string& device,
+                                                 const std::vector<std::string>& strategy_options) {
   std::map<std::string, std::string> extra;
+  for (const std::string& option : strategy_options) {
+    const std::size_t eq = option.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError(fmt::format(
+          "--strategy-option = '{}': must be KEY=VALUE (e.g. vk-mode=adaptive)", option));
+    extra[option.substr(0, eq)] = option.substr(eq + 1);
+  }
   if (!gl.empty()) extra["gl"] = gl;
   if (!device.empty()) {
     parse_int("--device", device, device, 0, 1023);

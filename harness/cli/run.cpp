@@ -79,6 +79,7 @@ int run_command(const RunOptions& options) {
                              {"deforming_frames", options.deforming},
                              {"threads", threads},
                              {"gl", options.gl.empty() ? "egl" : options.gl},
+                             {"strategy_options", options.strategy_options},
                              {"reference", std::string(to_string(reference_precision))}};
   for (const Scene& s : scenes) settings["scenes"].push_back(s.name);
   for (const StrategyEntry* e : strategies) settings["strategies"].push_back(e->name);
@@ -104,7 +105,8 @@ int run_command(const RunOptions& options) {
                                    scene.name, sampling.label())
                     << std::flush;
         EvalRequest request{sampling, precision, options.normals};
-        const StrategyOptions strategy_options{threads, backend_extra(options.gl, options.device)};
+        const StrategyOptions strategy_options{threads, backend_extra(options.gl, options.device,
+                                                                 options.strategy_options)};
         writer.append(deforming ? measure_deforming(*entry, strategy_options, scene, request,
                                                     options.deforming, reference_precision)
                                 : measure(*entry, strategy_options, scene, request,

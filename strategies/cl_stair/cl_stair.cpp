@@ -5,6 +5,7 @@
 
 #include "reference/nurbs_math.h"
 #include "strategies/cl_stair/stair_basis.h"
+#include "strategies/ksquad/ksquad_table.h"
 #include "strategies/opencl/cl_device.h"
 
 namespace nurbs::embedded {
@@ -40,34 +41,6 @@ cl_program build_stair(const opencl::Context& ctx, Precision precision) {
                                   ? "-DREAL=double -DSTAIR_FP64"
                                   : "-DREAL=float -cl-fp32-correctly-rounded-divide-sqrt";
   return ctx.build(std::string(embedded::cl_stair_kernel), options);
-}
-
-// Runs of equal span over a non-decreasing parameter list: (span, begin, count).
-struct Bin {
-  int span, begin, count;
-};
-
-template <typename T>
-std::vector<Bin> bin_grid(const std::vector<double>& params, int degree, int count,
-                          const std::vector<T>& knots) {
-  std::vector<Bin> bins;
-  for (std::size_t a = 0; a < params.size(); ++a) {
-    const int s = find_span(degree, count, knots.data(), T(params[a]));
-    if (bins.empty() || bins.back().span != s)
-      bins.push_back({s, static_cast<int>(a), 1});
-    else
-      ++bins.back().count;
-  }
-  return bins;
-}
-
-// Span grid natively: the k-th run of steps+1 parameters is the k-th non-empty span's.
-std::vector<Bin> bin_span_grid(const std::vector<double>& knots, int degree, int count, int steps) {
-  std::vector<Bin> bins;
-  for (int s = degree; s < count; ++s)
-    if (knots[s] < knots[s + 1])
-      bins.push_back({s, static_cast<int>(bins.size()) * (steps + 1), steps + 1});
-  return bins;
 }
 
 class ClStair final : public Strategy {
@@ -162,20 +135,13 @@ class ClStair final : public Strategy {
       for (const Vec4<T>& h : net.homogeneous) points.insert(points.end(), h.begin(), h.end());
       for (double u : sm.u) params.push_back(T(u));
       for (double v : sm.v) params.push_back(T(v));
-      // The host bins parameters by span once; one KSQuad per pair of non-empty bins.
-      const bool span_grid = request_.sampling.mode == SamplingMode::span_grid;
-      const int steps = request_.sampling.span_steps;
-      const auto bu = span_grid ? bin_span_grid(s.knots_u, s.degree_u, s.count_u, steps)
-                                : bin_grid(sm.u, s.degree_u, s.count_u, ku);
-      const auto bv = span_grid ? bin_span_grid(s.knots_v, s.degree_v, s.count_v, steps)
-                                : bin_grid(sm.v, s.degree_v, s.count_v, kv);
-      for (const Bin& a : bu)
-        for (const Bin& b : bv) {
-          const int q[kQuadInts] = {
-              static_cast<int>(i), a.span, b.span, a.begin, a.count, b.begin, b.count, 0};
-          quads.insert(quads.end(), q, q + kQuadInts);
-        }
       out_base += sm.count();
+    }
+    // The host bins parameters by span once; one KSQuad per pair of non-empty runs.
+    for (const ksquad::KSQuad& k : ksquad::build_ksquads<T>(scene, samples_, request_.sampling)) {
+      const int q[kQuadInts] = {k.surface, k.u.span,  k.v.span,  k.u.begin,
+                                k.u.count, k.v.begin, k.v.count, 0};
+      quads.insert(quads.end(), q, q + kQuadInts);
     }
     total_ = out_base;
     quads_ = quads.size() / kQuadInts;

@@ -65,13 +65,16 @@ void stair_constants(int span, int degree, const T* knots, StairConstants<T>& c)
 }
 
 // stair.cl: stair_basis. basis[j] = N_{i-p+j,p}(u), j = 0..p (the order of A2.2).
+// `knot_degree` (default: `degree`) is the degree `c` was built for: a lower degree reuses the
+// constants -- r, A and B belong to the span alone, only the knot window moves (stair_derivative).
 template <typename T>
-void stair_basis(const StairConstants<T>& c, int degree, T u, T* basis) {
+void stair_basis(const StairConstants<T>& c, int degree, T u, T* basis, int knot_degree = -1) {
   const int p = degree;
+  const int o = knot_degree < 0 ? p : knot_degree;     // x_{i-s} = c.knots[o-1-s]
   T dl[kStairMaxDegree + 1], dr[kStairMaxDegree + 1];  // u - x_{i-s}, x_{i+1+t} - u
   for (int s = 0; s < p; ++s) {
-    dl[s] = u - c.knots[p - 1 - s];
-    dr[s] = c.knots[p + s] - u;
+    dl[s] = u - c.knots[o - 1 - s];
+    dr[s] = c.knots[o + s] - u;
   }
   // Column and diagonal functions by their closed forms: col[m] = N_{i,m}, diag[m] = N_{i-m,m}.
   T col[kStairMaxDegree + 1], diag[kStairMaxDegree + 1];
@@ -104,6 +107,24 @@ void stair_basis(const StairConstants<T>& c, int degree, T u, T* basis) {
     // right step off the last row lands on the column N_{i, p-k-l}
     for (int l = 0; l < w; ++l) sum += t[l] * (dr[w - l] * c.r[0][w - l]) * col[w - l];
     basis[p - k] = sum;
+  }
+}
+
+// vk-ksquad's ksquad.tese: stair_derivative. derivative[j] = d/du N_{i-p+j,p}(u), j = 0..p, by
+// Piegl & Tiller eq. (2.7) on the degree p-1 stair basis of the same span:
+//   N'_{i-p+j,p} = p (N_{i-p+j,p-1} / (x_{i+j} - x_{i-p+j}) - N_{i-p+j+1,p-1} / (x_{i+j+1} -
+//   x_{i-p+j+1}))
+// where N_{i-p+j,p-1} is lower[j-1] (zero outside 0..p-1) and both denominators are per-span
+// constants: 1 / (x_{i+j} - x_{i-p+j}) = r[p-j][j-1].
+template <typename T>
+void stair_derivative(const StairConstants<T>& c, int degree, T u, T* derivative) {
+  const int p = degree;
+  T lower[kStairMaxDegree + 1];
+  stair_basis(c, p - 1, u, lower, p);
+  for (int j = 0; j <= p; ++j) {
+    const T left = j >= 1 ? lower[j - 1] * c.r[p - j][j - 1] : T(0);
+    const T right = j <= p - 1 ? lower[j] * c.r[p - j - 1][j] : T(0);
+    derivative[j] = T(p) * (left - right);
   }
 }
 

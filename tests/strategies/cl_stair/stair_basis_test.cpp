@@ -50,6 +50,27 @@ TEST(StairBasis, CppCopyEqualsReferenceBasisInLongDouble) {
     }
 }
 
+// The derivative from the degree p-1 stair basis (vk-ksquad's normals) against A2.3.
+TEST(StairBasis, DerivativeEqualsReferenceInLongDouble) {
+  std::mt19937_64 rng(7);
+  for (int p = 1; p <= kStairMaxDegree; ++p)
+    for (const auto& kd : knot_patterns(p, rng, 20)) {
+      const std::vector<long double> k(kd.begin(), kd.end());
+      if (!(k[p] < k[p + 1])) continue;
+      StairConstants<long double> c;
+      stair_constants(p, p, k.data(), c);
+      for (int s = 0; s <= 16; ++s) {
+        const long double u = k[p] + (k[p + 1] - k[p]) * s / 16.0L;
+        long double ders[2][kMaxOrder], st[kMaxOrder];
+        basis_function_derivatives(p, u, p, 1, k.data(), ders);
+        stair_derivative(c, p, u, st);
+        for (int j = 0; j <= p; ++j)
+          EXPECT_NEAR(double(st[j]), double(ders[1][j]), 1e-13 * (1 + std::abs(double(ders[1][j]))))
+              << "p=" << p << " j=" << j;
+      }
+    }
+}
+
 // The paper's printed closed form (first display of §3.2): one product per boundary term.
 double printed(const std::vector<double>& x, int i, int k, int p, double u) {
   auto prod = [](auto f, int lo, int hi) {

@@ -1,0 +1,43 @@
+// The storage buffers of vk-ksquad (003 Fig 8's two-level indirection): the Info-KSQuad table
+// (one row per patch) points into the surface table, which points into the surface data. The
+// record layouts are written by strategies/vk_ksquad/vk_ksquad.cpp (kSurfaceInts, kPatchInts).
+layout(std430, set = 0, binding = 0) readonly buffer Surfaces { int surfaces[]; };
+layout(std430, set = 0, binding = 1) readonly buffer Patches { int patches[]; };
+layout(std430, set = 0, binding = 2) readonly buffer Constants { float consts[]; };
+layout(std430, set = 0, binding = 3) readonly buffer Points { vec4 points[]; };
+layout(std430, set = 0, binding = 4) readonly buffer Params { float params[]; };
+layout(std430, set = 0, binding = 5) writeonly buffer Positions { float positions[]; };
+// Adaptive mode: the KSQuad corners S(x_k, y_l) (xyz, w unused), computed once per scene on the
+// host, and the levels each patch chose (4 outer as set, then 4 as wanted before the cap).
+layout(std430, set = 0, binding = 6) readonly buffer Corners { vec4 corners[]; };
+layout(std430, set = 0, binding = 7) writeonly buffer Levels { float levels[]; };
+// Uniform mode with normals: one unit normal per sample, in the order of `positions`.
+layout(std430, set = 0, binding = 8) writeonly buffer Normals { float normals[]; };
+
+layout(push_constant) uniform Mode {
+  mat4 view_projection;  // adaptive: world -> clip (column-major)
+  vec2 viewport;         // adaptive: pixels
+  float mu;              // adaptive: largest projected KSDie edge, pixels (003 eq. 3)
+  int adaptive;          // 0: uniform (levels from the table), 1: adaptive
+  int max_level;         // adaptive: the level cap (<= maxTessellationGenerationLevel)
+  int region;            // adaptive: capture slots per patch
+  int normals;           // uniform: 1 when normals are requested
+  int patch_base;        // row of this draw's first patch (one draw per degree pair)
+} mode;
+// The patch's row in the Info-KSQuad table.
+#define PATCH (mode.patch_base + gl_PrimitiveID)
+
+// surfaces: degree_u, degree_v, count_u, count_v, first point, first u parameter,
+//           first v parameter, v parameters (nv), first output sample, 3 x pad,
+//           the domain's ends u0, u1, v0, v1 as float bits
+#define SURFACE_INTS 16
+// patches: surface, span_u, span_v, u constants, v constants, u_begin, u_count, v_begin, v_count,
+//          level_u, level_v, pad, corners (u_lo,v_lo), (u_hi,v_lo), (u_lo,v_hi), (u_hi,v_hi),
+//          the next non-empty span in u and v (the span itself at the domain's end) and their
+//          constants (normals at the end knot)
+#define PATCH_INTS 20
+// adaptive capture: per slot u, v, x, y, z
+#define SLOT_FLOATS 5
+
+float surface_knot_u(int s, int end) { return intBitsToFloat(surfaces[s + 12 + end]); }
+float surface_knot_v(int s, int end) { return intBitsToFloat(surfaces[s + 14 + end]); }

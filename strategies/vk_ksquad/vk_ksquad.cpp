@@ -1,0 +1,992 @@
+// vk-ksquad (003 §2-4). Where the paper is ambiguous or D3D11-specific, and what we chose:
+//  * D3D11 hull / domain shaders -> Vulkan tessellation control / evaluation shaders; the
+//    paper's vertex buffer of KSQuad ids -> no vertex input at all: one vertex per patch and
+//    gl_PrimitiveID as the row of the Info-KSQuad table (003 Fig 8's first level of indirection;
+//    the surface table is the second).
+//  * "Per-KSQuad constant denominators computed once" (§3.2): computed once per non-empty span
+//    and direction on the host by the tested C++ stair_constants<float> (the same float
+//    arithmetic the device would do, correctly rounded divisions) and read from a storage buffer;
+//    KSQuads sharing a span share its constants.
+//  * Uniform mode samples the request's runs: the levels of a patch are the segment counts of
+//    its u and v runs, and the evaluation stage reads the requested parameter of the vertex it is
+//    given (ksquad.tese), so span-grid T gives the tessellator's (T+1)x(T+1) lattice per KSQuad
+//    -- DESIGN.md's span grid -- and a regular grid gives each KSQuad the sub-grid of samples in
+//    its spans. Runs past maxTessellationGenerationLevel are cut into several patches
+//    (patches.h), never clamped.
+//  * Capture: storage-buffer writes from the evaluation stage (vertexPipelineStoresAndAtomics),
+//    rasterization discarded; transform feedback would need a vertex order the tessellator does
+//    not specify.
+//  * Adaptive mode (003 §3.1, local area average): the KSQuad corners S(x_k, y_l) are KSQuad data
+//    computed once per scene on the host (the reference, rounded to float) into one table shared
+//    by the KSQuads meeting there; the control stage projects an edge's two corners with the
+//    camera and sets that edge's level alone from them (ksquad.tesc). One patch per KSQuad: a
+//    level past the cap (vk-max-level, at most maxTessellationGenerationLevel) is capped and
+//    counted (KsquadStatistics::capped_edges), not cut -- cutting would need the levels on the
+//    host before the draw.
+#include "strategies/vk_ksquad/vk_ksquad.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <tuple>
+
+#include "reference/nurbs_math.h"
+#include "strategies/cl_stair/stair_basis.h"
+#include "strategies/ksquad/ksquad_table.h"
+#include "strategies/strategy_options.h"
+#include "strategies/vk_ksquad/patches.h"
+#include "strategies/vk_ksquad/vk_ksquad_strategy.h"
+#include "strategies/vulkan/vk_device.h"
+
+namespace nurbs::embedded {
+extern const std::string_view vk_ksquad_vert;
+extern const std::string_view vk_ksquad_tesc;
+extern const std::string_view vk_ksquad_tese;
+extern const std::string_view vk_ksquad_frag;
+}  // namespace nurbs::embedded
+
+namespace nurbs {
+namespace {
+
+constexpr int kSurfaceInts = 16;  // ksquad_tables.glsl: SURFACE_INTS
+constexpr int kPatchInts = 20;    // ksquad_tables.glsl: PATCH_INTS
+constexpr int kSlotFloats = 5;    // ksquad_tables.glsl: SLOT_FLOATS
+constexpr int kConstantFloats = 119;
+static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
+              "stair_basis.glsl reads StairConstants<float> as 119 packed floats");
+constexpr int kBuffers = 9;
+
+// ksquad_tables.glsl: Mode (push constants).
+struct ModeConstants {
+  float view_projection[16];
+  float viewport[2];
+  float mu;
+  std::int32_t adaptive, max_level, region, normals, patch_base;
+};
+static_assert(sizeof(ModeConstants) == 96);
+
+std::vector<double> option_numbers(const StrategyOptions& options, const std::string& key,
+                                   std::size_t count, char separator) {
+  const auto it = options.extra.find(key);
+  if (it == options.extra.end() || it->second.empty()) return {};
+  std::vector<double> values;
+  std::size_t start = 0;
+  const std::string& text = it->second;
+  while (start <= text.size()) {
+    const std::size_t end = std::min(text.find(separator, start), text.size());
+    const std::string item = text.substr(start, end - start);
+    std::size_t used = 0;
+    double value = 0;
+    try {
+      value = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(value))
+      throw std::invalid_argument(
+          fmt::format("vk-ksquad option {} = '{}': expected {} numbers", key, text, count));
+    values.push_back(value);
+    start = end + 1;
+  }
+  if (values.size() != count)
+    throw std::invalid_argument(
+        fmt::format("vk-ksquad option {} = '{}': expected {} numbers", key, text, count));
+  return values;
+}
+
+// Column-major perspective(fov_y) * look_at(eye, center, up = +z, or +y when looking along z).
+std::array<float, 16> view_projection(const std::array<double, 3>& eye,
+                                      const std::array<double, 3>& center, double fov_y_deg,
+                                      double aspect, double near, double far) {
+  using V = std::array<double, 3>;
+  const auto sub = [](V a, V b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+  const auto cross = [](V a, V b) {
+    return V{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  const auto dot = [](V a, V b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  const auto unit = [&](V a) {
+    const double n = std::sqrt(dot(a, a));
+    return V{a[0] / n, a[1] / n, a[2] / n};
+  };
+  const V f = unit(sub(center, eye));
+  const V up = std::abs(f[2]) > 0.99 ? V{0, 1, 0} : V{0, 0, 1};
+  const V r = unit(cross(f, up));
+  const V u = cross(r, f);
+  const double t = 1.0 / std::tan(fov_y_deg * M_PI / 360.0);
+  // Vulkan depth in [0, 1] between near and far (render() only)
+  const double a = far / (far - near), b = -far * near / (far - near);
+  // rows of the product (w = distance along f; x, y, w are all the adaptive test uses)
+  const double rows[4][4] = {
+      {t / aspect * r[0], t / aspect * r[1], t / aspect * r[2], -t / aspect * dot(r, eye)},
+      {t * u[0], t * u[1], t * u[2], -t * dot(u, eye)},
+      {a * f[0], a * f[1], a * f[2], -a * dot(f, eye) + b},
+      {f[0], f[1], f[2], -dot(f, eye)}};
+  std::array<float, 16> m{};
+  for (int c = 0; c < 4; ++c)
+    for (int k = 0; k < 4; ++k) m[4 * c + k] = static_cast<float>(rows[k][c]);
+  return m;
+}
+
+// Adaptive mode's settings (StrategyOptions.extra): vk-mode = uniform|adaptive, vk-eye and
+// vk-center = "x,y,z" (default: the scene's bounding sphere seen from (1, 0.8, 0.6) at 2.5
+// radii), vk-fov = degrees (45), vk-viewport = "WxH" (1024x768), vk-mu = pixels (4),
+// vk-max-level = N (the device's maxTessellationGenerationLevel).
+struct AdaptiveSettings {
+  bool adaptive = false;
+  std::vector<double> eye, center, viewport;
+  double fov = 45, mu = 4;
+  int max_level = 0;
+};
+
+AdaptiveSettings adaptive_settings(const StrategyOptions& options) {
+  AdaptiveSettings a;
+  if (auto it = options.extra.find("vk-mode"); it != options.extra.end() && !it->second.empty()) {
+    if (it->second != "uniform" && it->second != "adaptive")
+      throw std::invalid_argument("vk-ksquad option vk-mode = '" + it->second +
+                                  "': must be uniform or adaptive");
+    a.adaptive = it->second == "adaptive";
+  }
+  a.eye = option_numbers(options, "vk-eye", 3, ',');
+  a.center = option_numbers(options, "vk-center", 3, ',');
+  a.viewport = option_numbers(options, "vk-viewport", 2, 'x');
+  if (a.viewport.empty()) a.viewport = {1024, 768};
+  if (auto fov = option_numbers(options, "vk-fov", 1, ','); !fov.empty()) a.fov = fov[0];
+  if (auto mu = option_numbers(options, "vk-mu", 1, ','); !mu.empty()) a.mu = mu[0];
+  if (a.mu <= 0 || a.fov <= 0 || a.fov >= 180 || a.viewport[0] < 1 || a.viewport[1] < 1)
+    throw std::invalid_argument("vk-ksquad: vk-mu, vk-fov and vk-viewport must be positive");
+  a.max_level = positive_option(options, "vk-max-level", "vk-ksquad");
+  return a;
+}
+constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
+constexpr VkShaderStageFlags kModeStages =
+    VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT;
+constexpr VkQueryPipelineStatisticFlags kStatistics =
+    VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_CONTROL_SHADER_PATCHES_BIT |
+    VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_EVALUATION_SHADER_INVOCATIONS_BIT;
+
+vulkan::Requirements ksquad_requirements() {
+  vulkan::Requirements r;
+  r.tessellation_shader = true;
+  r.vertex_pipeline_stores = true;
+  r.pipeline_statistics = true;
+  return r;
+}
+
+Capabilities ksquad_capabilities() {
+  Capabilities c;
+  c.max_degree = kStairMaxDegree;
+  c.normals = true;  // uniform mode: derivatives of the same stair basis (stair_derivative)
+  c.fp64 = false;    // Vulkan tessellation stages in float; shaderFloat64 is optional
+  c.sampling.explicit_list = false;  // not a tensor of runs
+  // In adaptive mode the tessellator chooses the samples (uniform mode returns the requested ones).
+  c.chooses_own_samples = true;
+  c.updates_control_points = true;  // re-uploads only the control points (and corners)
+  return c;
+}
+
+class VkKsquad final : public Strategy {
+ public:
+  VkKsquad(int device_index, const AdaptiveSettings& adaptive)
+      : device_(device_index, ksquad_requirements()),
+        queries_(device_, kStatistics),
+        adaptive_(adaptive) {
+    record_ = device_.record();
+    const int cap = static_cast<int>(device_.limits().maxTessellationGenerationLevel);
+    if (adaptive_.max_level == 0) adaptive_.max_level = cap;
+    if (adaptive_.max_level > cap)
+      throw std::invalid_argument(
+          fmt::format("vk-ksquad: vk-max-level {} exceeds maxTessellationGenerationLevel {}",
+                      adaptive_.max_level, cap));
+    if (adaptive_.adaptive) record_.details["vk_mode"] = "adaptive";
+    create_pipeline();
+  }
+  ~VkKsquad() override {
+    vkDeviceWaitIdle(device_.handle());
+    const VkDevice d = device_.handle();
+    for (const auto& pipelines : {capture_pipelines_, raster_pipelines_})
+      for (const auto& [degrees, pipeline] : pipelines) vkDestroyPipeline(d, pipeline, nullptr);
+    if (raster_framebuffer_) vkDestroyFramebuffer(d, raster_framebuffer_, nullptr);
+    if (raster_pass_) vkDestroyRenderPass(d, raster_pass_, nullptr);
+    if (framebuffer_) vkDestroyFramebuffer(d, framebuffer_, nullptr);
+    if (render_pass_) vkDestroyRenderPass(d, render_pass_, nullptr);
+    if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
+    if (pool_) vkDestroyDescriptorPool(d, pool_, nullptr);
+    if (set_layout_) vkDestroyDescriptorSetLayout(d, set_layout_, nullptr);
+  }
+
+  std::string_view name() const override { return "vk-ksquad"; }
+  Capabilities capabilities() const override { return ksquad_capabilities(); }
+  DeviceInfo device() const override { return record_; }
+
+  void prepare(const Scene& scene, const EvalRequest& request) override {
+    refuse_unsupported(name(), capabilities(), scene, request);
+    if (adaptive_.adaptive && request.normals)
+      throw RefusedError("vk-ksquad: normals are computed in uniform mode only");
+    request_ = request;
+    samples_ = sample_parameters(scene, request.sampling);
+    build_tables(scene);
+    upload_tables(scene);
+    for (const Draw& draw : draws_) pipeline_for(capture_pipelines_, false, draw);
+  }
+
+  void evaluate() override {
+    device_.submit_and_wait([&](VkCommandBuffer cb) {
+      if (adaptive_.adaptive) {
+        // Unwritten capture slots read back as NaN (a quiet NaN's bits in every word).
+        vkCmdFillBuffer(cb, positions_.handle(), 0, VK_WHOLE_SIZE, 0x7fc00000u);
+        VkMemoryBarrier filled{};
+        filled.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+        filled.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        filled.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT, 0, 1, &filled, 0,
+                             nullptr, 0, nullptr);
+      }
+      queries_.reset(cb);
+      queries_.begin(cb);
+      VkRenderPassBeginInfo begin{};
+      begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
+      begin.renderPass = render_pass_;
+      begin.framebuffer = framebuffer_;
+      begin.renderArea.extent = {1, 1};
+      vkCmdBeginRenderPass(cb, &begin, VK_SUBPASS_CONTENTS_INLINE);
+      record_draws(cb, capture_pipelines_);
+      vkCmdEndRenderPass(cb);
+      queries_.end(cb);
+      VkMemoryBarrier to_host{};
+      to_host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+      to_host.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+      to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+      vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT,
+                           VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
+                           &to_host, 0, nullptr, 0, nullptr);
+    });
+    evaluate_s_ = queries_.elapsed_s();
+    const auto counts = queries_.statistics();
+    stats_.control_patches = counts.size() > 0 ? counts[0] : 0;
+    stats_.evaluation_invocations = counts.size() > 1 ? counts[1] : 0;
+  }
+
+  EvalResult read_back() override {
+    if (adaptive_.adaptive) return read_back_adaptive();
+    std::vector<float> host(total_ * 3);
+    positions_.read(host.data(), host.size() * sizeof(float));
+    EvalResult out;
+    std::size_t base = 0;
+    for (const SurfaceSamples& s : samples_) {
+      SurfaceResult r;
+      r.samples = s;
+      r.positions = PointArray(Precision::f32, s.count());
+      std::memcpy(r.positions.f32(), host.data() + base * 3, s.count() * 3 * sizeof(float));
+      if (request_.normals) {
+        r.normals = PointArray(Precision::f32, s.count());
+        normals_.read(r.normals.f32(), s.count() * 3 * sizeof(float), base * 3 * sizeof(float));
+      }
+      base += s.count();
+      out.surfaces.push_back(std::move(r));
+    }
+    return out;
+  }
+
+  // Only the homogeneous control points change (same knots, degrees and samples): the tables
+  // and constants stay.
+  void update_control_points(const Scene& scene) override {
+    const std::vector<float> points = homogeneous_points(scene);
+    if (points.size() * sizeof(float) != points_.size())
+      throw std::invalid_argument("vk-ksquad: update_control_points changed the control nets");
+    points_.write(points.data(), points.size() * sizeof(float));
+    if (adaptive_.adaptive) {  // the corners move with the points
+      corners_ = corner_table(scene);
+      corners_buf_.write(corners_.data(), corners_.size() * sizeof(float));
+    }
+  }
+
+  DeviceTimes device_times() const override { return {evaluate_s_}; }
+
+  // 003 §4 end to end: the same patches drawn with rasterization into an offscreen image (the
+  // camera of the adaptive settings; fitted to the scene by default), positions never stored.
+  // Returns when the device is done; the runner times it as the `render` phase.
+  bool render() override {
+    if (!raster_pass_) create_raster_target();
+    for (const Draw& draw : draws_) pipeline_for(raster_pipelines_, true, draw);
+    device_.submit_and_wait([&](VkCommandBuffer cb) {
+      VkClearValue clear[2] = {};
+      clear[0].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
+      clear[1].depthStencil = {1.0f, 0};
+      VkRenderPassBeginInfo begin{};
+      begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
+      begin.renderPass = raster_pass_;
+      begin.framebuffer = raster_framebuffer_;
+      begin.renderArea.extent = {image_width(), image_height()};
+      begin.clearValueCount = 2;
+      begin.pClearValues = clear;
+      vkCmdBeginRenderPass(cb, &begin, VK_SUBPASS_CONTENTS_INLINE);
+      record_draws(cb, raster_pipelines_);
+      vkCmdEndRenderPass(cb);
+    });
+    return true;
+  }
+
+  // Tests: pixels of the last render() that are not the clear colour.
+  std::size_t rendered_pixels() const {
+    if (!color_) return 0;
+    const std::size_t pixels = std::size_t{image_width()} * image_height();
+    vulkan::Buffer staging(device_, pixels * 4, 0, "rendered image");
+    device_.submit_and_wait([&](VkCommandBuffer cb) {
+      VkBufferImageCopy region{};
+      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      region.imageExtent = {image_width(), image_height(), 1};
+      vkCmdCopyImageToBuffer(cb, color_->handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                             staging.handle(), 1, &region);
+    });
+    std::vector<std::uint32_t> rgba(pixels);
+    staging.read(rgba.data(), pixels * 4);
+    return static_cast<std::size_t>(
+        std::count_if(rgba.begin(), rgba.end(), [](std::uint32_t p) { return p != 0; }));
+  }
+
+  // Adaptive mode: the levels the control stage chose, read back from its storage buffer.
+  KsquadStatistics statistics() const {
+    KsquadStatistics st = stats_;
+    if (!adaptive_.adaptive || patch_count_ == 0) return st;
+    std::vector<float> levels(8 * patch_count_);
+    levels_.read(levels.data(), levels.size() * sizeof(float));
+    st.implied_vertices = 0;
+    st.max_level = 0;
+    for (std::size_t k = 0; k < patch_count_; ++k) {
+      const float* o = &levels[8 * k];
+      const int i0 = static_cast<int>(std::max({o[1], o[3], 2.0f}));
+      const int i1 = static_cast<int>(std::max({o[0], o[2], 2.0f}));
+      st.implied_vertices += static_cast<std::uint64_t>(o[0] + o[1] + o[2] + o[3]) +
+                             static_cast<std::uint64_t>(i0 - 1) * (i1 - 1);
+      for (int e = 0; e < 4; ++e) {
+        st.max_level = std::max(st.max_level, static_cast<int>(o[e]));
+        st.capped_edges += o[4 + e] > o[e];
+      }
+    }
+    return st;
+  }
+
+  // Adaptive mode: every captured vertex on each KSQuad's four edges, keyed by the edge.
+  std::vector<CapturedEdge> captured_edges() const {
+    std::vector<CapturedEdge> edges;
+    if (!adaptive_.adaptive) return edges;
+    const std::vector<float> slots = read_slots();
+    const int per_edge = adaptive_.max_level + 1;
+    for (std::size_t k = 0; k < patch_count_; ++k) {
+      const int* row = &patches_[kPatchInts * k];
+      const float* c_u = &constants_[row[3]];
+      const float* c_v = &constants_[row[4]];
+      const int pu = surfaces_[kSurfaceInts * row[0]], pv = surfaces_[kSurfaceInts * row[0] + 1];
+      const float u0 = c_u[pu - 1], u1 = c_u[pu], v0 = c_v[pv - 1], v1 = c_v[pv];
+      // outer edge e: u = u0 (0), v = v0 (1), u = u1 (2), v = v1 (3)
+      const CapturedEdge keys[4] = {{row[0], 0, u0, v0, v1, {}},
+                                    {row[0], 1, v0, u0, u1, {}},
+                                    {row[0], 0, u1, v0, v1, {}},
+                                    {row[0], 1, v1, u0, u1, {}}};
+      // A corner's slot is on one edge only (ksquad.tese: adaptive_slot); an edge holds every
+      // edge-slot vertex whose (u, v) lies on it (t = 0 and 1 give the knots exactly).
+      std::vector<std::array<float, 5>> ring;
+      for (int j = 0; j < 4 * per_edge; ++j) {
+        const float* slot = &slots[kSlotFloats * (k * region_ + j)];
+        if (!std::isnan(slot[0])) ring.push_back({slot[0], slot[1], slot[2], slot[3], slot[4]});
+      }
+      for (int e = 0; e < 4; ++e) {
+        CapturedEdge edge = keys[e];
+        for (const auto& vertex : ring)
+          if (vertex[edge.direction] == edge.fixed) edge.vertices.push_back(vertex);
+        edges.push_back(std::move(edge));
+      }
+    }
+    return edges;
+  }
+
+ private:
+  static std::vector<float> homogeneous_points(const Scene& scene) {
+    std::vector<float> points;
+    for (const Surface& s : scene.surfaces) {
+      const SurfaceNet<float> net(s);
+      for (const Vec4<float>& h : net.homogeneous) points.insert(points.end(), h.begin(), h.end());
+    }
+    return points;
+  }
+
+  std::vector<float> read_slots() const {
+    std::vector<float> slots(patch_count_ * region_ * kSlotFloats);
+    positions_.read(slots.data(), slots.size() * sizeof(float));
+    return slots;
+  }
+
+  EvalResult read_back_adaptive() {
+    const std::vector<float> slots = read_slots();
+    EvalResult out;
+    out.surfaces.resize(surface_count_);
+    for (SurfaceResult& r : out.surfaces) r.samples.tensor = false;
+    std::vector<std::vector<float>> xyz(surface_count_);
+    for (std::size_t k = 0; k < patch_count_; ++k) {
+      const int surface = patches_[kPatchInts * k];
+      for (std::size_t j = 0; j < region_; ++j) {
+        const float* slot = &slots[kSlotFloats * (k * region_ + j)];
+        if (std::isnan(slot[0])) continue;
+        out.surfaces[surface].samples.u.push_back(slot[0]);
+        out.surfaces[surface].samples.v.push_back(slot[1]);
+        xyz[surface].insert(xyz[surface].end(), slot + 2, slot + 5);
+      }
+    }
+    for (std::size_t i = 0; i < surface_count_; ++i) {
+      SurfaceResult& r = out.surfaces[i];
+      r.positions = PointArray(Precision::f32, r.samples.count());
+      std::memcpy(r.positions.f32(), xyz[i].data(), xyz[i].size() * sizeof(float));
+    }
+    return out;
+  }
+
+  // The adaptive camera: given, or fitted to the scene's control-point bounding sphere.
+  void set_mode(const Scene& scene) {
+    mode_ = {};
+    mode_.adaptive = adaptive_.adaptive ? 1 : 0;
+    mode_.max_level = adaptive_.max_level;
+    mode_.region = static_cast<std::int32_t>(region_);
+    mode_.normals = request_.normals ? 1 : 0;
+    mode_.mu = static_cast<float>(adaptive_.mu);
+    mode_.viewport[0] = static_cast<float>(adaptive_.viewport[0]);
+    mode_.viewport[1] = static_cast<float>(adaptive_.viewport[1]);
+    std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const Surface& s : scene.surfaces)
+      for (const auto& p : s.points)
+        for (int c = 0; c < 3; ++c) {
+          lo[c] = std::min(lo[c], p[c]);
+          hi[c] = std::max(hi[c], p[c]);
+        }
+    std::array<double, 3> center{}, eye{};
+    const double radius =
+        0.5 * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    const double dir[3] = {1 / std::sqrt(2.0), 0.8 / std::sqrt(2.0), 0.6 / std::sqrt(2.0)};
+    for (int c = 0; c < 3; ++c) {
+      center[c] = adaptive_.center.empty() ? 0.5 * (lo[c] + hi[c]) : adaptive_.center[c];
+      eye[c] = adaptive_.eye.empty() ? center[c] + 2.5 * std::max(radius, 1e-30) * dir[c]
+                                     : adaptive_.eye[c];
+    }
+    double distance = 0;
+    for (int c = 0; c < 3; ++c)
+      distance += (eye[c] - 0.5 * (lo[c] + hi[c])) * (eye[c] - 0.5 * (lo[c] + hi[c]));
+    distance = std::sqrt(distance);
+    const double far = distance + 1.5 * radius + 1e-30;
+    const double near = std::max(distance - 1.5 * radius, 1e-4 * far);
+    const auto m = view_projection(eye, center, adaptive_.fov,
+                                   adaptive_.viewport[0] / adaptive_.viewport[1], near, far);
+    std::copy(m.begin(), m.end(), mode_.view_projection);
+  }
+
+  // One corner per (distinct knot value in u, distinct knot value in v) of each surface's domain:
+  // S(x_k, y_l) by the reference, rounded to float; corner_index_ maps (surface, first knot index
+  // of the u value, first knot index of the v value) to its row.
+  std::vector<float> corner_table(const Scene& scene) {
+    std::vector<float> corners;
+    corner_index_.clear();
+    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+      const Surface& s = scene.surfaces[i];
+      const SurfaceNet<double> net(s);
+      const auto breaks = [](const std::vector<double>& k, int p, int n) {
+        std::vector<int> at;  // first knot index of each distinct value in [k_p, k_n]
+        for (int a = p; a <= n; ++a)
+          if (a == p || k[a] > k[a - 1]) at.push_back(a);
+        return at;
+      };
+      for (int a : breaks(s.knots_u, s.degree_u, s.count_u))
+        for (int b : breaks(s.knots_v, s.degree_v, s.count_v)) {
+          const Vec3<double> p = surface_point(net, s.knots_u[a], s.knots_v[b]);
+          corner_index_[{static_cast<int>(i), a, b}] = static_cast<int>(corners.size() / 4);
+          corners.insert(corners.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]),
+                                         static_cast<float>(p[2]), 1.0f});
+        }
+    }
+    return corners;
+  }
+
+  // The corner at (knots_u[a], knots_v[b]), found by the first knot index of each value.
+  int corner(const Surface& s, int surface, int a, int b) const {
+    while (a > s.degree_u && s.knots_u[a - 1] == s.knots_u[a]) --a;
+    while (b > s.degree_v && s.knots_v[b - 1] == s.knots_v[b]) --b;
+    return corner_index_.at({surface, a, b});
+  }
+
+  // Surface table, per-span stair constants and the Info-KSQuad table (one row per patch).
+  void build_tables(const Scene& scene) {
+    surfaces_.clear();
+    patches_.clear();
+    constants_.clear();
+    params_.clear();
+    std::size_t out_base = 0, point_base = 0;
+    std::vector<int> param_u(scene.surfaces.size()), param_v(scene.surfaces.size());
+    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+      const Surface& s = scene.surfaces[i];
+      const SurfaceSamples& sm = samples_[i];
+      param_u[i] = static_cast<int>(params_.size());
+      for (double u : sm.u) params_.push_back(static_cast<float>(u));
+      param_v[i] = static_cast<int>(params_.size());
+      for (double v : sm.v) params_.push_back(static_cast<float>(v));
+      const int rec[kSurfaceInts] = {s.degree_u,
+                                     s.degree_v,
+                                     s.count_u,
+                                     s.count_v,
+                                     static_cast<int>(point_base),
+                                     param_u[i],
+                                     param_v[i],
+                                     static_cast<int>(sm.v.size()),
+                                     static_cast<int>(out_base),
+                                     0,
+                                     0,
+                                     0,
+                                     std::bit_cast<int>(static_cast<float>(s.u_min())),
+                                     std::bit_cast<int>(static_cast<float>(s.u_max())),
+                                     std::bit_cast<int>(static_cast<float>(s.v_min())),
+                                     std::bit_cast<int>(static_cast<float>(s.v_max()))};
+      surfaces_.insert(surfaces_.end(), rec, rec + kSurfaceInts);
+      point_base += s.points.size();
+      out_base += sm.count();
+    }
+    total_ = out_base;
+    // (surface, direction, span) -> offset of its constants in floats.
+    std::map<std::tuple<int, int, int>, int> constant_of;
+    const auto constants = [&](int surface, int direction, int span) {
+      const auto key = std::make_tuple(surface, direction, span);
+      if (auto it = constant_of.find(key); it != constant_of.end()) return it->second;
+      const Surface& s = scene.surfaces[surface];
+      const std::vector<double>& k64 = direction == 0 ? s.knots_u : s.knots_v;
+      const std::vector<float> k32(k64.begin(), k64.end());
+      StairConstants<float> c{};
+      stair_constants(span, direction == 0 ? s.degree_u : s.degree_v, k32.data(), c);
+      const int offset = static_cast<int>(constants_.size());
+      const float* f = reinterpret_cast<const float*>(&c);
+      constants_.insert(constants_.end(), f, f + kConstantFloats);
+      constant_of.emplace(key, offset);
+      return offset;
+    };
+    const int cap = static_cast<int>(device_.limits().maxTessellationGenerationLevel);
+    stats_ = {};
+    stats_.level_cap = adaptive_.adaptive ? adaptive_.max_level : cap;
+    surface_count_ = scene.surfaces.size();
+    // Adaptive: one patch per KSQuad of the span grid (the tessellator chooses the samples).
+    Sampling one_per_span;
+    one_per_span.mode = SamplingMode::span_grid;
+    one_per_span.span_steps = 1;
+    const auto quads = adaptive_.adaptive
+                           ? ksquad::build_ksquads<float>(
+                                 scene, sample_parameters(scene, one_per_span), one_per_span)
+                           : ksquad::build_ksquads<float>(scene, samples_, request_.sampling);
+    if (adaptive_.adaptive) corner_index_.clear();
+    const std::vector<float> corner_rows =
+        adaptive_.adaptive ? corner_table(scene) : std::vector<float>{};
+    corners_ = corner_rows;
+    for (const ksquad::KSQuad& q : quads) {
+      const Surface& s = scene.surfaces[q.surface];
+      const int cu = constants(q.surface, 0, q.u.span), cv = constants(q.surface, 1, q.v.span);
+      int c[4] = {0, 0, 0, 0};
+      if (adaptive_.adaptive)
+        for (int k = 0; k < 4; ++k)
+          c[k] = corner(s, q.surface, q.u.span + (k & 1), q.v.span + (k >> 1));
+      // A2.1 puts a span's end knot in the next non-empty span (the last span keeps the end).
+      const auto next_span = [](const std::vector<double>& k, int span, int count) {
+        for (int t = span + 1; t < count; ++t)
+          if (k[t] < k[t + 1]) return t;
+        return span;
+      };
+      const int next_u = next_span(s.knots_u, q.u.span, s.count_u);
+      const int next_v = next_span(s.knots_v, q.v.span, s.count_v);
+      const int cu_next = constants(q.surface, 0, next_u);
+      const int cv_next = constants(q.surface, 1, next_v);
+      const int piece_cap = adaptive_.adaptive ? std::numeric_limits<int>::max() : cap;
+      for (const ksquad::SpanRun& a : vk_ksquad::split_run(q.u, piece_cap))
+        for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, piece_cap)) {
+          const int lu = vk_ksquad::run_level(a), lv = vk_ksquad::run_level(b);
+          const int row[kPatchInts] = {
+              q.surface, q.u.span, q.v.span, cu,   cv,   a.begin, a.count, b.begin, b.count, lu, lv,
+              0,         c[0],     c[1],     c[2], c[3], next_u,  next_v,  cu_next, cv_next};
+          patches_.insert(patches_.end(), row, row + kPatchInts);
+          stats_.implied_vertices += vk_ksquad::quad_domain_vertices(lu, lv);
+          stats_.max_level = std::max({stats_.max_level, lu, lv});
+        }
+    }
+    // Grouped by degree pair, one draw (and one specialised pipeline) each.
+    std::vector<std::array<int, kPatchInts>> rows(patches_.size() / kPatchInts);
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      std::copy_n(&patches_[kPatchInts * k], kPatchInts, rows[k].begin());
+    const auto degrees = [&](const std::array<int, kPatchInts>& row) {
+      const Surface& s = scene.surfaces[row[0]];
+      return std::make_pair(s.degree_u, s.degree_v);
+    };
+    std::stable_sort(rows.begin(), rows.end(),
+                     [&](const auto& a, const auto& b) { return degrees(a) < degrees(b); });
+    draws_.clear();
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      std::copy(rows[k].begin(), rows[k].end(), &patches_[kPatchInts * k]);
+      const auto [du, dv] = degrees(rows[k]);
+      if (draws_.empty() || draws_.back().du != du || draws_.back().dv != dv)
+        draws_.push_back({du, dv, static_cast<std::uint32_t>(k), 0});
+      ++draws_.back().count;
+    }
+    patch_count_ = rows.size();
+    stats_.patches_drawn = patch_count_;
+  }
+
+  template <typename V>
+  vulkan::Buffer storage(const std::vector<V>& data, const char* what) {
+    vulkan::Buffer b(device_, data.size() * sizeof(V), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, what);
+    b.write(data.data(), data.size() * sizeof(V));
+    return b;
+  }
+
+  void upload_tables(const Scene& scene) {
+    const int level = adaptive_.max_level;
+    region_ = adaptive_.adaptive
+                  ? static_cast<std::size_t>(4 * (level + 1) + (level - 1) * (level - 1))
+                  : 0;
+    set_mode(scene);
+    const std::size_t output_floats =
+        adaptive_.adaptive ? patch_count_ * region_ * kSlotFloats : total_ * 3;
+    corners_buf_ = storage(corners_, "KSQuad corners");
+    levels_ = vulkan::Buffer(device_, 8 * patch_count_ * sizeof(float),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chosen levels");
+    surfaces_buf_ = storage(surfaces_, "surface table");
+    patches_buf_ = storage(patches_, "Info-KSQuad table");
+    constants_buf_ = storage(constants_, "stair constants");
+    points_ = storage(homogeneous_points(scene), "control points");
+    params_buf_ = storage(params_, "parameters");
+    positions_ = vulkan::Buffer(device_, output_floats * sizeof(float),
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output positions");
+    normals_ = vulkan::Buffer(device_, (request_.normals ? total_ * 3 : 0) * sizeof(float),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output normals");
+    const vulkan::Buffer* buffers[kBuffers] = {&surfaces_buf_, &patches_buf_, &constants_buf_,
+                                               &points_,       &params_buf_,  &positions_,
+                                               &corners_buf_,  &levels_,      &normals_};
+    std::array<VkDescriptorBufferInfo, kBuffers> infos{};
+    std::array<VkWriteDescriptorSet, kBuffers> writes{};
+    for (int k = 0; k < kBuffers; ++k) {
+      infos[k] = {buffers[k]->handle(), 0, VK_WHOLE_SIZE};
+      writes[k] = {};
+      writes[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+      writes[k].dstSet = set_;
+      writes[k].dstBinding = static_cast<std::uint32_t>(k);
+      writes[k].descriptorCount = 1;
+      writes[k].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      writes[k].pBufferInfo = &infos[k];
+    }
+    vkUpdateDescriptorSets(device_.handle(), kBuffers, writes.data(), 0, nullptr);
+  }
+
+  // Once per strategy (STYLE.md: compiled shaders are created once, never in evaluate()).
+  void create_pipeline() {
+    const VkDevice d = device_.handle();
+    std::array<VkDescriptorSetLayoutBinding, kBuffers> bindings{};
+    for (int k = 0; k < kBuffers; ++k)
+      bindings[k] = {
+          static_cast<std::uint32_t>(k), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
+          VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT,
+          nullptr};
+    VkDescriptorSetLayoutCreateInfo set_info{};
+    set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+    set_info.bindingCount = kBuffers;
+    set_info.pBindings = bindings.data();
+    vulkan::check(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &set_layout_),
+                  "vkCreateDescriptorSetLayout");
+    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBuffers};
+    VkDescriptorPoolCreateInfo pool_info{};
+    pool_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    pool_info.maxSets = 1;
+    pool_info.poolSizeCount = 1;
+    pool_info.pPoolSizes = &size;
+    vulkan::check(vkCreateDescriptorPool(d, &pool_info, nullptr, &pool_), "vkCreateDescriptorPool");
+    VkDescriptorSetAllocateInfo alloc{};
+    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+    alloc.descriptorPool = pool_;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &set_layout_;
+    vulkan::check(vkAllocateDescriptorSets(d, &alloc, &set_), "vkAllocateDescriptorSets");
+    VkPipelineLayoutCreateInfo layout_info{};
+    layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+    layout_info.setLayoutCount = 1;
+    layout_info.pSetLayouts = &set_layout_;
+    const VkPushConstantRange push{kModeStages, 0, sizeof(ModeConstants)};
+    layout_info.pushConstantRangeCount = 1;
+    layout_info.pPushConstantRanges = &push;
+    vulkan::check(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_),
+                  "vkCreatePipelineLayout");
+
+    // Capture only: a render pass without attachments, rasterization discarded.
+    VkSubpassDescription subpass{};
+    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    VkRenderPassCreateInfo rp{};
+    rp.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
+    rp.subpassCount = 1;
+    rp.pSubpasses = &subpass;
+    vulkan::check(vkCreateRenderPass(d, &rp, nullptr, &render_pass_), "vkCreateRenderPass");
+    VkFramebufferCreateInfo fb{};
+    fb.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
+    fb.renderPass = render_pass_;
+    fb.width = 1;
+    fb.height = 1;
+    fb.layers = 1;
+    vulkan::check(vkCreateFramebuffer(d, &fb, nullptr, &framebuffer_), "vkCreateFramebuffer");
+  }
+
+  // One draw per degree pair: patches [first, first + count) of the Info-KSQuad table.
+  struct Draw {
+    int du = 0, dv = 0;
+    std::uint32_t first = 0, count = 0;
+  };
+  using Pipelines = std::map<std::pair<int, int>, VkPipeline>;
+
+  VkPipeline pipeline_for(Pipelines& pipelines, bool raster, const Draw& draw) {
+    auto& pipeline = pipelines[{draw.du, draw.dv}];
+    if (!pipeline)
+      pipeline = make_pipeline(raster, raster ? raster_pass_ : render_pass_, draw.du, draw.dv);
+    return pipeline;
+  }
+
+  void record_draws(VkCommandBuffer cb, const Pipelines& pipelines) {
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
+    for (const Draw& draw : draws_) {
+      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.at({draw.du, draw.dv}));
+      ModeConstants mode = mode_;
+      mode.patch_base = static_cast<std::int32_t>(draw.first);
+      vkCmdPushConstants(cb, layout_, kModeStages, 0, sizeof mode, &mode);
+      vkCmdDraw(cb, draw.count, 1, 0, 0);
+    }
+  }
+
+  // Capture (rasterization discarded) or raster (the evaluation stage's kRaster = 1, a fragment
+  // stage, depth test, the viewport of the adaptive settings).
+  VkPipeline make_pipeline(bool raster, VkRenderPass pass, int du, int dv) const {
+    const VkDevice d = device_.handle();
+    struct Modules {
+      VkDevice d;
+      VkShaderModule m[4];
+      ~Modules() {
+        for (VkShaderModule x : m)
+          if (x) vkDestroyShaderModule(d, x, nullptr);
+      }
+    } modules{d,
+              {device_.shader_module(embedded::vk_ksquad_vert),
+               device_.shader_module(embedded::vk_ksquad_tesc),
+               device_.shader_module(embedded::vk_ksquad_tese),
+               raster ? device_.shader_module(embedded::vk_ksquad_frag) : VK_NULL_HANDLE}};
+    const VkShaderStageFlagBits stage_bits[4] = {
+        VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
+        VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, VK_SHADER_STAGE_FRAGMENT_BIT};
+    // ksquad.tese: kRaster, kDegreeU, kDegreeV
+    const std::int32_t constants[3] = {raster ? 1 : 0, du, dv};
+    const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
+    VkSpecializationInfo specialization{};
+    specialization.mapEntryCount = 3;
+    specialization.pMapEntries = entries;
+    specialization.dataSize = sizeof constants;
+    specialization.pData = constants;
+    std::array<VkPipelineShaderStageCreateInfo, 4> stages{};
+    for (int k = 0; k < 4; ++k) {
+      stages[k] = {};
+      stages[k].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+      stages[k].stage = stage_bits[k];
+      stages[k].module = modules.m[k];
+      stages[k].pName = "main";
+    }
+    stages[2].pSpecializationInfo = &specialization;
+    VkPipelineVertexInputStateCreateInfo vertex_input{};
+    vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
+    VkPipelineInputAssemblyStateCreateInfo assembly{};
+    assembly.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO;
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
+    VkPipelineTessellationStateCreateInfo tessellation{};
+    tessellation.sType = VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO;
+    tessellation.patchControlPoints = 1;
+    VkPipelineRasterizationStateCreateInfo rasterization{};
+    rasterization.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
+    rasterization.rasterizerDiscardEnable = raster ? VK_FALSE : VK_TRUE;
+    rasterization.polygonMode = VK_POLYGON_MODE_FILL;
+    rasterization.cullMode = VK_CULL_MODE_NONE;
+    rasterization.lineWidth = 1.0f;
+    const VkViewport viewport{
+        0, 0, static_cast<float>(image_width()), static_cast<float>(image_height()), 0, 1};
+    const VkRect2D scissor{{0, 0}, {image_width(), image_height()}};
+    VkPipelineViewportStateCreateInfo viewport_state{};
+    viewport_state.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO;
+    viewport_state.viewportCount = 1;
+    viewport_state.pViewports = &viewport;
+    viewport_state.scissorCount = 1;
+    viewport_state.pScissors = &scissor;
+    VkPipelineMultisampleStateCreateInfo multisample{};
+    multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{};
+    depth.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO;
+    depth.depthTestEnable = VK_TRUE;
+    depth.depthWriteEnable = VK_TRUE;
+    depth.depthCompareOp = VK_COMPARE_OP_LESS;
+    VkPipelineColorBlendAttachmentState blend_attachment{};
+    blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                      VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{};
+    blend.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO;
+    blend.attachmentCount = 1;
+    blend.pAttachments = &blend_attachment;
+    VkGraphicsPipelineCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO;
+    info.stageCount = raster ? 4 : 3;
+    info.pStages = stages.data();
+    info.pVertexInputState = &vertex_input;
+    info.pInputAssemblyState = &assembly;
+    info.pTessellationState = &tessellation;
+    info.pRasterizationState = &rasterization;
+    if (raster) {
+      info.pViewportState = &viewport_state;
+      info.pMultisampleState = &multisample;
+      info.pDepthStencilState = &depth;
+      info.pColorBlendState = &blend;
+    }
+    info.layout = layout_;
+    info.renderPass = pass;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    vulkan::check(vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
+                  "vkCreateGraphicsPipelines");
+    return pipeline;
+  }
+
+  std::uint32_t image_width() const { return static_cast<std::uint32_t>(adaptive_.viewport[0]); }
+  std::uint32_t image_height() const { return static_cast<std::uint32_t>(adaptive_.viewport[1]); }
+
+  // The render target of render(), made on its first call: RGBA8 colour (copied out by tests),
+  // 32-bit depth, a render pass clearing both, and the raster pipeline.
+  void create_raster_target() {
+    const VkDevice d = device_.handle();
+    color_ = std::make_unique<vulkan::Image>(
+        device_, kColorFormat,
+        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+        VK_IMAGE_ASPECT_COLOR_BIT, image_width(), image_height());
+    depth_ = std::make_unique<vulkan::Image>(
+        device_, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+        VK_IMAGE_ASPECT_DEPTH_BIT, image_width(), image_height());
+    VkAttachmentDescription attachments[2] = {};
+    attachments[0].format = kColorFormat;
+    attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
+    attachments[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    attachments[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    attachments[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    attachments[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    attachments[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    attachments[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    attachments[1] = attachments[0];
+    attachments[1].format = VK_FORMAT_D32_SFLOAT;
+    attachments[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    attachments[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+    const VkAttachmentReference color_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+    const VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+    VkSubpassDescription subpass{};
+    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    subpass.colorAttachmentCount = 1;
+    subpass.pColorAttachments = &color_ref;
+    subpass.pDepthStencilAttachment = &depth_ref;
+    VkRenderPassCreateInfo rp{};
+    rp.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
+    rp.attachmentCount = 2;
+    rp.pAttachments = attachments;
+    rp.subpassCount = 1;
+    rp.pSubpasses = &subpass;
+    vulkan::check(vkCreateRenderPass(d, &rp, nullptr, &raster_pass_), "vkCreateRenderPass");
+    const VkImageView views[2] = {color_->view(), depth_->view()};
+    VkFramebufferCreateInfo fb{};
+    fb.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
+    fb.renderPass = raster_pass_;
+    fb.attachmentCount = 2;
+    fb.pAttachments = views;
+    fb.width = image_width();
+    fb.height = image_height();
+    fb.layers = 1;
+    vulkan::check(vkCreateFramebuffer(d, &fb, nullptr, &raster_framebuffer_),
+                  "vkCreateFramebuffer");
+  }
+
+  vulkan::Device device_;
+  vulkan::QueryPools queries_;
+  DeviceInfo record_;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkRenderPass render_pass_ = VK_NULL_HANDLE;
+  VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
+  Pipelines capture_pipelines_, raster_pipelines_;  // created once per degree pair, kept
+  std::vector<Draw> draws_;
+  std::unique_ptr<vulkan::Image> color_, depth_;
+  VkRenderPass raster_pass_ = VK_NULL_HANDLE;
+  VkFramebuffer raster_framebuffer_ = VK_NULL_HANDLE;
+
+  EvalRequest request_;
+  std::vector<SurfaceSamples> samples_;
+  std::vector<int> surfaces_, patches_;
+  std::vector<float> constants_, params_;
+  std::vector<float> corners_;
+  vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_,
+      corners_buf_, levels_, normals_;
+  std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
+  AdaptiveSettings adaptive_;
+  ModeConstants mode_{};
+  std::map<std::array<int, 3>, int> corner_index_;
+  std::optional<double> evaluate_s_;
+  KsquadStatistics stats_;
+};
+
+}  // namespace
+
+std::unique_ptr<Strategy> make_vk_ksquad(const StrategyOptions& options) {
+  try {
+    return std::make_unique<VkKsquad>(vulkan::device_option(options), adaptive_settings(options));
+  } catch (const vulkan::MissingFeature& e) {
+    throw std::runtime_error(std::string("unavailable: ") + e.what());
+  }
+}
+
+namespace {
+const VkKsquad& as_vk_ksquad(const Strategy& strategy) {
+  const auto* vk = dynamic_cast<const VkKsquad*>(&strategy);
+  if (!vk) throw std::invalid_argument("not a vk-ksquad strategy");
+  return *vk;
+}
+}  // namespace
+
+KsquadStatistics ksquad_statistics(const Strategy& strategy) {
+  return as_vk_ksquad(strategy).statistics();
+}
+
+std::vector<CapturedEdge> ksquad_captured_edges(const Strategy& strategy) {
+  return as_vk_ksquad(strategy).captured_edges();
+}
+
+bool ksquad_render(Strategy& strategy) {
+  return const_cast<VkKsquad&>(as_vk_ksquad(strategy)).render();
+}
+
+std::size_t ksquad_rendered_pixels(const Strategy& strategy) {
+  return as_vk_ksquad(strategy).rendered_pixels();
+}
+
+StrategyEntry vk_ksquad_entry() {
+  return {"vk-ksquad",
+          "003 §2-4 (RPNS 2014): KSQuads in Vulkan tessellation stages, stair basis",
+          "strategy",
+          [] { return vulkan::probe(ksquad_requirements()); },
+          ksquad_capabilities,
+          make_vk_ksquad};
+}
+
+}  // namespace nurbs

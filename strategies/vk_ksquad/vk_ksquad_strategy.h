@@ -1,0 +1,44 @@
+// vk-ksquad's strategy object, for tests that look past the Strategy contract (pipeline
+// statistics, the captured mesh). Vulkan builds only; the harness uses vk_ksquad_entry().
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "strategies/strategy.h"
+
+namespace nurbs {
+
+// The last evaluate(): what the pipeline statistics counted and what the chosen levels imply.
+struct KsquadStatistics {
+  std::uint64_t patches_drawn = 0;           // rows of the Info-KSQuad table
+  std::uint64_t control_patches = 0;         // pipeline statistics: TCS patches
+  std::uint64_t evaluation_invocations = 0;  // pipeline statistics: TES invocations (KSDice)
+  std::uint64_t implied_vertices = 0;        // sum over patches of the levels' vertex count
+  int max_level = 0;                         // largest level set
+  int level_cap = 0;  // uniform: maxTessellationGenerationLevel; adaptive: vk-max-level
+  std::uint64_t capped_edges = 0;  // adaptive: edges that wanted more than level_cap
+};
+
+// Adaptive mode: the captured vertices (u, v, x, y, z) of one outer edge of one KSQuad, keyed by
+// the edge: `direction` 0 = u fixed at `fixed`, v in [lo, hi]; 1 = v fixed, u in [lo, hi].
+struct CapturedEdge {
+  int surface = 0, direction = 0;
+  float fixed = 0, lo = 0, hi = 0;
+  std::vector<std::array<float, 5>> vertices;
+};
+
+std::unique_ptr<Strategy> make_vk_ksquad(const StrategyOptions& options);
+// `strategy` must come from make_vk_ksquad; throws std::invalid_argument otherwise.
+KsquadStatistics ksquad_statistics(const Strategy& strategy);
+// After evaluate() in adaptive mode (empty in uniform mode).
+std::vector<CapturedEdge> ksquad_captured_edges(const Strategy& strategy);
+// Draws the prepared patches into the offscreen image (003 §4 end to end; timed as `render`
+// where the runner has that phase); the pixels the last render() covered.
+bool ksquad_render(Strategy& strategy);
+std::size_t ksquad_rendered_pixels(const Strategy& strategy);
+
+}  // namespace nurbs

@@ -1,0 +1,512 @@
+#include "strategies/vulkan/vk_device.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <stdexcept>
+#include <utility>
+
+namespace nurbs::vulkan {
+namespace {
+
+constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+
+[[maybe_unused]] bool layer_installed(const char* name) {
+  std::uint32_t n = 0;
+  if (vkEnumerateInstanceLayerProperties(&n, nullptr) != VK_SUCCESS) return false;
+  std::vector<VkLayerProperties> layers(n);
+  vkEnumerateInstanceLayerProperties(&n, layers.data());
+  return std::any_of(layers.begin(), layers.end(), [&](const VkLayerProperties& l) {
+    return std::strcmp(l.layerName, name) == 0;
+  });
+}
+
+// Validation in debug builds only (it costs more than the work it checks); never required.
+VkInstance create_instance(bool& validation) {
+  VkApplicationInfo app{};
+  app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
+  app.pApplicationName = "nurbsbench";
+  app.apiVersion = VK_API_VERSION_1_1;
+  VkInstanceCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
+  info.pApplicationInfo = &app;
+#ifndef NDEBUG
+  validation = layer_installed(kValidationLayer);
+#else
+  validation = false;
+#endif
+  if (validation) {
+    info.enabledLayerCount = 1;
+    info.ppEnabledLayerNames = &kValidationLayer;
+  }
+  VkInstance instance = VK_NULL_HANDLE;
+  const VkResult result = vkCreateInstance(&info, nullptr, &instance);
+  if (result == VK_ERROR_INCOMPATIBLE_DRIVER) throw std::runtime_error("no Vulkan driver");
+  check(result, "vkCreateInstance");
+  return instance;
+}
+
+std::vector<VkPhysicalDevice> physical_devices(VkInstance instance) {
+  std::uint32_t n = 0;
+  check(vkEnumeratePhysicalDevices(instance, &n, nullptr), "vkEnumeratePhysicalDevices");
+  std::vector<VkPhysicalDevice> devices(n);
+  check(vkEnumeratePhysicalDevices(instance, &n, devices.data()), "vkEnumeratePhysicalDevices");
+  return devices;
+}
+
+int preference(VkPhysicalDeviceType type) {
+  switch (type) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+      return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+      return 1;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+      return 2;
+    default:
+      return 3;
+  }
+}
+
+// DESIGN.md: the same binary picks a real GPU when one is present.
+VkPhysicalDevice choose(const std::vector<VkPhysicalDevice>& devices, int index) {
+  if (devices.empty()) throw std::runtime_error("no Vulkan device");
+  if (index == kPreferGpu) {
+    VkPhysicalDevice best = devices.front();
+    int best_rank = 99;
+    for (VkPhysicalDevice d : devices) {
+      VkPhysicalDeviceProperties p;
+      vkGetPhysicalDeviceProperties(d, &p);
+      if (preference(p.deviceType) < best_rank) {
+        best = d;
+        best_rank = preference(p.deviceType);
+      }
+    }
+    return best;
+  }
+  if (index < 0 || index >= static_cast<int>(devices.size()))
+    throw std::runtime_error(
+        fmt::format("Vulkan device {} does not exist ({} found)", index, devices.size()));
+  return devices[index];
+}
+
+// The first missing requirement, named as the Vulkan feature; empty when all are there.
+std::string missing_feature(VkPhysicalDevice d, const Requirements& req) {
+  VkPhysicalDeviceFeatures f;
+  vkGetPhysicalDeviceFeatures(d, &f);
+  VkPhysicalDeviceProperties p;
+  vkGetPhysicalDeviceProperties(d, &p);
+  const auto missing = [&](const char* feature) {
+    return fmt::format("{} not supported by {}", feature, p.deviceName);
+  };
+  if (req.tessellation_shader && !f.tessellationShader) return missing("tessellationShader");
+  if (req.vertex_pipeline_stores && !f.vertexPipelineStoresAndAtomics)
+    return missing("vertexPipelineStoresAndAtomics");
+  if (req.pipeline_statistics && !f.pipelineStatisticsQuery)
+    return missing("pipelineStatisticsQuery");
+  return {};
+}
+
+int graphics_compute_family(VkPhysicalDevice d) {
+  std::uint32_t n = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(d, &n, nullptr);
+  std::vector<VkQueueFamilyProperties> families(n);
+  vkGetPhysicalDeviceQueueFamilyProperties(d, &n, families.data());
+  for (std::uint32_t k = 0; k < n; ++k)
+    if ((families[k].queueFlags & VK_QUEUE_GRAPHICS_BIT) &&
+        (families[k].queueFlags & VK_QUEUE_COMPUTE_BIT))
+      return static_cast<int>(k);
+  return -1;
+}
+
+std::string version_string(std::uint32_t v) {
+  return fmt::format("{}.{}.{}", VK_API_VERSION_MAJOR(v), VK_API_VERSION_MINOR(v),
+                     VK_API_VERSION_PATCH(v));
+}
+
+}  // namespace
+
+void check(VkResult result, const char* what) {
+  if (result != VK_SUCCESS)
+    throw std::runtime_error(fmt::format("{} failed: VkResult {}", what, static_cast<int>(result)));
+}
+
+Availability probe(const Requirements& requirements) {
+  try {
+    bool validation = false;
+    VkInstance instance = create_instance(validation);
+    std::string reason;
+    try {
+      reason = missing_feature(choose(physical_devices(instance), kPreferGpu), requirements);
+    } catch (const std::exception& e) {
+      reason = e.what();
+    }
+    vkDestroyInstance(instance, nullptr);
+    return {reason.empty(), reason};
+  } catch (const std::exception& e) {
+    return {false, e.what()};
+  }
+}
+
+int device_option(const StrategyOptions& options) {
+  const auto it = options.extra.find("device");
+  if (it == options.extra.end() || it->second.empty()) return kPreferGpu;
+  std::size_t used = 0;
+  const int n = std::stoi(it->second, &used);
+  if (used != it->second.size() || n < 0)
+    throw std::runtime_error("--device expects a device number >= 0, got '" + it->second + "'");
+  return n;
+}
+
+Device::Device(int device_index, const Requirements& requirements) {
+  instance_ = create_instance(validation_);
+  try {
+    physical_ = choose(physical_devices(instance_), device_index);
+    vkGetPhysicalDeviceProperties(physical_, &properties_);
+    vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+    if (const std::string missing = missing_feature(physical_, requirements); !missing.empty())
+      throw MissingFeature(missing);
+    const int family = graphics_compute_family(physical_);
+    if (family < 0)
+      throw MissingFeature(fmt::format("no graphics+compute queue on {}", properties_.deviceName));
+    queue_family_ = static_cast<std::uint32_t>(family);
+    {
+      std::uint32_t n = 0;
+      vkGetPhysicalDeviceQueueFamilyProperties(physical_, &n, nullptr);
+      std::vector<VkQueueFamilyProperties> families(n);
+      vkGetPhysicalDeviceQueueFamilyProperties(physical_, &n, families.data());
+      timestamp_bits_ = families[queue_family_].timestampValidBits;
+    }
+    const float priority = 1.0f;
+    VkDeviceQueueCreateInfo queue{};
+    queue.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
+    queue.queueFamilyIndex = queue_family_;
+    queue.queueCount = 1;
+    queue.pQueuePriorities = &priority;
+    VkPhysicalDeviceFeatures enabled{};
+    enabled.tessellationShader = requirements.tessellation_shader;
+    enabled.vertexPipelineStoresAndAtomics = requirements.vertex_pipeline_stores;
+    enabled.pipelineStatisticsQuery = requirements.pipeline_statistics;
+    VkDeviceCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+    info.queueCreateInfoCount = 1;
+    info.pQueueCreateInfos = &queue;
+    info.pEnabledFeatures = &enabled;
+    check(vkCreateDevice(physical_, &info, nullptr, &device_), "vkCreateDevice");
+    vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+    VkCommandPoolCreateInfo pool{};
+    pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+    pool.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
+    pool.queueFamilyIndex = queue_family_;
+    check(vkCreateCommandPool(device_, &pool, nullptr, &pool_), "vkCreateCommandPool");
+  } catch (...) {
+    destroy();
+    throw;
+  }
+}
+
+Device::~Device() {
+  destroy();
+}
+
+void Device::destroy() {
+  if (device_) {
+    vkDeviceWaitIdle(device_);
+    if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
+    vkDestroyDevice(device_, nullptr);
+  }
+  if (instance_) vkDestroyInstance(instance_, nullptr);
+  device_ = VK_NULL_HANDLE;
+  pool_ = VK_NULL_HANDLE;
+  instance_ = VK_NULL_HANDLE;
+}
+
+DeviceInfo Device::record() const {
+  DeviceInfo info;
+  info.name = properties_.deviceName;
+  // lavapipe (VK_PHYSICAL_DEVICE_TYPE_CPU) and any other software device: "cpu".
+  const auto type = properties_.deviceType;
+  info.kind = type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ||
+                      type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU ||
+                      type == VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU
+                  ? "gpu"
+                  : "cpu";
+  info.details["api"] = "Vulkan " + version_string(properties_.apiVersion);
+  info.details["driver_version"] = std::to_string(properties_.driverVersion);
+  info.details["vendor_id"] = fmt::format("{:#06x}", properties_.vendorID);
+  info.details["device_type"] = type == VK_PHYSICAL_DEVICE_TYPE_CPU              ? "cpu"
+                                : type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU   ? "discrete gpu"
+                                : type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU ? "integrated gpu"
+                                                                                 : "other";
+  info.details["max_tessellation_generation_level"] =
+      std::to_string(properties_.limits.maxTessellationGenerationLevel);
+  info.details["max_tessellation_patch_size"] =
+      std::to_string(properties_.limits.maxTessellationPatchSize);
+  info.details["validation"] = validation_ ? "on" : "off";
+  return info;
+}
+
+void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& commands) const {
+  VkCommandBufferAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+  alloc.commandPool = pool_;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  VkCommandBuffer cb = VK_NULL_HANDLE;
+  check(vkAllocateCommandBuffers(device_, &alloc, &cb), "vkAllocateCommandBuffers");
+  struct Free {
+    VkDevice d;
+    VkCommandPool p;
+    VkCommandBuffer c;
+    ~Free() { vkFreeCommandBuffers(d, p, 1, &c); }
+  } free_cb{device_, pool_, cb};
+  VkCommandBufferBeginInfo begin{};
+  begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cb, &begin), "vkBeginCommandBuffer");
+  commands(cb);
+  check(vkEndCommandBuffer(cb), "vkEndCommandBuffer");
+  VkSubmitInfo submit{};
+  submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cb;
+  check(vkQueueSubmit(queue_, 1, &submit, VK_NULL_HANDLE), "vkQueueSubmit");
+  check(vkQueueWaitIdle(queue_), "vkQueueWaitIdle");
+}
+
+VkShaderModule Device::shader_module(std::string_view spirv) const {
+  // The embedded bytes carry no alignment guarantee: copy into words.
+  std::vector<std::uint32_t> words(spirv.size() / 4);
+  std::memcpy(words.data(), spirv.data(), words.size() * 4);
+  VkShaderModuleCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
+  info.codeSize = words.size() * 4;
+  info.pCode = words.data();
+  VkShaderModule module = VK_NULL_HANDLE;
+  check(vkCreateShaderModule(device_, &info, nullptr, &module), "vkCreateShaderModule");
+  return module;
+}
+
+int Device::memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags wanted) const {
+  for (std::uint32_t k = 0; k < memory_.memoryTypeCount; ++k)
+    if ((type_bits & (1u << k)) && (memory_.memoryTypes[k].propertyFlags & wanted) == wanted)
+      return static_cast<int>(k);
+  return -1;
+}
+
+Buffer::Buffer(const Device& device, VkDeviceSize bytes, VkBufferUsageFlags usage, const char* what)
+    : device_(&device), size_(bytes) {
+  if (bytes > device.limits().maxStorageBufferRange && (usage & VK_BUFFER_USAGE_STORAGE_BUFFER_BIT))
+    throw RefusedError(fmt::format("{} needs {} bytes, more than maxStorageBufferRange ({})", what,
+                                   bytes, device.limits().maxStorageBufferRange));
+  VkBufferCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+  info.size = std::max<VkDeviceSize>(bytes, 16);
+  info.usage = usage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  check(vkCreateBuffer(device.handle(), &info, nullptr, &buffer_), "vkCreateBuffer");
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(device.handle(), buffer_, &req);
+  // Device-local first (a real GPU); lavapipe's memory is device-local and host-visible at once.
+  // A buffer with no usage of its own (usage 0) is a staging buffer: host-visible first.
+  const VkMemoryPropertyFlags host =
+      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  int type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | host);
+  if (usage == 0 && type < 0) type = device.memory_type(req.memoryTypeBits, host);
+  if (type < 0) type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  if (type < 0)
+    type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                                      VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  if (type < 0) {
+    reset();
+    throw std::runtime_error(fmt::format("no memory type for {}", what));
+  }
+  VkMemoryAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = static_cast<std::uint32_t>(type);
+  const VkResult result = vkAllocateMemory(device.handle(), &alloc, nullptr, &memory_);
+  if (result != VK_SUCCESS) {
+    reset();
+    if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
+      throw RefusedError(fmt::format("{} needs {} bytes: out of device memory", what, bytes));
+    check(result, "vkAllocateMemory");
+  }
+  check(vkBindBufferMemory(device.handle(), buffer_, memory_, 0), "vkBindBufferMemory");
+  VkMemoryPropertyFlags flags = 0;
+  {
+    VkPhysicalDeviceMemoryProperties props;
+    vkGetPhysicalDeviceMemoryProperties(device.physical(), &props);
+    flags = props.memoryTypes[type].propertyFlags;
+  }
+  if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
+    check(vkMapMemory(device.handle(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+}
+
+Buffer& Buffer::operator=(Buffer&& other) noexcept {
+  if (this != &other) {
+    reset();
+    device_ = std::exchange(other.device_, nullptr);
+    buffer_ = std::exchange(other.buffer_, VK_NULL_HANDLE);
+    memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
+    size_ = std::exchange(other.size_, 0);
+    mapped_ = std::exchange(other.mapped_, nullptr);
+  }
+  return *this;
+}
+
+void Buffer::reset() {
+  if (!device_) return;
+  if (buffer_) vkDestroyBuffer(device_->handle(), buffer_, nullptr);
+  if (memory_) vkFreeMemory(device_->handle(), memory_, nullptr);  // unmaps
+  buffer_ = VK_NULL_HANDLE;
+  memory_ = VK_NULL_HANDLE;
+  mapped_ = nullptr;
+  size_ = 0;
+}
+
+void Buffer::write(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+  if (bytes == 0) return;
+  if (mapped_) {
+    std::memcpy(static_cast<char*>(mapped_) + offset, data, bytes);
+    return;
+  }
+  Buffer staging(*device_, bytes, 0, "staging buffer");
+  if (!staging.mapped_) throw std::runtime_error("no host-visible memory for a staging buffer");
+  std::memcpy(staging.mapped_, data, bytes);
+  device_->submit_and_wait([&](VkCommandBuffer cb) {
+    const VkBufferCopy region{0, offset, bytes};
+    vkCmdCopyBuffer(cb, staging.handle(), buffer_, 1, &region);
+  });
+}
+
+void Buffer::read(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
+  if (bytes == 0) return;
+  if (mapped_) {
+    std::memcpy(data, static_cast<const char*>(mapped_) + offset, bytes);
+    return;
+  }
+  Buffer staging(*device_, bytes, 0, "staging buffer");
+  if (!staging.mapped_) throw std::runtime_error("no host-visible memory for a staging buffer");
+  device_->submit_and_wait([&](VkCommandBuffer cb) {
+    const VkBufferCopy region{offset, 0, bytes};
+    vkCmdCopyBuffer(cb, buffer_, staging.handle(), 1, &region);
+  });
+  std::memcpy(data, staging.mapped_, bytes);
+}
+
+Image::Image(const Device& device, VkFormat format, VkImageUsageFlags usage,
+             VkImageAspectFlags aspect, std::uint32_t width, std::uint32_t height)
+    : device_(device) {
+  VkImageCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format;
+  info.extent = {width, height, 1};
+  info.mipLevels = 1;
+  info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = usage;
+  info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  check(vkCreateImage(device.handle(), &info, nullptr, &image_), "vkCreateImage");
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(device.handle(), image_, &req);
+  int type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  if (type < 0) type = device.memory_type(req.memoryTypeBits, 0);
+  VkMemoryAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = static_cast<std::uint32_t>(type);
+  try {
+    check(vkAllocateMemory(device.handle(), &alloc, nullptr, &memory_), "vkAllocateMemory");
+    check(vkBindImageMemory(device.handle(), image_, memory_, 0), "vkBindImageMemory");
+    VkImageViewCreateInfo view{};
+    view.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO;
+    view.image = image_;
+    view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    view.format = format;
+    view.subresourceRange = {aspect, 0, 1, 0, 1};
+    check(vkCreateImageView(device.handle(), &view, nullptr, &view_), "vkCreateImageView");
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+Image::~Image() {
+  release();
+}
+
+void Image::release() {
+  if (view_) vkDestroyImageView(device_.handle(), view_, nullptr);
+  if (image_) vkDestroyImage(device_.handle(), image_, nullptr);
+  if (memory_) vkFreeMemory(device_.handle(), memory_, nullptr);
+  view_ = VK_NULL_HANDLE;
+  image_ = VK_NULL_HANDLE;
+  memory_ = VK_NULL_HANDLE;
+}
+
+QueryPools::QueryPools(const Device& device, VkQueryPipelineStatisticFlags statistics)
+    : device_(device), statistic_count_(std::popcount(statistics)) {
+  period_ns_ = device.limits().timestampPeriod;
+  valid_bits_ = device.timestamp_valid_bits();
+  if (valid_bits_ > 0) {
+    VkQueryPoolCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
+    info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    info.queryCount = 2;
+    check(vkCreateQueryPool(device.handle(), &info, nullptr, &timestamps_), "vkCreateQueryPool");
+  }
+  if (statistics) {
+    VkQueryPoolCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
+    info.queryType = VK_QUERY_TYPE_PIPELINE_STATISTICS;
+    info.queryCount = 1;
+    info.pipelineStatistics = statistics;
+    check(vkCreateQueryPool(device.handle(), &info, nullptr, &statistics_), "vkCreateQueryPool");
+  }
+}
+
+QueryPools::~QueryPools() {
+  if (timestamps_) vkDestroyQueryPool(device_.handle(), timestamps_, nullptr);
+  if (statistics_) vkDestroyQueryPool(device_.handle(), statistics_, nullptr);
+}
+
+void QueryPools::reset(VkCommandBuffer cb) const {
+  if (timestamps_) vkCmdResetQueryPool(cb, timestamps_, 0, 2);
+  if (statistics_) vkCmdResetQueryPool(cb, statistics_, 0, 1);
+}
+
+void QueryPools::begin(VkCommandBuffer cb) const {
+  if (timestamps_) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, 0);
+  if (statistics_) vkCmdBeginQuery(cb, statistics_, 0, 0);
+}
+
+void QueryPools::end(VkCommandBuffer cb) const {
+  if (statistics_) vkCmdEndQuery(cb, statistics_, 0);
+  if (timestamps_) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 1);
+}
+
+std::optional<double> QueryPools::elapsed_s() const {
+  if (!timestamps_) return std::nullopt;
+  std::uint64_t t[2] = {0, 0};
+  check(vkGetQueryPoolResults(device_.handle(), timestamps_, 0, 2, sizeof t, t, sizeof t[0],
+                              VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+        "vkGetQueryPoolResults");
+  const std::uint64_t mask =
+      valid_bits_ >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << valid_bits_) - 1;
+  return static_cast<double>((t[1] - t[0]) & mask) * period_ns_ * 1e-9;
+}
+
+std::vector<std::uint64_t> QueryPools::statistics() const {
+  std::vector<std::uint64_t> values(statistic_count_);
+  if (!statistics_ || values.empty()) return values;
+  check(vkGetQueryPoolResults(device_.handle(), statistics_, 0, 1, values.size() * 8, values.data(),
+                              8, VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+        "vkGetQueryPoolResults");
+  return values;
+}
+
+}  // namespace nurbs::vulkan

@@ -1,0 +1,161 @@
+// The Vulkan plumbing shared by every Vulkan strategy (DESIGN.md, "GPU plumbing is shared"):
+// instance (the Khronos validation layer on in debug builds when it is installed), physical-device
+// choice (a discrete, then an integrated GPU when present, else the first device -- lavapipe here;
+// StrategyOptions.extra["device"] = N picks the N-th of vkEnumeratePhysicalDevices), the features a
+// strategy requires checked up front ("<feature> not supported by <device>"), buffers (host-visible
+// memory mapped directly, device-local memory through a staging buffer), one-shot command
+// submission, shader modules from embedded SPIR-V, timestamp and pipeline-statistics queries, and
+// the device record (lavapipe is kind "cpu": a lavapipe figure is a CPU figure).
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "strategies/strategy.h"
+
+namespace nurbs::vulkan {
+
+// The device features a strategy needs; each missing one is named in the unavailable reason.
+struct Requirements {
+  bool tessellation_shader = false;
+  bool vertex_pipeline_stores = false;  // storage-buffer writes from vertex/tessellation stages
+  bool pipeline_statistics = false;
+};
+
+// Throws std::runtime_error naming the call and the VkResult.
+void check(VkResult result, const char* what);
+
+// "no Vulkan loader/driver", "no Vulkan device", or "<feature> not supported by <device>" when
+// the device a run without --device would pick lacks a required feature.
+Availability probe(const Requirements& requirements);
+
+// Device index meaning "no --device given": a discrete GPU, then an integrated one, else device 0.
+inline constexpr int kPreferGpu = -1;
+
+// Reads StrategyOptions.extra["device"] (default kPreferGpu); throws on a non-number.
+int device_option(const StrategyOptions& options);
+
+// Thrown when the chosen device lacks a required feature (a result "unavailable", not a crash).
+class MissingFeature : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Device;
+
+// A buffer and its memory; mapped for its whole life when host-visible.
+class Buffer {
+ public:
+  Buffer() = default;
+  // usage 0: a staging buffer (host-visible memory first). Throws RefusedError past
+  // maxStorageBufferRange (storage buffers) or when the device is out of memory.
+  Buffer(const Device& device, VkDeviceSize bytes, VkBufferUsageFlags usage, const char* what);
+  ~Buffer() { reset(); }
+  Buffer(Buffer&& other) noexcept { *this = std::move(other); }
+  Buffer& operator=(Buffer&& other) noexcept;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+
+  VkBuffer handle() const { return buffer_; }
+  VkDeviceSize size() const { return size_; }
+  // Host copies; through a staging buffer when the memory is not host-visible.
+  void write(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+  void read(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
+
+ private:
+  void reset();
+  const Device* device_ = nullptr;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkDeviceSize size_ = 0;
+  void* mapped_ = nullptr;
+};
+
+// A 2D image with its memory and view (device-local), e.g. an offscreen render target.
+class Image {
+ public:
+  Image(const Device& device, VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect,
+        std::uint32_t width, std::uint32_t height);
+  ~Image();
+  Image(const Image&) = delete;
+  Image& operator=(const Image&) = delete;
+  VkImage handle() const { return image_; }
+  VkImageView view() const { return view_; }
+
+ private:
+  void release();
+  const Device& device_;
+  VkImage image_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkImageView view_ = VK_NULL_HANDLE;
+};
+
+class Device {
+ public:
+  // `device_index` = kPreferGpu or an index into vkEnumeratePhysicalDevices; throws
+  // std::runtime_error when out of range, MissingFeature when a requirement is not met.
+  Device(int device_index, const Requirements& requirements);
+  ~Device();
+  Device(const Device&) = delete;
+  Device& operator=(const Device&) = delete;
+
+  DeviceInfo record() const;
+  VkDevice handle() const { return device_; }
+  VkPhysicalDevice physical() const { return physical_; }
+  VkQueue queue() const { return queue_; }
+  const VkPhysicalDeviceLimits& limits() const { return properties_.limits; }
+  bool validation_enabled() const { return validation_; }
+  std::uint32_t timestamp_valid_bits() const { return timestamp_bits_; }
+
+  // Records `commands` into a one-shot command buffer, submits it and waits for the queue.
+  void submit_and_wait(const std::function<void(VkCommandBuffer)>& commands) const;
+  VkShaderModule shader_module(std::string_view spirv) const;
+  // Index of a memory type allowed by `type_bits` with `wanted` properties; -1 when none.
+  int memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags wanted) const;
+
+ private:
+  void destroy();
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkPhysicalDeviceProperties properties_{};
+  VkPhysicalDeviceMemoryProperties memory_{};
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  std::uint32_t queue_family_ = 0, timestamp_bits_ = 0;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  bool validation_ = false;
+};
+
+// Two timestamps around the measured work, and optionally the pipeline statistics of it.
+class QueryPools {
+ public:
+  QueryPools(const Device& device, VkQueryPipelineStatisticFlags statistics);
+  ~QueryPools();
+  QueryPools(const QueryPools&) = delete;
+  QueryPools& operator=(const QueryPools&) = delete;
+
+  void reset(VkCommandBuffer cb) const;  // before begin()
+  void begin(VkCommandBuffer cb) const;  // timestamp 0 (+ statistics query begins)
+  void end(VkCommandBuffer cb) const;    // statistics query ends + timestamp 1
+  // Seconds between the two timestamps; empty where the queue has no timestamps.
+  std::optional<double> elapsed_s() const;
+  // One value per bit of `statistics`, in bit order (Vulkan's order of results).
+  std::vector<std::uint64_t> statistics() const;
+
+ private:
+  const Device& device_;
+  VkQueryPool timestamps_ = VK_NULL_HANDLE, statistics_ = VK_NULL_HANDLE;
+  int statistic_count_ = 0;
+  double period_ns_ = 1;
+  std::uint32_t valid_bits_ = 0;
+};
+
+}  // namespace nurbs::vulkan
