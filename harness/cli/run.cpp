@@ -105,8 +105,8 @@ int run_command(const RunOptions& options) {
                                    scene.name, sampling.label())
                     << std::flush;
         EvalRequest request{sampling, precision, options.normals};
-        const StrategyOptions strategy_options{threads, backend_extra(options.gl, options.device,
-                                                                 options.strategy_options)};
+        const StrategyOptions strategy_options{
+            threads, backend_extra(options.gl, options.device, options.strategy_options)};
         writer.append(deforming ? measure_deforming(*entry, strategy_options, scene, request,
                                                     options.deforming, reference_precision)
                                 : measure(*entry, strategy_options, scene, request,
