@@ -62,6 +62,28 @@ struct CheckOptions {
 };
 int check_command(const CheckOptions& options);
 
+struct ReportOptions {
+  std::vector<std::string> results;  // results directories (or results.json files)
+  std::string out;                   // default: <first results>/report
+  std::string python = "/usr/bin/python3";
+};
+int report_command(const ReportOptions& options);
+
+struct RecommendOptions {
+  std::string results;  // empty: measure the workload here (a quick run)
+  std::string scene, samples, precision, control_net, tolerance;
+  int degree = 0, surfaces = 0;  // 0: not given
+  bool deforming = false, json = false;
+  int repetitions = 3, threads = 0;
+};
+int recommend_command(const RecommendOptions& options);
+
+struct GbenchOptions {
+  std::string results = "results/latest";
+  std::string out;  // default: stdout
+};
+int gbench_command(const GbenchOptions& options);
+
 // Shared parsing of CLI values; each throws InputError naming the option and the value.
 std::vector<Sampling> parse_grid_list(std::string_view option, std::string_view text);
 std::vector<Sampling> parse_span_list(std::string_view option, std::string_view text);

@@ -82,6 +82,53 @@ int main(int argc, char** argv) {
   check_cmd->add_option("--results", check.results,
                         "results directory or results.json (default results/latest)");
 
+  ReportOptions report;
+  auto* report_cmd = app.add_subcommand(
+      "report", "REPORT.md, index.html and the paper charts (PNG) from one or more results sets");
+  report_cmd
+      ->add_option("--results", report.results,
+                   "results directory (repeat for several; lod.json and memory.json beside "
+                   "results.json are read too)")
+      ->required();
+  report_cmd->add_option("--out", report.out, "output directory (default: <first results>/report)");
+  report_cmd->add_option("--python", report.python,
+                         "Python with matplotlib that draws the charts (default /usr/bin/python3)");
+
+  RecommendOptions recommend;
+  auto* recommend_cmd = app.add_subcommand(
+      "recommend",
+      "strategies ranked by measured throughput among those within a tolerance, for a workload; "
+      "exit 1 when none is");
+  recommend_cmd
+      ->add_option("--tolerance", recommend.tolerance,
+                   "max error: '8ulp' (max_ulp) or model units '1e-5' (max_abs)")
+      ->required();
+  recommend_cmd->add_option("--results", recommend.results,
+                            "results directory or results.json (default: measure the workload "
+                            "here, quickly)");
+  recommend_cmd->add_option("--scene", recommend.scene, "the workload's scene (name or file)");
+  recommend_cmd->add_option("--degree", recommend.degree, "workload degree (quick run; default 3)");
+  recommend_cmd->add_option("--control-net", recommend.control_net,
+                            "workload control net NxM (quick run; default 12x12)");
+  recommend_cmd->add_option("--surfaces", recommend.surfaces,
+                            "workload surface count (quick run; default 1)");
+  recommend_cmd->add_option("--samples", recommend.samples,
+                            "grid NxM or spanT (quick run default 64x64)");
+  recommend_cmd->add_option("--precision", recommend.precision, "f32 or f64 (default: both / f32)");
+  recommend_cmd->add_flag("--deforming", recommend.deforming,
+                          "control points change every frame: rank by the frame phase");
+  recommend_cmd->add_option("--repetitions", recommend.repetitions,
+                            "repetitions of the quick run (default 3)");
+  recommend_cmd->add_option("--threads", recommend.threads, "threads of the quick run (0: all)");
+  recommend_cmd->add_flag("--json", recommend.json, "machine-readable output");
+
+  GbenchOptions gbench;
+  auto* gbench_cmd = app.add_subcommand(
+      "gbench-json", "convert results.json to Google Benchmark JSON (for compare.py)");
+  gbench_cmd->add_option("--results", gbench.results,
+                         "results directory or results.json (default results/latest)");
+  gbench_cmd->add_option("--out", gbench.out, "output file (default: stdout)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -91,10 +138,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     const std::string first = argc > 1 ? argv[1] : "";
     const bool known_verb = first == "list" || first == "scene" || first == "eval" ||
-                            first == "run" || first == "check";
+                            first == "run" || first == "check" || first == "report" ||
+                            first == "recommend" || first == "gbench-json";
     if (!first.empty() && first[0] != '-' && !known_verb) {
       std::cerr << "nurbsbench: error: unknown verb '" << argv[1]
-                << "' (verbs: list, scene, eval, run, check; see nurbsbench --help)\n";
+                << "' (verbs: list, scene, eval, run, check, report, recommend, gbench-json; see "
+                   "nurbsbench --help)\n";
       return 2;
     }
     std::cerr << "nurbsbench: error: " << e.what() << " (see nurbsbench --help)\n";
@@ -109,6 +158,9 @@ int main(int argc, char** argv) {
     if (*eval_cmd) return eval_command(eval);
     if (*run_cmd) return run_command(run);
     if (*check_cmd) return check_command(check);
+    if (*report_cmd) return report_command(report);
+    if (*recommend_cmd) return recommend_command(recommend);
+    if (*gbench_cmd) return gbench_command(gbench);
   } catch (const std::exception& e) {
     std::string message = e.what();
     std::replace(message.begin(), message.end(), '\n', ' ');
