@@ -36,6 +36,7 @@ struct EvalOptions {
   int threads = 0;
   std::string gl;      // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
+  std::string error_image;  // --error-image F.exr|F.png (harness/error_image.h)
 };
 int eval_command(const EvalOptions& options);
 
@@ -66,6 +67,7 @@ struct ReportOptions {
   std::vector<std::string> results;  // results directories (or results.json files)
   std::string out;                   // default: <first results>/report
   std::string python = "/usr/bin/python3";
+  int error_images = 3;  // heat maps of the N worst (strategy, scene) pairs, re-evaluated here
 };
 int report_command(const ReportOptions& options);
 

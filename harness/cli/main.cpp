@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--device", eval.device,
                        "OpenCL device index across all platforms (see `list`; default: a GPU if "
                        "present, else the first)");
+  eval_cmd->add_option("--error-image", eval.error_image,
+                       "heat map of the error over (u,v): F.exr (raw float error, model units) or "
+                       "F.png (colour map, ulps, legend); several surfaces: F-<index>.ext");
   eval_cmd->add_option("--out", eval.out,
                        "CSV file surface,u,v,x,y,z[,nx,ny,nz] (default: stdout)");
 
@@ -93,6 +96,9 @@ int main(int argc, char** argv) {
   report_cmd->add_option("--out", report.out, "output directory (default: <first results>/report)");
   report_cmd->add_option("--python", report.python,
                          "Python with matplotlib that draws the charts (default /usr/bin/python3)");
+  report_cmd->add_option("--error-images", report.error_images,
+                         "error heat maps of the N worst (strategy, scene) pairs, re-evaluated on "
+                         "this machine (default 3; 0: none)");
 
   RecommendOptions recommend;
   auto* recommend_cmd = app.add_subcommand(
