@@ -74,7 +74,7 @@ int report_command(const ReportOptions& options);
 struct RecommendOptions {
   std::string results;  // empty: measure the workload here (a quick run)
   std::string scene, samples, precision, control_net, tolerance;
-  int degree = 0, surfaces = 0;  // 0: not given
+  int degree = -1, surfaces = -1;  // -1: not given
   bool deforming = false, json = false;
   int repetitions = 3, threads = 0;
 };

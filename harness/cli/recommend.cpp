@@ -36,15 +36,15 @@ Sampling parse_grid_or_span(std::string_view option, const std::string& text) {
 // With a results file the workload is one of its scenes; the parameters name the built-in scenes
 // made for them (many-N, degree-N, tanN).
 std::string scene_for_parameters(const RecommendOptions& o) {
-  const int given = (o.degree > 0) + !o.control_net.empty() + (o.surfaces > 0);
+  const int given = (o.degree != -1) + !o.control_net.empty() + (o.surfaces != -1);
   if (given == 0) return "";
   if (given > 1)
     throw InputError(
         "--results with more than one of --degree/--control-net/--surfaces: the workload must be "
         "a measured scene; give --scene (or one parameter: --surfaces N = many-N, --degree N = "
         "degree-N, --control-net NxN = tanN), or drop --results for a quick measurement");
-  if (o.surfaces > 0) return fmt::format("many-{}", o.surfaces);
-  if (o.degree > 0) return fmt::format("degree-{}", o.degree);
+  if (o.surfaces != -1) return fmt::format("many-{}", o.surfaces);
+  if (o.degree != -1) return fmt::format("degree-{}", o.degree);
   const auto [cu, cv] = parse_net(o.control_net);
   if (cu != cv)
     throw InputError(
@@ -90,14 +90,15 @@ int recommend_command(const RecommendOptions& o) {
     if (!scene.empty()) workload.scene = scene;
     records = read_results(o.results).records;
   } else {
-    if (!o.scene.empty() && (o.degree > 0 || !o.control_net.empty() || o.surfaces > 0))
+    if (!o.scene.empty() && (o.degree != -1 || !o.control_net.empty() || o.surfaces != -1))
       throw InputError("--scene and --degree/--control-net/--surfaces: give one workload");
     Scene scene;
     if (!o.scene.empty()) {
       scene = load_scene(o.scene);
     } else {
       const auto [cu, cv] = o.control_net.empty() ? std::pair{12, 12} : parse_net(o.control_net);
-      scene = workload_scene(o.degree > 0 ? o.degree : 3, cu, cv, o.surfaces > 0 ? o.surfaces : 1);
+      scene =
+          workload_scene(o.degree != -1 ? o.degree : 3, cu, cv, o.surfaces != -1 ? o.surfaces : 1);
     }
     const std::string samples = o.samples.empty() ? "64x64" : o.samples;
     const Sampling sampling = parse_grid_or_span("--samples", samples);
