@@ -214,11 +214,13 @@ ReportTable series_table(const std::string& caption, const std::string& x_header
   return t;
 }
 
-std::string regenerate(const std::string& run_arguments, const std::vector<ResultSet>& sets) {
-  const std::string dir = sets.empty() ? "DIR" : sets.front().directory.string();
+std::string regenerate_in(const std::string& run_arguments, const std::string& dir) {
   std::string run = run_arguments;
   if (const auto pos = run.rfind("DIR"); pos != std::string::npos) run.replace(pos, 3, dir);
   return fmt::format("{}{}nurbsbench report --results {}", run, run.empty() ? "" : " && ", dir);
+}
+std::string regenerate(const std::string& run_arguments, const std::vector<ResultSet>& sets) {
+  return regenerate_in(run_arguments, sets.empty() ? "DIR" : sets.front().directory.string());
 }
 
 std::string points_text(double x) {
@@ -307,6 +309,8 @@ ReportSection time_vs_points(const std::vector<ResultSet>& sets, const Labeller&
     return is_measurement(r) && r.scene == "patch144" && r.sampling == "grid";
   });
   s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
   if (rows.empty()) {
     set_no_data(s, s.command);
     return s;
@@ -385,6 +389,8 @@ ReportSection deboor_vs_basis(const std::vector<ResultSet>& sets, const Labeller
     }
   std::erase_if(rows, [&](const Row& r) { return r.record->samples != grid; });
   s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
   if (rows.empty()) {
     set_no_data(s, s.command);
     return s;
@@ -500,6 +506,8 @@ ReportSection frame_section(const std::vector<ResultSet>& sets, const Labeller& 
   const auto rows = rows_where(
       sets, [](const Record& r) { return is_measurement(r) && r.extra_phases.contains("frame"); });
   s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
   if (rows.empty()) {
     set_no_data(s, s.command);
     return s;
@@ -588,6 +596,8 @@ ReportSection many_surfaces(const std::vector<ResultSet>& sets, const Labeller& 
                                   [](const Row& r) { return r.record->samples == "16x16"; });
   if (has_16) std::erase_if(rows, [](const Row& r) { return r.record->samples != "16x16"; });
   s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
   if (rows.empty()) {
     set_no_data(s, s.command);
     return s;
@@ -625,6 +635,8 @@ ReportSection accuracy_heatmap(const std::vector<ResultSet>& sets, const Labelle
   const auto rows =
       rows_where(sets, [](const Record& r) { return is_measurement(r) && r.accuracy.has_value(); });
   s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
   if (rows.empty()) {
     set_no_data(s, s.command);
     return s;
@@ -689,6 +701,8 @@ ReportSection accuracy_vs_degree(const std::vector<ResultSet>& sets, const Label
     return is_measurement(r) && r.accuracy && numbered_scene(r.scene, "degree-").has_value();
   });
   s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
   if (rows.empty()) {
     set_no_data(s, s.command);
     return s;
@@ -746,6 +760,8 @@ ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller&
       rows.push_back(r);
   s.title += fmt::format(" — {} at {}, {}", scene, samples, precision);
   s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
   std::set<std::string> extra;
   for (const Row& r : rows)
     for (const auto& [name, stats] : r.record->extra_phases) extra.insert(name);
@@ -755,12 +771,10 @@ ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller&
                     {}};
   for (const std::string& e : extra) table.header.push_back(e);
   std::vector<std::string> categories;
-  json setup = json::array(), upload = json::array(), evaluate = json::array(),
-       read_back = json::array();
+  json upload = json::array(), evaluate = json::array(), read_back = json::array();
   for (const Row& r : rows) {
     const Record& x = *r.record;
     categories.push_back(label(r));
-    setup.push_back(number_or_null(x.setup_s));
     upload.push_back(number_or_null(x.upload.median_s));
     evaluate.push_back(number_or_null(x.evaluate.median_s));
     read_back.push_back(number_or_null(x.read_back.median_s));
@@ -781,12 +795,15 @@ ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller&
                               {"ylabel", "median time (s)"},
                               {"categories", categories},
                               {"stacks",
-                               {{{"label", "setup (once)"}, {"values", setup}},
-                                {{"label", "upload"}, {"values", upload}},
+                               {{{"label", "upload"}, {"values", upload}},
                                 {{"label", "evaluate"}, {"values", evaluate}},
                                 {{"label", "read_back"}, {"values", read_back}}}}});
   s.has_chart = true;
   s.tables.push_back(std::move(table));
+  s.notes.push_back(
+      "The chart stacks the phases paid per evaluation (upload, evaluate, read_back); setup "
+      "(context creation, shader/kernel compilation, first prepare) is paid once and is in the "
+      "table only.");
   if (!extra.empty())
     s.notes.push_back(
         "Extra phases (render, render_via_read_back, frame, …) are alternatives to the "
