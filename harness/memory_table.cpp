@@ -69,7 +69,7 @@ nlohmann::json memory_table_json(const std::vector<MemoryRow>& rows) {
           {"control_point_format", "homogeneous float32 (w*x, w*y, w*z, w)"},
           {"bytes_per_control_point", kBytesPerControlPoint},
           {"knots_counted", false},
-          {"scenes", scenes}};
+          {"rows", scenes}};
 }
 
 }  // namespace nurbs

@@ -310,6 +310,36 @@ std::optional<Scene> make_builtin_scene(std::string_view name) {
   return std::nullopt;
 }
 
+Scene workload_scene(int degree, int count_u, int count_v, int surfaces) {
+  if (degree < 1 || degree > 15)
+    throw InputError(fmt::format("--degree = {}: must be in 1..15", degree));
+  if (count_u <= degree || count_v <= degree || count_u > 4096 || count_v > 4096)
+    throw InputError(fmt::format("--control-net = {}x{}: each count must be in {}..4096", count_u,
+                                 count_v, degree + 1));
+  if (surfaces < 1 || surfaces > kMaxManyPatches)
+    throw InputError(fmt::format("--surfaces = {}: must be in 1..{}", surfaces, kMaxManyPatches));
+  if (static_cast<double>(count_u) * count_v * surfaces > (1 << 24))
+    throw InputError(
+        fmt::format("--control-net = {}x{} with --surfaces = {}: more than 2^24 "
+                    "control points in all",
+                    count_u, count_v, surfaces));
+  Scene scene{fmt::format("workload-d{}-{}x{}-s{}", degree, count_u, count_v, surfaces),
+              "a workload given by its parameters (recommend)",
+              {}};
+  const int columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(surfaces))));
+  for (int k = 0; k < surfaces; ++k) {
+    Surface s = wavy_surface(fmt::format("surface{}", k), count_u, count_v, degree, degree, 10.0,
+                             0.1 + 0.37 * k);
+    for (Point3& p : s.points) {
+      p[0] += 11.0 * (k % columns);
+      p[1] += 11.0 * (k / columns);
+    }
+    scene.surfaces.push_back(std::move(s));
+  }
+  validate_scene(scene, scene.name);
+  return scene;
+}
+
 Scene load_scene(std::string_view name_or_path) {
   if (auto scene = make_builtin_scene(name_or_path)) return std::move(*scene);
   const std::filesystem::path path(name_or_path);

@@ -23,6 +23,11 @@ inline constexpr int kMaxManyPatches = 4096;
 // nullopt when `name` is not a built-in scene. The scene is validated.
 std::optional<Scene> make_builtin_scene(std::string_view name);
 
+// A workload described by its parameters (`nurbsbench recommend --degree --control-net
+// --surfaces`): `surfaces` copies of the degree-N scenes' smooth control net, tiled side by side,
+// uniform clamped knots. Throws InputError for parameters a scene cannot have.
+Scene workload_scene(int degree, int count_u, int count_v, int surfaces);
+
 // A built-in name or a path to a nurbs-scene/1 file. Throws InputError naming the valid names
 // when it is neither.
 Scene load_scene(std::string_view name_or_path);

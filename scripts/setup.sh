@@ -17,7 +17,7 @@ packages=(
   # OpenCL strategies: ICD loader, headers, PoCL
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd clinfo
   # error images and reports
-  libopenimageio-dev python3-matplotlib python3-numpy
+  libopenimageio-dev fonts-dejavu-core python3-matplotlib python3-numpy
   # peers (never the reference)
   libsisl-dev libocct-modeling-data-dev libocct-foundation-dev
 )

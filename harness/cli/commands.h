@@ -37,6 +37,7 @@ struct EvalOptions {
   std::string gl;      // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
   std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
+  std::string error_image;                    // --error-image F.exr|F.png (harness/error_image.h)
 };
 int eval_command(const EvalOptions& options);
 
@@ -81,6 +82,29 @@ struct MemoryOptions {
   bool json = false;
 };
 int memory_command(const MemoryOptions& options);
+
+struct ReportOptions {
+  std::vector<std::string> results;  // results directories (or results.json files)
+  std::string out;                   // default: <first results>/report
+  std::string python = "/usr/bin/python3";
+  int error_images = 3;  // heat maps of the N worst (strategy, scene) pairs, re-evaluated here
+};
+int report_command(const ReportOptions& options);
+
+struct RecommendOptions {
+  std::string results;  // empty: measure the workload here (a quick run)
+  std::string scene, samples, precision, control_net, tolerance;
+  int degree = -1, surfaces = -1;  // -1: not given
+  bool deforming = false, json = false;
+  int repetitions = 3, threads = 0;
+};
+int recommend_command(const RecommendOptions& options);
+
+struct GbenchOptions {
+  std::string results = "results/latest";
+  std::string out;  // default: stdout
+};
+int gbench_command(const GbenchOptions& options);
 
 // Shared parsing of CLI values; each throws InputError naming the option and the value.
 std::vector<Sampling> parse_grid_list(std::string_view option, std::string_view text);

@@ -5,6 +5,7 @@
 
 #include "harness/atomic_file.h"
 #include "harness/cli/commands.h"
+#include "harness/error_image.h"
 #include "harness/metrics.h"
 #include "harness/runner.h"
 #include "reference/validation.h"
@@ -114,6 +115,14 @@ int eval_command(const EvalOptions& options) {
                         options.span_given ? "--span-samples" : "--samples");
   const std::vector<SurfaceSamples> samples =
       sample_parameters(scene, request.sampling);  // size checks first
+  if (!options.error_image.empty()) {
+    error_image_format(options.error_image);
+    if (request.sampling.mode == SamplingMode::explicit_list)
+      throw InputError(fmt::format(
+          "--error-image = {}: needs a grid (--samples) or span grid (--span-samples); an "
+          "explicit (u,v) list (--uv) has no image layout",
+          options.error_image));
+  }
 
   const Availability availability = entry->probe();
   if (!availability.available)
@@ -135,8 +144,16 @@ int eval_command(const EvalOptions& options) {
   if (!entry->capabilities().chooses_own_samples && !same_samples(produced, samples))
     throw std::runtime_error(
         fmt::format("strategy {} returned other (u, v) than the requested samples", entry->name));
-  const Accuracy accuracy = measure_accuracy(
-      scene, result, evaluate_reference(scene, produced, request.normals, reference_precision));
+  const std::vector<ReferenceSurface> reference =
+      evaluate_reference(scene, produced, request.normals, reference_precision);
+  const Accuracy accuracy = measure_accuracy(scene, result, reference);
+  if (!options.error_image.empty()) {
+    const auto paths = write_error_images(
+        options.error_image, error_grids(scene, result, reference),
+        fmt::format("{} on {}, {} {}, error against the {} reference", entry->name, scene.name,
+                    options.precision, request.sampling.label(), options.reference));
+    for (const auto& path : paths) std::cerr << "error image: " << path.string() << "\n";
+  }
   std::cerr << fmt::format(
       "{} on {} ({}, {}, {} samples): max_abs {:.3g}, rms_abs {:.3g}, max_rel {:.3g}, max_ulp "
       "{:.3g}{} "

@@ -1,9 +1,13 @@
 // nurbsbench: evaluate NURBS surfaces with every strategy, check them against the reference, time
 // them (see README.md for every verb).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "harness/cli/commands.h"
 #include "reference/validation.h"
@@ -51,6 +55,9 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--strategy-option", eval.strategy_options,
                        "KEY=VALUE for the strategies that read KEY (repeatable), e.g. "
                        "vk-mode=adaptive, vk-eye=x,y,z, vk-center=x,y,z, vk-mu=4 (vk-ksquad)");
+  eval_cmd->add_option("--error-image", eval.error_image,
+                       "heat map of the error over (u,v): F.exr (raw float error, model units) or "
+                       "F.png (colour map, ulps, legend); several surfaces: F-<index>.ext");
   eval_cmd->add_option("--out", eval.out,
                        "CSV file surface,u,v,x,y,z[,nx,ny,nz] (default: stdout)");
 
@@ -113,6 +120,56 @@ int main(int argc, char** argv) {
   check_cmd->add_option("--results", check.results,
                         "results directory or results.json (default results/latest)");
 
+  ReportOptions report;
+  auto* report_cmd = app.add_subcommand(
+      "report", "REPORT.md, index.html and the paper charts (PNG) from one or more results sets");
+  report_cmd
+      ->add_option("--results", report.results,
+                   "results directory (repeat for several; lod.json and memory.json beside "
+                   "results.json are read too)")
+      ->required();
+  report_cmd->add_option("--out", report.out, "output directory (default: <first results>/report)");
+  report_cmd->add_option("--python", report.python,
+                         "Python with matplotlib that draws the charts (default /usr/bin/python3)");
+  report_cmd->add_option("--error-images", report.error_images,
+                         "error heat maps of the N worst (strategy, scene) pairs, re-evaluated on "
+                         "this machine (default 3; 0: none)");
+
+  RecommendOptions recommend;
+  auto* recommend_cmd = app.add_subcommand(
+      "recommend",
+      "strategies ranked by measured throughput among those within a tolerance, for a workload; "
+      "exit 1 when none is");
+  recommend_cmd
+      ->add_option("--tolerance", recommend.tolerance,
+                   "max error: '8ulp' (max_ulp) or model units '1e-5' (max_abs)")
+      ->required();
+  recommend_cmd->add_option("--results", recommend.results,
+                            "results directory or results.json (default: measure the workload "
+                            "here, quickly)");
+  recommend_cmd->add_option("--scene", recommend.scene, "the workload's scene (name or file)");
+  recommend_cmd->add_option("--degree", recommend.degree, "workload degree (quick run; default 3)");
+  recommend_cmd->add_option("--control-net", recommend.control_net,
+                            "workload control net NxM (quick run; default 12x12)");
+  recommend_cmd->add_option("--surfaces", recommend.surfaces,
+                            "workload surface count (quick run; default 1)");
+  recommend_cmd->add_option("--samples", recommend.samples,
+                            "grid NxM or spanT (quick run default 64x64)");
+  recommend_cmd->add_option("--precision", recommend.precision, "f32 or f64 (default: both / f32)");
+  recommend_cmd->add_flag("--deforming", recommend.deforming,
+                          "control points change every frame: rank by the frame phase");
+  recommend_cmd->add_option("--repetitions", recommend.repetitions,
+                            "repetitions of the quick run (default 3)");
+  recommend_cmd->add_option("--threads", recommend.threads, "threads of the quick run (0: all)");
+  recommend_cmd->add_flag("--json", recommend.json, "machine-readable output");
+
+  GbenchOptions gbench;
+  auto* gbench_cmd = app.add_subcommand(
+      "gbench-json", "convert results.json to Google Benchmark JSON (for compare.py)");
+  gbench_cmd->add_option("--results", gbench.results,
+                         "results directory or results.json (default results/latest)");
+  gbench_cmd->add_option("--out", gbench.out, "output file (default: stdout)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -121,12 +178,14 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     const std::string first = argc > 1 ? argv[1] : "";
-    const bool known_verb = first == "list" || first == "scene" || first == "eval" ||
-                            first == "run" || first == "check" || first == "lod" ||
-                            first == "memory";
+    // The verbs are the subcommands registered above: one list, never restated by hand.
+    std::vector<std::string> verbs;
+    for (const CLI::App* verb : app.get_subcommands({})) verbs.push_back(verb->get_name());
+    const bool known_verb = std::find(verbs.begin(), verbs.end(), first) != verbs.end();
     if (!first.empty() && first[0] != '-' && !known_verb) {
       std::cerr << "nurbsbench: error: unknown verb '" << argv[1]
-                << "' (verbs: list, scene, eval, run, lod, memory, check; see nurbsbench --help)\n";
+                << "' (verbs: " << fmt::format("{}", fmt::join(verbs, ", "))
+                << "; see nurbsbench --help)\n";
       return 2;
     }
     std::cerr << "nurbsbench: error: " << e.what() << " (see nurbsbench --help)\n";
@@ -143,6 +202,9 @@ int main(int argc, char** argv) {
     if (*lod_cmd) return lod_command(lod);
     if (*check_cmd) return check_command(check);
     if (*memory_cmd) return memory_command(memory);
+    if (*report_cmd) return report_command(report);
+    if (*recommend_cmd) return recommend_command(recommend);
+    if (*gbench_cmd) return gbench_command(gbench);
   } catch (const std::exception& e) {
     std::string message = e.what();
     std::replace(message.begin(), message.end(), '\n', ' ');

@@ -517,7 +517,7 @@ TEST(CliMemory, JsonForEveryDefaultScene) {
   const json doc = json::parse(r.out);
   EXPECT_EQ(doc["format"], "nurbsbench-memory/1");
   std::set<std::string> scenes;
-  for (const json& row : doc["scenes"]) {
+  for (const json& row : doc["rows"]) {
     scenes.insert(row["scene"].get<std::string>());
     EXPECT_GE(row["bezier_control_points"].get<double>(), 1.0);
     EXPECT_EQ(row["ksquads"], row["bezier_patches"]);

@@ -49,8 +49,8 @@ TEST(MemoryTable, JsonCarriesEveryColumnAndTheUnits) {
   const nlohmann::json j = memory_table_json({memory_row(*make_builtin_scene("patch144"))});
   EXPECT_EQ(j["format"], "nurbsbench-memory/1");
   EXPECT_EQ(j["bytes_per_control_point"], 16);
-  ASSERT_EQ(j["scenes"].size(), 1u);
-  const nlohmann::json& row = j["scenes"][0];
+  ASSERT_EQ(j["rows"].size(), 1u);
+  const nlohmann::json& row = j["rows"][0];
   EXPECT_EQ(row["scene"], "patch144");
   EXPECT_EQ(row["ksquads"], 81);
   EXPECT_EQ(row["bezier_control_points"], 1296);

@@ -1,0 +1,209 @@
+#include "harness/error_image.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cfloat>
+#include <cmath>
+#include <limits>
+
+#include "reference/validation.h"
+
+#ifdef NURBSBENCH_HAVE_OIIO
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#endif
+
+namespace nurbs {
+
+namespace fs = std::filesystem;
+
+ErrorImageFormat error_image_format(const fs::path& path) {
+  const std::string ext = path.extension().string();
+  ErrorImageFormat format;
+  if (ext == ".exr")
+    format = ErrorImageFormat::exr;
+  else if (ext == ".png")
+    format = ErrorImageFormat::png;
+  else
+    throw InputError(fmt::format(
+        "--error-image = {}: extension '{}': must be .exr (raw float error) or .png (colour map)",
+        path.string(), ext));
+#ifndef NURBSBENCH_HAVE_OIIO
+  throw InputError(
+      fmt::format("--error-image = {}: this build has no OpenImageIO (install "
+                  "libopenimageio-dev, see scripts/setup.sh, and reconfigure)",
+                  path.string()));
+#endif
+  return format;
+}
+
+std::vector<ErrorGrid> error_grids(const Scene& scene, const EvalResult& result,
+                                   const std::vector<ReferenceSurface>& reference) {
+  const double ulp_scale =
+      FLT_EPSILON * (scene.largest_coordinate() > 0 ? scene.largest_coordinate() : 1.0);
+  std::vector<ErrorGrid> grids;
+  for (std::size_t i = 0; i < result.surfaces.size(); ++i) {
+    const SurfaceResult& r = result.surfaces[i];
+    if (!r.samples.tensor)
+      throw InputError(
+          "--error-image: needs a grid (--samples) or span grid (--span-samples); an explicit "
+          "(u,v) list (--uv) has no image layout");
+    ErrorGrid g;
+    g.surface = i < scene.surfaces.size() ? scene.surfaces[i].name : std::to_string(i);
+    g.width = static_cast<int>(r.samples.u.size());
+    g.height = static_cast<int>(r.samples.v.size());
+    g.ulp_scale = ulp_scale;
+    g.error.resize(r.samples.count());
+    for (int a = 0; a < g.width; ++a)
+      for (int b = 0; b < g.height; ++b) {
+        const std::size_t k = static_cast<std::size_t>(a) * g.height + b;  // SurfaceSamples order
+        const auto p = r.positions[k];
+        const Point3& q = reference.at(i).positions.at(k);
+        const double e = std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+        g.error[static_cast<std::size_t>(b) * g.width + a] =
+            std::isfinite(e) ? static_cast<float>(e) : std::numeric_limits<float>::infinity();
+      }
+    grids.push_back(std::move(g));
+  }
+  return grids;
+}
+
+std::vector<fs::path> error_image_paths(const fs::path& requested, std::size_t surfaces) {
+  if (surfaces == 1) return {requested};
+  std::vector<fs::path> paths;
+  for (std::size_t i = 0; i < surfaces; ++i)
+    paths.push_back(requested.parent_path() / fmt::format("{}-{}{}", requested.stem().string(), i,
+                                                          requested.extension().string()));
+  return paths;
+}
+
+std::pair<int, int> error_png_size(int width, int height) {
+  const int scale = std::max(1, 256 / std::max(width, height));
+  return {width * scale + kLegendWidth, std::max(height * scale, 256)};
+}
+
+#ifdef NURBSBENCH_HAVE_OIIO
+namespace {
+
+// Viridis at five stops, linearly interpolated: perceptually ordered, readable in grey.
+std::array<float, 3> colour(double t) {
+  static constexpr std::array<std::array<float, 3>, 5> stops = {{{0.267f, 0.005f, 0.329f},
+                                                                 {0.230f, 0.322f, 0.546f},
+                                                                 {0.128f, 0.567f, 0.551f},
+                                                                 {0.369f, 0.789f, 0.383f},
+                                                                 {0.993f, 0.906f, 0.144f}}};
+  t = std::clamp(t, 0.0, 1.0) * 4;
+  const int k = std::min(3, static_cast<int>(t));
+  const float f = static_cast<float>(t - k);
+  return {stops[k][0] + f * (stops[k + 1][0] - stops[k][0]),
+          stops[k][1] + f * (stops[k + 1][1] - stops[k][1]),
+          stops[k][2] + f * (stops[k + 1][2] - stops[k][2])};
+}
+
+void write_atomically(const fs::path& path, const OIIO::ImageBuf& image) {
+  const fs::path tmp = path.parent_path() / fmt::format(".{}.tmp{}{}", path.stem().string(),
+                                                        ::getpid(), path.extension().string());
+  if (!image.write(tmp.string())) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw std::runtime_error(
+        fmt::format("{}: cannot write image: {}", path.string(), image.geterror()));
+  }
+  fs::rename(tmp, path);
+}
+
+OIIO::ImageBuf exr_image(const ErrorGrid& g, const std::string& title) {
+  OIIO::ImageSpec spec(g.width, g.height, 1, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"error"};
+  spec.attribute("ImageDescription", title);
+  spec.attribute("nurbsbench:surface", g.surface);
+  spec.attribute("nurbsbench:units", "model units (distance from the reference)");
+  spec.attribute("nurbsbench:ulp_scale", static_cast<float>(g.ulp_scale));
+  OIIO::ImageBuf image(spec);
+  image.set_pixels(OIIO::ROI(0, g.width, 0, g.height, 0, 1, 0, 1), OIIO::TypeDesc::FLOAT,
+                   g.error.data());
+  return image;
+}
+
+OIIO::ImageBuf png_image(const ErrorGrid& g, const std::string& title) {
+  const auto [w, h] = error_png_size(g.width, g.height);
+  const int scale = std::max(1, 256 / std::max(g.width, g.height));
+  // Log scale over the decades the errors span, in ulps; zero and below the range = darkest.
+  double lo = std::numeric_limits<double>::infinity(), hi = 0;
+  for (float e : g.error) {
+    const double ulp = e / g.ulp_scale;
+    if (std::isfinite(ulp) && ulp > 0) {
+      lo = std::min(lo, ulp);
+      hi = std::max(hi, ulp);
+    }
+  }
+  double lo_exp = std::isfinite(lo) ? std::floor(std::log10(lo)) : -1;
+  double hi_exp = hi > 0 ? std::ceil(std::log10(hi)) : 0;
+  if (hi_exp <= lo_exp) hi_exp = lo_exp + 1;
+  auto t_of = [&](double ulp) {
+    if (!std::isfinite(ulp)) return 1.0;
+    return ulp > 0 ? (std::log10(ulp) - lo_exp) / (hi_exp - lo_exp) : 0.0;
+  };
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+  spec.attribute("ImageDescription",
+                 fmt::format("{}; error in f32 ulps of the largest coordinate, log scale 1e{} .. "
+                             "1e{}",
+                             title, lo_exp, hi_exp));
+  OIIO::ImageBuf image(spec);
+  const float white[3] = {1, 1, 1};
+  OIIO::ImageBufAlgo::fill(image, white);
+  for (int y = 0; y < g.height * scale; ++y)
+    for (int x = 0; x < g.width * scale; ++x) {
+      const float e = g.error[static_cast<std::size_t>(y / scale) * g.width + x / scale];
+      const auto c = colour(t_of(e / g.ulp_scale));
+      // Row 0 of the file is the top: v grows upwards as on a plot.
+      image.setpixel(x, g.height * scale - 1 - y, c.data());
+    }
+  // Legend: a colour bar from the lowest decade (bottom) to the highest (top), labelled.
+  const int bar_x = g.width * scale + 10, bar_top = 20, bar_bottom = h - 20;
+  for (int y = bar_top; y <= bar_bottom; ++y) {
+    const auto c = colour(1.0 - static_cast<double>(y - bar_top) / (bar_bottom - bar_top));
+    for (int x = bar_x; x < bar_x + 16; ++x) image.setpixel(x, y, c.data());
+  }
+  const float black[3] = {0, 0, 0};
+  // DejaVu Sans (fonts-dejavu-core, see scripts/setup.sh); OIIO's own default font is not
+  // packaged on Debian. Without a font the bar is still drawn and the range is in the metadata.
+  const std::string font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  for (double e = lo_exp; e <= hi_exp; e += 1) {
+    const int y =
+        bar_bottom - static_cast<int>((e - lo_exp) / (hi_exp - lo_exp) * (bar_bottom - bar_top));
+    for (int x = bar_x + 16; x < bar_x + 22; ++x) image.setpixel(x, y, black);
+    OIIO::ImageBufAlgo::render_text(image, bar_x + 24, y + 4, fmt::format("1e{}", e), 12, font,
+                                    black);
+  }
+  OIIO::ImageBufAlgo::render_text(image, bar_x - 4, 14, "ulp", 12, font, black);
+  return image;
+}
+
+}  // namespace
+#endif
+
+std::vector<fs::path> write_error_images(const fs::path& requested,
+                                         const std::vector<ErrorGrid>& grids,
+                                         const std::string& title) {
+  const ErrorImageFormat format = error_image_format(requested);
+  const std::vector<fs::path> paths = error_image_paths(requested, grids.size());
+#ifdef NURBSBENCH_HAVE_OIIO
+  for (std::size_t i = 0; i < grids.size(); ++i) {
+    const std::string surface_title =
+        fmt::format("{}, surface {} ({})", title, i, grids[i].surface);
+    write_atomically(paths[i], format == ErrorImageFormat::exr
+                                   ? exr_image(grids[i], surface_title)
+                                   : png_image(grids[i], surface_title));
+  }
+#else
+  (void)format;
+  (void)title;
+#endif
+  return paths;
+}
+
+}  // namespace nurbs

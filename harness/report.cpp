@@ -1,0 +1,1035 @@
+#include "harness/report.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <set>
+#include <sstream>
+
+#include "reference/validation.h"
+#include "scenes/json_error.h"
+
+namespace nurbs {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::optional<json> read_side_file(const fs::path& path, std::string_view format) {
+  if (!fs::exists(path)) return std::nullopt;
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot open", path.string()));
+  std::ostringstream text;
+  text << in.rdbuf();
+  json document;
+  try {
+    document = json::parse(text.str());
+  } catch (const json::exception& e) {
+    throw InputError(fmt::format("{}: not JSON: {}", path.string(), json_error_text(e)));
+  }
+  if (!document.is_object() || !document.contains("format") || document["format"] != format)
+    throw InputError(fmt::format("{}: format = {}: must be \"{}\"", path.string(),
+                                 document.is_object() && document.contains("format")
+                                     ? document["format"].dump()
+                                     : "(missing)",
+                                 format));
+  if (!document.contains("rows") || !document["rows"].is_array())
+    throw InputError(
+        fmt::format("{}: rows = {}: must be a list", path.string(),
+                    document.contains("rows") ? document["rows"].dump() : "(missing)"));
+  for (std::size_t i = 0; i < document["rows"].size(); ++i)
+    if (!document["rows"][i].is_object())
+      throw InputError(fmt::format("{}: rows[{}] = {}: must be an object", path.string(), i,
+                                   document["rows"][i].dump()));
+  return document;
+}
+
+// Side files are written by other verbs: a missing or non-numeric field is shown as "n/a".
+double number_field(const json& row, const char* key) {
+  if (!row.is_object() || !row.contains(key) || !row[key].is_number())
+    return std::numeric_limits<double>::quiet_NaN();
+  return row[key].get<double>();
+}
+std::string text_field(const json& row, const char* key) {
+  if (!row.is_object() || !row.contains(key)) return "n/a";
+  return row[key].is_string() ? row[key].get<std::string>() : row[key].dump();
+}
+
+json number_or_null(double x) {
+  return std::isfinite(x) ? json(x) : json(nullptr);
+}
+
+std::string seconds_text(double s) {
+  if (!std::isfinite(s)) return report_number(s);
+  if (s >= 1) return fmt::format("{:.3g} s", s);
+  if (s >= 1e-3) return fmt::format("{:.3g} ms", s * 1e3);
+  return fmt::format("{:.3g} us", s * 1e6);
+}
+
+// "many-64" -> 64, "degree-5" -> 5; nullopt when `scene` is not `prefix` followed by digits.
+std::optional<int> numbered_scene(const std::string& scene, std::string_view prefix) {
+  if (!scene.starts_with(prefix) || scene.size() == prefix.size() ||
+      scene.size() > prefix.size() + 6)
+    return std::nullopt;
+  int n = 0;
+  for (std::size_t k = prefix.size(); k < scene.size(); ++k) {
+    if (scene[k] < '0' || scene[k] > '9') return std::nullopt;
+    n = n * 10 + (scene[k] - '0');
+  }
+  return n;
+}
+
+struct Row {
+  const ResultSet* set;
+  const Record* record;
+};
+
+bool is_measurement(const Record& r) {
+  return r.status == Status::ok && r.role != "limit";
+}
+
+// Labels name the strategy; the precision and the results set only where the report holds more
+// than one of them, so a single run's chart reads "cpu-tensor", not "cpu-tensor f32 [latest]".
+class Labeller {
+ public:
+  explicit Labeller(const std::vector<ResultSet>& sets) {
+    std::set<std::string> precisions, machines;
+    for (const ResultSet& s : sets) {
+      machines.insert(s.results.machine.value("cpu_model", "") + "|" +
+                      s.results.machine.value("git_commit", ""));
+      for (const Record& r : s.results.records) precisions.insert(r.precision);
+    }
+    by_precision_ = precisions.size() > 1;
+    by_set_ = machines.size() > 1;
+  }
+  std::string operator()(const Row& row) const {
+    std::string label = row.record->strategy;
+    if (by_precision_) label += " " + row.record->precision;
+    if (by_set_) label += " [" + row.set->tag + "]";
+    return label;
+  }
+
+ private:
+  bool by_precision_ = false, by_set_ = false;
+};
+
+std::string device_text(const DeviceInfo& d) {
+  const std::string name = d.name.empty() ? "unknown device" : d.name;
+  if (d.kind == "gpu") return name + " (GPU)";
+  if (d.kind == "cpu" && !name.starts_with("host CPU"))
+    return name + " (a CPU implementation of the API, not a GPU)";
+  return name;
+}
+
+// Machine (CPU model), devices and drivers, commit of the rows a section shows.
+std::string context_of(const std::vector<Row>& rows, const std::vector<ResultSet>& sets) {
+  std::set<const ResultSet*> used;
+  std::set<std::string> devices;
+  for (const Row& r : rows) {
+    used.insert(r.set);
+    devices.insert(device_text(r.record->device));
+  }
+  if (used.empty())
+    for (const ResultSet& s : sets) used.insert(&s);
+  std::set<std::string> machines, commits;
+  for (const ResultSet* s : used) {
+    machines.insert(fmt::format("{} ({} threads)",
+                                s->results.machine.value("cpu_model", "unknown CPU"),
+                                s->results.machine.value("threads", 0)));
+    commits.insert(s->results.machine.value("git_commit", "unknown"));
+  }
+  std::string text = fmt::format("Machine: {}", fmt::join(machines, "; "));
+  if (!devices.empty()) text += fmt::format(". Devices: {}", fmt::join(devices, "; "));
+  return text + fmt::format(". Commit {}.", fmt::join(commits, ", "));
+}
+
+template <typename Key>
+std::vector<Key> sorted_unique(std::vector<Key> keys) {
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
+}
+
+// Series by label, in first-seen order, each a list of (x, y).
+struct Series {
+  std::string label;
+  std::vector<std::pair<double, double>> points;
+};
+void add_point(std::vector<Series>& series, const std::string& label, double x, double y) {
+  auto it =
+      std::find_if(series.begin(), series.end(), [&](const Series& s) { return s.label == label; });
+  if (it == series.end()) it = series.insert(series.end(), Series{label, {}});
+  it->points.emplace_back(x, y);
+}
+
+json lines_chart(const std::string& id, const std::string& xlabel, const std::string& ylabel,
+                 std::vector<Series> series, bool xlog, bool ylog) {
+  json out = {{"id", id},     {"kind", "lines"}, {"xlabel", xlabel},       {"ylabel", ylabel},
+              {"xlog", xlog}, {"ylog", ylog},    {"series", json::array()}};
+  std::sort(series.begin(), series.end(),
+            [](const Series& a, const Series& b) { return a.label < b.label; });
+  for (Series& s : series) {
+    std::sort(s.points.begin(), s.points.end());
+    json x = json::array(), y = json::array();
+    for (const auto& [px, py] : s.points) {
+      x.push_back(number_or_null(px));
+      y.push_back(number_or_null(py));
+    }
+    out["series"].push_back({{"label", s.label}, {"x", x}, {"y", y}});
+  }
+  return out;
+}
+
+// A table with one row per x value and one column per series (cells formatted by `format`).
+ReportTable series_table(const std::string& caption, const std::string& x_header,
+                         const std::vector<Series>& series,
+                         const std::function<std::string(double)>& x_text,
+                         const std::function<std::string(double)>& format) {
+  ReportTable t{caption, {x_header}, {}};
+  std::vector<double> xs;
+  std::vector<std::string> labels;
+  for (const Series& s : series) {
+    labels.push_back(s.label);
+    for (const auto& p : s.points) xs.push_back(p.first);
+  }
+  labels = sorted_unique(labels);
+  xs = sorted_unique(xs);
+  for (const std::string& l : labels) t.header.push_back(l);
+  for (double x : xs) {
+    std::vector<std::string> row{x_text(x)};
+    for (const std::string& l : labels) {
+      std::string cell = "-";
+      for (const Series& s : series)
+        if (s.label == l)
+          for (const auto& p : s.points)
+            if (p.first == x) cell = format(p.second);
+      row.push_back(cell);
+    }
+    t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+std::string regenerate_in(const std::string& run_arguments, const std::string& dir) {
+  std::string run = run_arguments;
+  if (const auto pos = run.rfind("DIR"); pos != std::string::npos) run.replace(pos, 3, dir);
+  return fmt::format("{}{}nurbsbench report --results {}", run, run.empty() ? "" : " && ", dir);
+}
+std::string regenerate(const std::string& run_arguments, const std::vector<ResultSet>& sets) {
+  return regenerate_in(run_arguments, sets.empty() ? "DIR" : sets.front().directory.string());
+}
+
+std::string points_text(double x) {
+  return fmt::format("{}", static_cast<long long>(x));
+}
+
+// ------------------------------------------------------------------------------------ sections
+
+ReportSection sets_section(const std::vector<ResultSet>& sets) {
+  ReportSection s{"results", "Results sets and strategies", "", "", "", false, "", {}, {}, {}};
+  ReportTable machines{"Where each results set was measured",
+                       {"set", "directory", "CPU", "logical cores", "threads", "OS", "commit",
+                        "date (UTC)", "records"},
+                       {}};
+  for (const ResultSet& set : sets) {
+    const json& m = set.results.machine;
+    machines.rows.push_back({set.tag, set.directory.string(), m.value("cpu_model", "unknown"),
+                             m.contains("logical_cores") ? m["logical_cores"].dump() : "n/a",
+                             m.contains("threads") ? m["threads"].dump() : "n/a",
+                             m.value("os", "unknown"), m.value("git_commit", "unknown"),
+                             m.value("date_utc", "unknown"),
+                             std::to_string(set.results.records.size())});
+  }
+  s.tables.push_back(std::move(machines));
+
+  struct Summary {
+    std::string role;
+    std::set<std::string> devices, reasons;
+    int ok = 0, total = 0;
+  };
+  std::map<std::string, Summary> strategies;
+  for (const ResultSet& set : sets)
+    for (const Record& r : set.results.records) {
+      Summary& summary = strategies[r.strategy];
+      summary.role = r.role;
+      if (!r.device.name.empty()) summary.devices.insert(device_text(r.device));
+      ++summary.total;
+      if (r.status == Status::ok)
+        ++summary.ok;
+      else
+        summary.reasons.insert(fmt::format("{}: {}", to_string(r.status), r.reason));
+    }
+  ReportTable table{"Every strategy in these results",
+                    {"strategy", "role", "devices", "ok / records", "not measured because"},
+                    {}};
+  for (const auto& [name, summary] : strategies)
+    table.rows.push_back(
+        {name, summary.role.empty() ? "-" : summary.role,
+         summary.devices.empty() ? "-" : fmt::format("{}", fmt::join(summary.devices, "; ")),
+         fmt::format("{} / {}", summary.ok, summary.total),
+         summary.reasons.empty() ? "-" : fmt::format("{}", fmt::join(summary.reasons, "; "))});
+  s.tables.push_back(std::move(table));
+  return s;
+}
+
+std::vector<Row> rows_where(const std::vector<ResultSet>& sets,
+                            const std::function<bool(const Record&)>& keep) {
+  std::vector<Row> rows;
+  for (const ResultSet& set : sets)
+    for (const Record& r : set.results.records)
+      if (keep(r)) rows.push_back({&set, &r});
+  return rows;
+}
+
+void set_no_data(ReportSection& s, const std::string& command) {
+  s.no_data = fmt::format("no data in these results: run {}", command);
+}
+
+ReportSection time_vs_points(const std::vector<ResultSet>& sets, const Labeller& label,
+                             json& charts) {
+  const std::string run =
+      "nurbsbench run --scenes patch144 --strategies all --samples "
+      "4x4,8x8,16x16,32x32,64x64,128x128,256x256,512x512,1024x1024,2048x2048 --out DIR";
+  ReportSection s{"fig7_time_vs_points",
+                  "Krishnamurthy 2007 Fig 7 / Krishnamurthy-Yasui Fig 9: evaluation time vs number "
+                  "of evaluation points (patch144, 144 control points)",
+                  "",
+                  regenerate(run, sets),
+                  "",
+                  false,
+                  "",
+                  {},
+                  {},
+                  {}};
+  const auto rows = rows_where(sets, [](const Record& r) {
+    return is_measurement(r) && r.scene == "patch144" && r.sampling == "grid";
+  });
+  s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
+  if (rows.empty()) {
+    set_no_data(s, s.command);
+    return s;
+  }
+  std::vector<Series> series;
+  for (const Row& r : rows)
+    add_point(series, label(r), static_cast<double>(r.record->points), r.record->evaluate.median_s);
+  charts["charts"].push_back(
+      lines_chart(s.id, "evaluation points", "evaluate time, median (s)", series, true, true));
+  s.has_chart = true;
+  s.tables.push_back(series_table("Evaluate time (median) per number of points", "points", series,
+                                  points_text, seconds_text));
+  return s;
+}
+
+json bars_chart(const std::string& id, const std::string& ylabel,
+                const std::vector<std::string>& categories, const std::vector<Series>& series,
+                bool ylog) {
+  json out = {{"id", id},     {"kind", "bars"},           {"ylabel", ylabel},
+              {"ylog", ylog}, {"categories", categories}, {"series", json::array()}};
+  for (const Series& s : series) {
+    json values = json::array();
+    for (std::size_t c = 0; c < categories.size(); ++c) {
+      double v = std::numeric_limits<double>::quiet_NaN();
+      for (const auto& p : s.points)
+        if (p.first == static_cast<double>(c)) v = p.second;
+      values.push_back(number_or_null(v));
+    }
+    out["series"].push_back({{"label", s.label}, {"values", values}});
+  }
+  return out;
+}
+
+ReportTable category_table(const std::string& caption, const std::string& first,
+                           const std::vector<std::string>& categories,
+                           const std::vector<Series>& series,
+                           const std::function<std::string(double)>& format) {
+  return series_table(
+      caption, first, series, [&](double x) { return categories.at(static_cast<std::size_t>(x)); },
+      format);
+}
+
+ReportSection deboor_vs_basis(const std::vector<ResultSet>& sets, const Labeller& label,
+                              json& charts) {
+  const std::vector<std::string> scenes = {"tan16", "tan64", "tan256"};
+  const std::string run =
+      "nurbsbench run --scenes tan16,tan64,tan256 --strategies all --samples 256x256 --out DIR";
+  ReportSection s{"fig14_deboor_vs_basis",
+                  "Tan 2012 Fig 14: one-pass de Boor (glsl-deboor) vs multi-pass basis functions "
+                  "(gl-pingpong), 16², 64², 256² control points",
+                  "",
+                  regenerate(run, sets),
+                  "",
+                  false,
+                  "",
+                  {},
+                  {},
+                  {}};
+  auto rows = rows_where(sets, [&](const Record& r) {
+    return is_measurement(r) && r.sampling == "grid" &&
+           std::find(scenes.begin(), scenes.end(), r.scene) != scenes.end();
+  });
+  // One grid for the whole chart: the one measured most often on these scenes (ties: the larger).
+  std::map<std::string, std::pair<int, std::size_t>> grids;
+  for (const Row& r : rows) {
+    auto& g = grids[r.record->samples];
+    ++g.first;
+    g.second = r.record->points;
+  }
+  std::string grid;
+  std::pair<int, std::size_t> best{0, 0};
+  for (const auto& [name, count] : grids)
+    if (count > best) {
+      best = count;
+      grid = name;
+    }
+  std::erase_if(rows, [&](const Row& r) { return r.record->samples != grid; });
+  s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
+  if (rows.empty()) {
+    set_no_data(s, s.command);
+    return s;
+  }
+  s.title += fmt::format(", {} samples", grid);
+  std::vector<std::string> categories;
+  for (const std::string& scene : scenes)
+    if (std::any_of(rows.begin(), rows.end(),
+                    [&](const Row& r) { return r.record->scene == scene; }))
+      categories.push_back(scene);
+  std::vector<Series> series;
+  for (const Row& r : rows) {
+    const auto c =
+        std::find(categories.begin(), categories.end(), r.record->scene) - categories.begin();
+    add_point(series, label(r), static_cast<double>(c), r.record->evaluate.median_s);
+  }
+  std::sort(series.begin(), series.end(),
+            [](const Series& a, const Series& b) { return a.label < b.label; });
+  charts["charts"].push_back(
+      bars_chart(s.id, "evaluate time, median (s)", categories, series, true));
+  s.has_chart = true;
+  s.tables.push_back(category_table(fmt::format("Evaluate time (median), {} samples", grid),
+                                    "scene", categories, series, seconds_text));
+  s.notes.push_back(
+      "The paper compares its one-pass de Boor evaluation with Krishnamurthy's basis-function "
+      "passes; every strategy measured on these scenes is shown beside them.");
+  return s;
+}
+
+ReportSection lod_section(const std::vector<ResultSet>& sets, json& charts) {
+  const std::string run = "nurbsbench lod --out DIR";
+  ReportSection s{"fig15_lod",
+                  "Tan 2012 Fig 15: LOD change by Haar wavelet vs re-evaluation (21×23 control "
+                  "points; 128², 512², 1024² samples)",
+                  "",
+                  regenerate(run, sets),
+                  "",
+                  false,
+                  "",
+                  {},
+                  {},
+                  {}};
+  ReportTable times{"Median times of one LOD change (from lod.json)",
+                    {"scene", "samples", "device", "coarser by Haar", "coarser by re-evaluation",
+                     "Haar speed-up", "finer by Haar", "finer by re-evaluation", "Haar speed-up"},
+                    {}};
+  ReportTable levels{"Accuracy of each Haar level against the reference",
+                     {"scene", "samples", "level", "level samples", "max_distance", "max_ulp"},
+                     {}};
+  std::vector<std::string> categories;
+  std::vector<Series> series;
+  std::set<std::string> machines, devices, commits;
+  for (const ResultSet& set : sets) {
+    if (!set.lod) continue;
+    const json& machine = (*set.lod).value("machine", json::object());
+    machines.insert(machine.is_object() ? machine.value("cpu_model", "unknown CPU")
+                                        : "unknown CPU");
+    commits.insert(machine.is_object() ? machine.value("git_commit", "unknown") : "unknown");
+    for (const json& row : (*set.lod)["rows"]) {
+      DeviceInfo device;
+      if (row.contains("device") && row["device"].is_object()) {
+        device.name = text_field(row["device"], "name");
+        device.kind = text_field(row["device"], "kind");
+      }
+      devices.insert(device_text(device));
+      const double ch = number_field(row, "coarser_by_haar_s"),
+                   cr = number_field(row, "coarser_by_reevaluation_s"),
+                   fh = number_field(row, "finer_by_haar_s"),
+                   fr = number_field(row, "finer_by_reevaluation_s");
+      const std::string scene = text_field(row, "scene"), samples = text_field(row, "samples");
+      times.rows.push_back({scene, samples, device_text(device), seconds_text(ch), seconds_text(cr),
+                            report_number(cr / ch), seconds_text(fh), seconds_text(fr),
+                            report_number(fr / fh)});
+      const double c = static_cast<double>(categories.size());
+      categories.push_back(sets.size() > 1 ? fmt::format("{} [{}]", samples, set.tag) : samples);
+      add_point(series, "coarser by Haar", c, ch);
+      add_point(series, "coarser by re-evaluation", c, cr);
+      add_point(series, "finer by Haar", c, fh);
+      add_point(series, "finer by re-evaluation", c, fr);
+      if (row.contains("levels") && row["levels"].is_array())
+        for (const json& level : row["levels"])
+          levels.rows.push_back({scene, samples, text_field(level, "level"),
+                                 text_field(level, "samples"),
+                                 report_number(number_field(level, "max_distance")),
+                                 report_number(number_field(level, "max_ulp"))});
+    }
+  }
+  if (times.rows.empty()) {
+    set_no_data(s, s.command);
+    s.context = context_of({}, sets);
+    return s;
+  }
+  s.context = fmt::format("Machine: {}. Devices: {}. Commit {}.", fmt::join(machines, "; "),
+                          fmt::join(devices, "; "), fmt::join(commits, ", "));
+  charts["charts"].push_back(bars_chart(s.id, "median time (s)", categories, series, true));
+  s.has_chart = true;
+  s.tables.push_back(std::move(times));
+  if (!levels.rows.empty()) s.tables.push_back(std::move(levels));
+  return s;
+}
+
+ReportSection frame_section(const std::vector<ResultSet>& sets, const Labeller& label,
+                            json& charts) {
+  const std::string run =
+      "nurbsbench run --deforming --scenes patch144,teapot --strategies all --samples 256x256 "
+      "--out DIR";
+  ReportSection s{
+      "rpns_frame", "RPNS 2014: time per frame with deforming control points (update + evaluate)",
+      "",           regenerate(run, sets),
+      "",           false,
+      "",           {},
+      {},           {}};
+  const auto rows = rows_where(
+      sets, [](const Record& r) { return is_measurement(r) && r.extra_phases.contains("frame"); });
+  s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
+  if (rows.empty()) {
+    set_no_data(s, s.command);
+    return s;
+  }
+  std::vector<std::string> categories;
+  for (const Row& r : rows) categories.push_back(r.record->scene + " " + r.record->samples);
+  categories = sorted_unique(categories);
+  std::vector<Series> series;
+  ReportTable table{"Per-frame time (median)",
+                    {"strategy", "scene", "samples", "frame", "frames/s", "evaluate only"},
+                    {}};
+  for (const Row& r : rows) {
+    const double frame = r.record->extra_phases.at("frame").median_s;
+    const auto c =
+        std::find(categories.begin(), categories.end(), r.record->scene + " " + r.record->samples) -
+        categories.begin();
+    add_point(series, label(r), static_cast<double>(c), frame);
+    table.rows.push_back({label(r), r.record->scene, r.record->samples, seconds_text(frame),
+                          report_number(1 / frame), seconds_text(r.record->evaluate.median_s)});
+  }
+  std::sort(series.begin(), series.end(),
+            [](const Series& a, const Series& b) { return a.label < b.label; });
+  charts["charts"].push_back(
+      bars_chart(s.id, "time per frame, median (s)", categories, series, true));
+  s.has_chart = true;
+  s.tables.push_back(std::move(table));
+  return s;
+}
+
+ReportSection memory_section(const std::vector<ResultSet>& sets) {
+  const std::string run = "nurbsbench memory --out DIR";
+  ReportSection s{"rpns_memory",
+                  "RPNS 2014 Table 1: memory of NURBS vs Bézier control points",
+                  "",
+                  regenerate(run, sets),
+                  "",
+                  false,
+                  "",
+                  {},
+                  {},
+                  {}};
+  s.context = context_of({}, sets);
+  ReportTable table{"Control-point memory (from memory.json)",
+                    {"scene", "surfaces", "NURBS control points", "NURBS bytes", "Bézier patches",
+                     "Bézier control points", "Bézier bytes", "Bézier / NURBS", "KSQuads"},
+                    {}};
+  for (const ResultSet& set : sets) {
+    if (!set.memory) continue;
+    for (const json& row : (*set.memory)["rows"])
+      table.rows.push_back(
+          {text_field(row, "scene"), text_field(row, "surfaces"),
+           text_field(row, "nurbs_control_points"), text_field(row, "nurbs_bytes"),
+           text_field(row, "bezier_patches"), text_field(row, "bezier_control_points"),
+           text_field(row, "bezier_bytes"),
+           report_number(number_field(row, "bezier_bytes") / number_field(row, "nurbs_bytes")),
+           text_field(row, "ksquads")});
+  }
+  if (table.rows.empty())
+    set_no_data(s, s.command);
+  else
+    s.tables.push_back(std::move(table));
+  return s;
+}
+
+ReportSection many_surfaces(const std::vector<ResultSet>& sets, const Labeller& label,
+                            json& charts) {
+  const std::string run =
+      "nurbsbench run --scenes many-1,many-4,many-16,many-64,many-256,many-1024,many-4096 "
+      "--strategies all --samples 16x16 --out DIR";
+  ReportSection s{"fig8_many_surfaces",
+                  "Krishnamurthy 2007 Fig 8 style: throughput vs number of surfaces (16×16 samples "
+                  "each)",
+                  "",
+                  regenerate(run, sets),
+                  "",
+                  false,
+                  "",
+                  {},
+                  {},
+                  {}};
+  auto rows = rows_where(sets, [](const Record& r) {
+    return is_measurement(r) && numbered_scene(r.scene, "many-").has_value();
+  });
+  // The paper's 16×16 per surface when measured; otherwise every grid, labelled by it.
+  const bool has_16 = std::any_of(rows.begin(), rows.end(),
+                                  [](const Row& r) { return r.record->samples == "16x16"; });
+  if (has_16) std::erase_if(rows, [](const Row& r) { return r.record->samples != "16x16"; });
+  s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
+  if (rows.empty()) {
+    set_no_data(s, s.command);
+    return s;
+  }
+  std::vector<Series> throughput, frames;
+  for (const Row& r : rows) {
+    const std::string l = has_16 ? label(r) : label(r) + " " + r.record->samples;
+    const double n = *numbered_scene(r.record->scene, "many-");
+    add_point(throughput, l, n, r.record->throughput_pts_per_s);
+    add_point(frames, l, n, 1 / r.record->end_to_end.median_s);
+  }
+  charts["charts"].push_back(
+      lines_chart(s.id, "surfaces", "throughput (points/s)", throughput, true, true));
+  s.has_chart = true;
+  s.tables.push_back(series_table("Throughput (points/s, evaluate only)", "surfaces", throughput,
+                                  points_text, report_number));
+  s.tables.push_back(series_table("Frames per second (upload + evaluate + read back)", "surfaces",
+                                  frames, points_text, report_number));
+  return s;
+}
+
+ReportSection accuracy_heatmap(const std::vector<ResultSet>& sets, const Labeller& label,
+                               json& charts) {
+  const std::string run = "nurbsbench run --scenes all --strategies all --samples 64x64 --out DIR";
+  ReportSection s{"accuracy_heatmap",
+                  "Accuracy: max_ulp per strategy and scene (worst over samplings)",
+                  "",
+                  regenerate(run, sets),
+                  "",
+                  false,
+                  "",
+                  {},
+                  {},
+                  {}};
+  const auto rows =
+      rows_where(sets, [](const Record& r) { return is_measurement(r) && r.accuracy.has_value(); });
+  s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
+  if (rows.empty()) {
+    set_no_data(s, s.command);
+    return s;
+  }
+  std::vector<std::string> scenes, labels;
+  for (const Row& r : rows) {
+    if (std::find(scenes.begin(), scenes.end(), r.record->scene) == scenes.end())
+      scenes.push_back(r.record->scene);
+    labels.push_back(label(r));
+  }
+  labels = sorted_unique(labels);
+  std::map<std::pair<std::string, std::string>, double> worst;
+  for (const Row& r : rows) {
+    double& w = worst.try_emplace({label(r), r.record->scene}, 0.0).first->second;
+    const double ulp = r.record->accuracy->max_ulp;
+    if (!(ulp <= w)) w = std::isnan(ulp) ? std::numeric_limits<double>::infinity() : ulp;
+  }
+  json values = json::array();
+  ReportTable table{
+      "max_ulp (f32 ulps of the scene's largest coordinate); - = not measured", {"strategy"}, {}};
+  for (const std::string& sc : scenes) table.header.push_back(sc);
+  for (const std::string& l : labels) {
+    json row = json::array();
+    std::vector<std::string> cells{l};
+    for (const std::string& sc : scenes) {
+      auto it = worst.find({l, sc});
+      row.push_back(it == worst.end()           ? json(nullptr)
+                    : std::isfinite(it->second) ? json(it->second)
+                                                : json("inf"));
+      cells.push_back(it == worst.end() ? "-" : report_number(it->second));
+    }
+    values.push_back(row);
+    table.rows.push_back(std::move(cells));
+  }
+  charts["charts"].push_back({{"id", s.id},
+                              {"kind", "heatmap"},
+                              {"rows", labels},
+                              {"cols", scenes},
+                              {"values", values},
+                              {"colorbar", "max_ulp (log scale)"}});
+  s.has_chart = true;
+  s.tables.push_back(std::move(table));
+  return s;
+}
+
+ReportSection accuracy_vs_degree(const std::vector<ResultSet>& sets, const Labeller& label,
+                                 json& charts) {
+  const std::string run =
+      "nurbsbench run --scenes degree-1,degree-2,degree-3,degree-4,degree-5,degree-6,degree-7,"
+      "degree-8,degree-9 --strategies all --samples 64x64 --out DIR";
+  ReportSection s{"accuracy_vs_degree",
+                  "Accuracy: max_ulp vs degree (scenes degree-1 … degree-9)",
+                  "",
+                  regenerate(run, sets),
+                  "",
+                  false,
+                  "",
+                  {},
+                  {},
+                  {}};
+  const auto rows = rows_where(sets, [](const Record& r) {
+    return is_measurement(r) && r.accuracy && numbered_scene(r.scene, "degree-").has_value();
+  });
+  s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
+  if (rows.empty()) {
+    set_no_data(s, s.command);
+    return s;
+  }
+  std::map<std::pair<std::string, int>, double> worst;
+  for (const Row& r : rows) {
+    double& w = worst.try_emplace({label(r), *numbered_scene(r.record->scene, "degree-")}, 0.0)
+                    .first->second;
+    const double ulp = r.record->accuracy->max_ulp;
+    if (!(ulp <= w)) w = std::isnan(ulp) ? std::numeric_limits<double>::infinity() : ulp;
+  }
+  std::vector<Series> series;
+  for (const auto& [key, ulp] : worst) add_point(series, key.first, key.second, ulp);
+  charts["charts"].push_back(lines_chart(s.id, "degree", "max_ulp", series, false, true));
+  s.has_chart = true;
+  s.tables.push_back(series_table("max_ulp (worst over samplings) per degree", "degree", series,
+                                  points_text, report_number));
+  return s;
+}
+
+ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller& label,
+                             json& charts) {
+  const std::string run =
+      "nurbsbench run --scenes patch144 --strategies all --samples 256x256 --out DIR";
+  ReportSection s{
+      "phases", "Phase breakdown: where the time goes (setup, upload, evaluate, read back)",
+      "",       regenerate(run, sets),
+      "",       false,
+      "",       {},
+      {},       {}};
+  // One configuration for the chart: the (set, scene, samples, precision) with the most
+  // strategies measured (ties: the most points).
+  std::map<std::tuple<const ResultSet*, std::string, std::string, std::string>,
+           std::pair<int, std::size_t>>
+      configs;
+  const auto all = rows_where(sets, is_measurement);
+  for (const Row& r : all) {
+    auto& c = configs[{r.set, r.record->scene, r.record->samples, r.record->precision}];
+    ++c.first;
+    c.second = std::max(c.second, r.record->points);
+  }
+  if (configs.empty()) {
+    s.context = context_of({}, sets);
+    set_no_data(s, s.command);
+    return s;
+  }
+  auto best = configs.begin();
+  for (auto it = configs.begin(); it != configs.end(); ++it)
+    if (it->second > best->second) best = it;
+  const auto& [set, scene, samples, precision] = best->first;
+  std::vector<Row> rows;
+  for (const Row& r : all)
+    if (r.set == set && r.record->scene == scene && r.record->samples == samples &&
+        r.record->precision == precision)
+      rows.push_back(r);
+  s.title += fmt::format(" — {} at {}, {}", scene, samples, precision);
+  s.context = context_of(rows, sets);
+  // The command that remakes the data lands where this section's data came from.
+  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
+  std::set<std::string> extra;
+  for (const Row& r : rows)
+    for (const auto& [name, stats] : r.record->extra_phases) extra.insert(name);
+  ReportTable table{"Median time per phase (setup: once, cold)",
+                    {"strategy", "setup", "upload", "evaluate", "read_back", "end_to_end",
+                     "evaluate share of end_to_end"},
+                    {}};
+  for (const std::string& e : extra) table.header.push_back(e);
+  std::vector<std::string> categories;
+  json upload = json::array(), evaluate = json::array(), read_back = json::array();
+  for (const Row& r : rows) {
+    const Record& x = *r.record;
+    categories.push_back(label(r));
+    upload.push_back(number_or_null(x.upload.median_s));
+    evaluate.push_back(number_or_null(x.evaluate.median_s));
+    read_back.push_back(number_or_null(x.read_back.median_s));
+    std::vector<std::string> cells{label(r),
+                                   seconds_text(x.setup_s),
+                                   seconds_text(x.upload.median_s),
+                                   seconds_text(x.evaluate.median_s),
+                                   seconds_text(x.read_back.median_s),
+                                   seconds_text(x.end_to_end.median_s),
+                                   report_number(x.evaluate.median_s / x.end_to_end.median_s)};
+    for (const std::string& e : extra)
+      cells.push_back(x.extra_phases.contains(e) ? seconds_text(x.extra_phases.at(e).median_s)
+                                                 : "-");
+    table.rows.push_back(std::move(cells));
+  }
+  charts["charts"].push_back({{"id", s.id},
+                              {"kind", "stacked"},
+                              {"ylabel", "median time (s)"},
+                              {"categories", categories},
+                              {"stacks",
+                               {{{"label", "upload"}, {"values", upload}},
+                                {{"label", "evaluate"}, {"values", evaluate}},
+                                {{"label", "read_back"}, {"values", read_back}}}}});
+  s.has_chart = true;
+  s.tables.push_back(std::move(table));
+  s.notes.push_back(
+      "The chart stacks the phases paid per evaluation (upload, evaluate, read_back); setup "
+      "(context creation, shader/kernel compilation, first prepare) is paid once and is in the "
+      "table only.");
+  if (!extra.empty())
+    s.notes.push_back(
+        "Extra phases (render, render_via_read_back, frame, …) are alternatives to the "
+        "upload/evaluate/read_back path, so they are listed, not stacked.");
+  return s;
+}
+
+ReportSection measurements_section(const std::vector<ResultSet>& sets) {
+  ReportSection s{"measurements",
+                  "Every measurement, with throughput as a fraction of the store-bandwidth limit",
+                  context_of({}, sets),
+                  "",
+                  "",
+                  false,
+                  "",
+                  {},
+                  {},
+                  {}};
+  ReportTable table{"", {}, {}};
+  table.header = {
+      "scene",    "samples",        "precision", "strategy", "device", "evaluate (median)",
+      "points/s", "of store limit", "max_ulp",   "status"};
+  if (sets.size() > 1) table.header.insert(table.header.begin(), "set");
+  bool any_limit = false;
+  for (const ResultSet& set : sets)
+    for (const Record& r : set.results.records) {
+      // The machine's ceiling for the same request (same set, scene, samples, precision).
+      std::optional<double> limit;
+      for (const Record& l : set.results.records)
+        if (l.role == "limit" && l.status == Status::ok && l.scene == r.scene &&
+            l.samples == r.samples && l.precision == r.precision && l.throughput_pts_per_s > 0)
+          limit = l.throughput_pts_per_s;
+      any_limit = any_limit || limit.has_value();
+      const bool ok = r.status == Status::ok;
+      std::vector<std::string> cells{
+          r.scene,
+          r.samples,
+          r.precision,
+          r.strategy,
+          r.device.kind.empty() ? "-" : r.device.kind,
+          ok ? seconds_text(r.evaluate.median_s) : "-",
+          ok ? report_number(r.throughput_pts_per_s) : "-",
+          ok && limit && r.role != "limit"
+              ? fmt::format("{:.1f}%", 100 * r.throughput_pts_per_s / *limit)
+              : "-",
+          ok && r.accuracy ? report_number(r.accuracy->max_ulp) : "-",
+          ok ? "ok" : fmt::format("{}: {}", to_string(r.status), r.reason)};
+      if (sets.size() > 1) cells.insert(cells.begin(), set.tag);
+      table.rows.push_back(std::move(cells));
+    }
+  if (!any_limit)
+    s.notes.push_back(
+        "No limit-store-bandwidth rows in these results (run with --strategies all, or add "
+        "limit-store-bandwidth to the list), so there is no store-limit fraction.");
+  else
+    s.notes.push_back(
+        "of store limit = the strategy's points/s over the limit-store-bandwidth row's points/s "
+        "for the same scene, samples and precision: the fraction of the machine's write bandwidth "
+        "its output reaches.");
+  s.tables.push_back(std::move(table));
+  return s;
+}
+
+std::string markdown_cell(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '|')
+      out += "\\|";
+    else if (c == '\n')
+      out += ' ';
+    else
+      out += c;
+  }
+  return out;
+}
+
+std::string html_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string report_number(double x) {
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  if (!std::isfinite(x)) return "n/a";
+  return fmt::format("{:.3g}", x);
+}
+
+ResultSet load_result_set(const fs::path& directory) {
+  ResultSet set;
+  set.directory = directory;
+  set.results = read_results(directory);
+  const fs::path dir = fs::is_directory(directory) ? directory : directory.parent_path();
+  fs::path name = fs::weakly_canonical(dir).filename();
+  set.tag = name.empty() ? dir.string() : name.string();
+  set.lod = read_side_file(dir / "lod.json", "nurbsbench-lod/1");
+  set.memory = read_side_file(dir / "memory.json", "nurbsbench-memory/1");
+  return set;
+}
+
+Report build_report(const std::vector<ResultSet>& sets) {
+  Report report;
+  report.charts = {{"format", "nurbsbench-charts/1"}, {"charts", json::array()}};
+  const Labeller label(sets);
+  json& charts = report.charts;
+  report.sections.push_back(sets_section(sets));
+  report.sections.push_back(time_vs_points(sets, label, charts));
+  report.sections.push_back(deboor_vs_basis(sets, label, charts));
+  report.sections.push_back(lod_section(sets, charts));
+  report.sections.push_back(frame_section(sets, label, charts));
+  report.sections.push_back(memory_section(sets));
+  report.sections.push_back(many_surfaces(sets, label, charts));
+  report.sections.push_back(accuracy_heatmap(sets, label, charts));
+  report.sections.push_back(accuracy_vs_degree(sets, label, charts));
+  report.sections.push_back(phases_section(sets, label, charts));
+  report.sections.push_back(measurements_section(sets));
+  // Each chart carries what its caption needs, so the plotter knows nothing about the report.
+  for (json& chart : charts["charts"])
+    for (const ReportSection& s : report.sections)
+      if (s.id == chart["id"]) {
+        chart["title"] = s.title;
+        chart["context"] = s.context;
+        chart["command"] = s.command;
+        chart["file"] = s.id + ".png";
+      }
+  return report;
+}
+
+std::string report_markdown(const Report& report) {
+  std::string out = "# nurbsbench report\n\n";
+  out +=
+      "Generated by `nurbsbench report` from the results sets below. Strategies on llvmpipe, "
+      "lavapipe or PoCL ran on the CPU: their figures are CPU figures.\n\n";
+  for (const ReportSection& s : report.sections) {
+    out += fmt::format("## {}\n\n", s.title);
+    if (!s.context.empty()) out += fmt::format("*{}*\n\n", s.context);
+    if (!s.no_data.empty()) out += fmt::format("**{}**\n\n", s.no_data);
+    if (s.has_chart) {
+      if (s.chart_note.empty())
+        out += fmt::format("![{}]({}.png)\n\n", markdown_cell(s.title), s.id);
+      else
+        out += fmt::format("> chart {}.png not drawn: {}\n\n", s.id, s.chart_note);
+    }
+    for (const std::string& image : s.images) out += fmt::format("![{}]({})\n\n", image, image);
+    if (!s.command.empty()) out += fmt::format("Regenerate:\n\n```sh\n{}\n```\n\n", s.command);
+    for (const ReportTable& t : s.tables) {
+      if (!t.caption.empty()) out += fmt::format("{}:\n\n", t.caption);
+      std::vector<std::string> header;
+      for (const std::string& h : t.header) header.push_back(markdown_cell(h));
+      out += fmt::format("| {} |\n|", fmt::join(header, " | "));
+      for (std::size_t c = 0; c < t.header.size(); ++c) out += "---|";
+      out += "\n";
+      for (const auto& row : t.rows) {
+        std::vector<std::string> cells;
+        for (const std::string& c : row) cells.push_back(markdown_cell(c));
+        out += fmt::format("| {} |\n", fmt::join(cells, " | "));
+      }
+      out += "\n";
+    }
+    for (const std::string& note : s.notes) out += note + "\n\n";
+  }
+  return out;
+}
+
+std::string report_html(const Report& report) {
+  std::string out =
+      "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>nurbsbench report</title>\n"
+      "<style>body{font-family:sans-serif;max-width:1200px;margin:auto}"
+      "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #bbb;padding:2px "
+      "6px;font-size:90%}th{background:#eee}img{max-width:100%}pre{background:#f4f4f4;padding:"
+      "0.5em;white-space:pre-wrap}.context{color:#555;font-style:italic}.nodata{color:#a00}"
+      "</style></head><body>\n<h1>nurbsbench report</h1>\n<p>Generated by <code>nurbsbench "
+      "report</code>. Strategies on llvmpipe, lavapipe or PoCL ran on the CPU: their figures are "
+      "CPU figures.</p>\n";
+  for (const ReportSection& s : report.sections) {
+    out += fmt::format("<h2 id=\"{}\">{}</h2>\n", s.id, html_escape(s.title));
+    if (!s.context.empty())
+      out += fmt::format("<p class=\"context\">{}</p>\n", html_escape(s.context));
+    if (!s.no_data.empty())
+      out += fmt::format("<p class=\"nodata\"><b>{}</b></p>\n", html_escape(s.no_data));
+    if (s.has_chart) {
+      if (s.chart_note.empty())
+        out += fmt::format("<img src=\"{}.png\" alt=\"{}\">\n", s.id, html_escape(s.title));
+      else
+        out += fmt::format("<p class=\"nodata\">chart {}.png not drawn: {}</p>\n", s.id,
+                           html_escape(s.chart_note));
+    }
+    for (const std::string& image : s.images)
+      out += fmt::format("<img src=\"{}\" alt=\"{}\">\n", html_escape(image), html_escape(image));
+    if (!s.command.empty())
+      out += fmt::format("<p>Regenerate:</p><pre>{}</pre>\n", html_escape(s.command));
+    for (const ReportTable& t : s.tables) {
+      out += "<table>\n";
+      if (!t.caption.empty()) out += fmt::format("<caption>{}</caption>\n", html_escape(t.caption));
+      out += "<tr>";
+      for (const std::string& h : t.header) out += fmt::format("<th>{}</th>", html_escape(h));
+      out += "</tr>\n";
+      for (const auto& row : t.rows) {
+        out += "<tr>";
+        for (const std::string& c : row) out += fmt::format("<td>{}</td>", html_escape(c));
+        out += "</tr>\n";
+      }
+      out += "</table>\n";
+    }
+    for (const std::string& note : s.notes) out += fmt::format("<p>{}</p>\n", html_escape(note));
+  }
+  return out + "</body></html>\n";
+}
+
+}  // namespace nurbs

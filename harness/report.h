@@ -1,0 +1,65 @@
+// The report: every table and chart of issue 7 computed from whatever records one or more results
+// sets hold (no list of strategies is named anywhere), plus the optional side files a set may
+// carry (lod.json from `nurbsbench lod`, memory.json from the memory study). The charts are
+// described as data (chart JSON) and drawn outside the core by scripts/plot_report.py, as Google
+// Benchmark leaves plotting to its tools; REPORT.md and index.html are rendered here from the same
+// sections so they show the same thing.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/results_writer.h"
+
+namespace nurbs {
+
+struct ResultSet {
+  std::filesystem::path directory;
+  std::string tag;  // short name (the directory's), used in labels when there are several sets
+  ResultsFile results;
+  std::optional<nlohmann::json> lod;     // DIR/lod.json (nurbsbench-lod/1), when present
+  std::optional<nlohmann::json> memory;  // DIR/memory.json (nurbsbench-memory/1), when present
+};
+
+// Reads DIR/results.json and, when present, DIR/lod.json and DIR/memory.json. Throws InputError
+// naming the file and field for anything malformed.
+ResultSet load_result_set(const std::filesystem::path& directory);
+
+struct ReportTable {
+  std::string caption;
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+
+struct ReportSection {
+  std::string id;          // also the chart's file stem
+  std::string title;       // the paper figure it reproduces
+  std::string context;     // machine (CPU model), devices and drivers, commit
+  std::string command;     // the command that regenerates its data and the report
+  std::string no_data;     // non-empty: nothing to show, and what to run to get it
+  bool has_chart = false;  // a chart is described in the chart JSON under `id`
+  std::string chart_note;  // filled after plotting: why the chart could not be drawn
+  std::vector<ReportTable> tables;
+  std::vector<std::string> notes;   // plain paragraphs
+  std::vector<std::string> images;  // extra images (relative paths), e.g. error heat maps
+};
+
+struct Report {
+  std::vector<ReportSection> sections;
+  nlohmann::json charts;  // {"format": "nurbsbench-charts/1", "charts": [ ... ]}
+};
+
+Report build_report(const std::vector<ResultSet>& sets);
+
+std::string report_markdown(const Report& report);
+std::string report_html(const Report& report);
+
+// Numbers as the tables print them: 3 significant digits, "inf" for infinities, "n/a" for
+// anything else non-finite (never "nan").
+std::string report_number(double x);
+
+}  // namespace nurbs

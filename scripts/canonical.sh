@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# Regenerates the canonical results of this machine: results/<machine-tag>/ with one results set
+# per paper figure (each a `nurbsbench run` with the samples its chart needs), the LOD, memory and
+# deforming studies where this build has them, the report (REPORT.md, index.html, charts), a
+# Google Benchmark JSON of the evaluation-time run, and the machine record.
+#
+#   scripts/canonical.sh                  # the full job (about 15 min on 2 cores)
+#   scripts/canonical.sh --tiny           # the same steps on tiny grids (a minute): proves the script
+#   scripts/canonical.sh --out DIR        # somewhere else than results/<machine-tag>
+#   scripts/canonical.sh --no-build       # use build/release as it is
+#
+# The machine tag is the CPU model and the thread count (override: NURBSBENCH_MACHINE_TAG).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+tiny=0 build=1 out=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --tiny) tiny=1 ;;
+    --no-build) build=0 ;;
+    --out) out="$2"; shift ;;
+    *) echo "canonical.sh: unknown argument '$1' (see the header of $0)" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+if [ "$build" = 1 ]; then
+  bash scripts/setup.sh
+  cmake --preset release >/dev/null
+  cmake --build --preset release -j "$(nproc)" --target nurbsbench
+fi
+nb="$PWD/build/release/harness/nurbsbench"
+
+cpu=$(sed -n 's/^model name[[:space:]]*:[[:space:]]*//p' /proc/cpuinfo | head -n1)
+tag=${NURBSBENCH_MACHINE_TAG:-$(echo "${cpu:-unknown-cpu}" | tr '[:upper:]' '[:lower:]' |
+  sed -e 's/([^)]*)//g' -e 's/[^a-z0-9]\+/-/g' -e 's/^-//' -e 's/-$//')-$(nproc)t}
+[ "$tiny" = 1 ] && tag="$tag-tiny"
+out=${out:-results/$tag}
+mkdir -p "$out"
+echo "canonical: $out (CPU: ${cpu:-unknown}, $(nproc) threads)"
+
+# Per figure: scenes, samples, repetitions (tiny: the same scenes where cheap, tiny grids).
+if [ "$tiny" = 1 ]; then
+  fig7=(patch144 4x4,16x16 1)
+  fig14=(tan16 8x8 1)
+  fig8=(many-1,many-4 16x16 1)
+  accuracy=(patch144,degree-2,degree-3 8x8 1)
+  deforming=(patch144 16x16 1)
+  lod=(--samples 32x32,64x64 --repetitions 1)
+else
+  fig7=(patch144 4x4,8x8,16x16,32x32,64x64,128x128,256x256,512x512,1024x1024,2048x2048 3)
+  fig14=(tan16,tan64,tan256 256x256 5)
+  fig8=(many-1,many-4,many-16,many-64,many-256,many-1024,many-4096 16x16 3)
+  accuracy=(default 64x64 3)
+  deforming=(teapot,patch144,many-256 16x16 1)  # RPNS's scenes; frames below
+  lod=()                                         # the verb's defaults: 002 Fig 15's sizes
+fi
+
+run() {  # run <subdir> <scenes> <samples> <repetitions> [extra run options...]
+  local dir="$out/$1" scenes="$2" samples="$3" reps="$4"
+  shift 4
+  echo "canonical: run $dir ($scenes at $samples)"
+  "$nb" run --scenes "$scenes" --strategies all --samples "$samples" --repetitions "$reps" \
+    --out "$dir" "$@" >"$dir.log" 2>&1 || { echo "canonical: run $dir failed, see $dir.log" >&2; exit 1; }
+  results+=(--results "$dir")
+}
+mkdir -p "$out"
+results=()
+run fig7-time-vs-points "${fig7[@]}"
+run fig14-deboor-vs-basis "${fig14[@]}"
+run fig8-many-surfaces "${fig8[@]}"
+run accuracy "${accuracy[@]}"
+
+# RPNS per-frame time with deforming control points (30 frames), the Table 1 memory figures and
+# 002 Fig 15; report reads DIR/lod.json and DIR/memory.json beside a results.json.
+run deforming "${deforming[@]}" --deforming 30
+echo "canonical: lod"
+"$nb" lod "${lod[@]}" --out "$out/fig14-deboor-vs-basis" >"$out/lod.log" 2>&1 ||
+  { echo "canonical: lod failed, see $out/lod.log" >&2; exit 1; }
+echo "canonical: memory"
+"$nb" memory --scenes all --json >"$out/fig14-deboor-vs-basis/memory.json"
+
+echo "canonical: report"
+"$nb" report "${results[@]}" --out "$out/report"
+"$nb" gbench-json --results "$out/fig7-time-vs-points" --out "$out/fig7-time-vs-points/gbench.json"
+
+# The machine record: what `run` recorded, plus every strategy's availability and device here.
+/usr/bin/python3 -c 'import json,sys; print(json.dumps(json.load(open(sys.argv[1]))["machine"], indent=1))' \
+  "$out/fig7-time-vs-points/results.json" >"$out/machine.json"
+"$nb" list --json >"$out/strategies.json"
+echo "canonical: done: $out/report/REPORT.md"

@@ -1,0 +1,485 @@
+// The tooling verbs that read results: report (REPORT.md, index.html, charts), recommend,
+// gbench-json; and eval's error heat maps. Results are made by `nurbsbench run` on tiny grids or
+// written by hand (synthetic records with a known answer).
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "harness/error_image.h"
+#include "harness/results_writer.h"
+#include "reference/reference_evaluator.h"
+#include "run_cli.h"
+#include "scenes/builtin_scenes.h"
+#include "strategies/registry.h"
+
+namespace nurbs::test {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+void expect_usage_error(const CliResult& r, const std::vector<std::string>& substrings) {
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_TRUE(is_one_error_line(r.err)) << "stderr:\n" << r.err;
+  for (const std::string& s : substrings)
+    EXPECT_NE(r.err.find(s), std::string::npos) << "missing '" << s << "' in: " << r.err;
+}
+
+std::string lower(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+
+bool matplotlib_present() {
+  return std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") == 0;
+}
+
+// ------------------------------------------------------------------------------------- report
+
+class CliReport : public ::testing::Test {
+ protected:
+  // One tiny run with every strategy (and the store-limit row) on the scenes the charts read.
+  static void SetUpTestSuite() {
+    results_ = new TempDir;
+    const CliResult r =
+        run_cli({"run", "--scenes", "patch144,tan16,many-1,many-4,degree-2", "--strategies", "all",
+                 "--samples", "4x4,8x8", "--repetitions", "1", "--out", results_->path().string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    delete results_;
+    results_ = nullptr;
+  }
+  static std::set<std::string> strategies_in_results() {
+    std::set<std::string> names;
+    for (const json& r : json::parse(read_text(results_->path() / "results.json"))["records"])
+      names.insert(r["strategy"].get<std::string>());
+    return names;
+  }
+  // A copy of the run's results in a fresh directory, where side files can be added.
+  std::string copy_results(const std::string& name) {
+    const fs::path dir = tmp_.path() / name;
+    fs::create_directories(dir);
+    fs::copy_file(results_->path() / "results.json", dir / "results.json");
+    return dir.string();
+  }
+
+  static TempDir* results_;
+  TempDir tmp_;
+};
+TempDir* CliReport::results_ = nullptr;
+
+TEST_F(CliReport, WritesTablesChartsAndHtmlListingEveryStrategy) {
+  const std::string out = tmp_ / "report";
+  const CliResult r = run_cli(
+      {"report", "--results", results_->path().string(), "--out", out, "--error-images", "1"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string md = read_text(fs::path(out) / "REPORT.md");
+  const std::string html = read_text(fs::path(out) / "index.html");
+  for (const std::string& name : strategies_in_results()) {
+    EXPECT_NE(md.find(name), std::string::npos) << name;
+    EXPECT_NE(html.find(name), std::string::npos) << name;
+  }
+  EXPECT_EQ(lower(md).find("nan"), std::string::npos);
+  EXPECT_EQ(lower(html).find("nan"), std::string::npos);
+  // Every chart titled with its paper figure; the machine and the command under it.
+  for (const char* title : {"Krishnamurthy 2007 Fig 7", "Tan 2012 Fig 14", "Tan 2012 Fig 15",
+                            "Fig 8 style", "max_ulp vs degree", "Phase breakdown"})
+    EXPECT_NE(md.find(title), std::string::npos) << title;
+  EXPECT_NE(md.find("Machine: "), std::string::npos);
+  EXPECT_NE(md.find("nurbsbench report --results"), std::string::npos);
+  EXPECT_NE(md.find("of store limit"), std::string::npos);
+  EXPECT_NE(md.find("%"), std::string::npos) << "no store-limit fraction although limit rows exist";
+  // Absent side data says what to run instead of failing.
+  EXPECT_NE(md.find("no data in these results: run nurbsbench lod"), std::string::npos);
+  EXPECT_NE(md.find("no data in these results: run nurbsbench memory"), std::string::npos);
+  EXPECT_NE(md.find("no data in these results: run nurbsbench run --deforming"), std::string::npos);
+  const json charts = json::parse(read_text(fs::path(out) / "charts.json"));
+  ASSERT_GE(charts["charts"].size(), 6u);
+  if (matplotlib_present()) {
+    for (const json& chart : charts["charts"]) {
+      const fs::path png = fs::path(out) / chart["file"].get<std::string>();
+      EXPECT_TRUE(fs::exists(png) && fs::file_size(png) > 1000) << png;
+      EXPECT_NE(md.find("](" + chart["file"].get<std::string>() + ")"), std::string::npos);
+    }
+  }
+  // The worst pair's error heat map, re-evaluated here.
+  EXPECT_NE(md.find("![error-"), std::string::npos) << md;
+}
+
+TEST_F(CliReport, WithoutMatplotlibWritesTablesAndSaysWhichChartsAreMissing) {
+  const std::string fake_python = tmp_ / "python-without-matplotlib";
+  write_text(fake_python,
+             "#!/bin/sh\necho \"matplotlib missing: ModuleNotFoundError: No module named "
+             "'matplotlib'\"\nexit 3\n");
+  fs::permissions(fake_python, fs::perms::owner_all);
+  const std::string out = tmp_ / "report";
+  const CliResult r = run_cli({"report", "--results", results_->path().string(), "--out", out,
+                               "--error-images", "0", "--python", fake_python});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string md = read_text(fs::path(out) / "REPORT.md");
+  EXPECT_NE(md.find("> chart fig7_time_vs_points.png not drawn: matplotlib missing"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| patch144 |"), std::string::npos) << "tables are still written";
+  EXPECT_FALSE(fs::exists(fs::path(out) / "fig7_time_vs_points.png"));
+
+  const CliResult no_python =
+      run_cli({"report", "--results", results_->path().string(), "--out", tmp_ / "report2",
+               "--error-images", "0", "--python", tmp_ / "no-such-python"});
+  ASSERT_EQ(no_python.exit_code, 0) << no_python.err;
+  EXPECT_NE(read_text(fs::path(tmp_ / "report2") / "REPORT.md").find("not drawn: cannot run"),
+            std::string::npos);
+}
+
+TEST_F(CliReport, ReadsLodAndMemoryFilesBesideTheResults) {
+  const std::string dir = copy_results("with-side-files");
+  write_text(fs::path(dir) / "lod.json", R"JSON({"format": "nurbsbench-lod/1",
+    "machine": {"cpu_model": "Test CPU", "git_commit": "abc123"}, "settings": {},
+    "rows": [{"scene": "tan21x23", "samples": "128x128",
+              "device": {"name": "llvmpipe (LLVM 15)", "kind": "cpu"},
+              "coarser_by_haar_s": 0.001, "coarser_by_reevaluation_s": 0.004,
+              "finer_by_haar_s": 0.002, "finer_by_reevaluation_s": 0.005,
+              "levels": [{"level": 1, "samples": "64x64", "max_distance": 1e-6, "max_ulp": 3.5}]},
+             {"scene": "tan21x23", "samples": "512x512", "device": {"name": "x", "kind": "gpu"},
+              "coarser_by_haar_s": null}]})JSON");
+  write_text(fs::path(dir) / "memory.json", R"({"format": "nurbsbench-memory/1", "rows": [
+    {"scene": "teapot", "surfaces": 32, "nurbs_control_points": 512, "nurbs_bytes": 16384,
+     "bezier_patches": 32, "bezier_control_points": 512, "bezier_bytes": 32768, "ksquads": 32}]})");
+  const std::string out = tmp_ / "report";
+  const CliResult r = run_cli({"report", "--results", dir, "--out", out, "--error-images", "0"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string md = read_text(fs::path(out) / "REPORT.md");
+  EXPECT_NE(md.find("| tan21x23 | 128x128 | llvmpipe (LLVM 15) (a CPU implementation of the API, "
+                    "not a GPU) | 1 ms | 4 ms | 4 |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| tan21x23 | 128x128 | 1 | 64x64 | 1e-06 | 3.5 |"), std::string::npos);
+  EXPECT_NE(md.find("| teapot | 32 | 512 | 16384 | 32 | 512 | 32768 | 2 | 32 |"),
+            std::string::npos);
+  EXPECT_EQ(md.find("no data in these results: run nurbsbench lod"), std::string::npos);
+  EXPECT_EQ(lower(md).find("nan"), std::string::npos);
+}
+
+TEST_F(CliReport, ShowsDeformingFramesFromRecordsWithAFramePhase) {
+  ResultsFile results = read_results(results_->path());
+  const std::string dir = tmp_ / "deforming";
+  {
+    ResultsWriter writer(dir, results.machine, results.settings);
+    for (Record r : results.records) {
+      if (r.strategy == "cpu-coxdeboor" && r.scene == "patch144")
+        r.extra_phases["frame"] = PhaseStats{0.002, 0.0025, 0.003};
+      writer.append(r);
+    }
+  }
+  const std::string out = tmp_ / "report";
+  ASSERT_EQ(run_cli({"report", "--results", dir, "--out", out, "--error-images", "0"}).exit_code,
+            0);
+  const std::string md = read_text(fs::path(out) / "REPORT.md");
+  EXPECT_NE(md.find("| cpu-coxdeboor | patch144 | 4x4 | 2.5 ms | 400 |"), std::string::npos) << md;
+}
+
+TEST_F(CliReport, SeveralResultsSetsAreOneReport) {
+  const std::string out = tmp_ / "report";
+  const CliResult r = run_cli({"report", "--results", results_->path().string(), "--results",
+                               copy_results("second"), "--out", out, "--error-images", "0"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(read_text(fs::path(out) / "REPORT.md").find("| second |"), std::string::npos);
+}
+
+TEST_F(CliReport, BadInputIsExitTwoWithOneLineAndNoOutput) {
+  const std::string out = tmp_ / "report";
+  expect_usage_error(run_cli({"report", "--results", tmp_ / "missing", "--out", out}),
+                     {"missing", "cannot open results file"});
+  const std::string not_results = tmp_ / "not-results";
+  fs::create_directories(not_results);
+  write_text(fs::path(not_results) / "results.json", R"({"format": "other/1", "records": []})");
+  expect_usage_error(run_cli({"report", "--results", not_results, "--out", out}),
+                     {"results.json", "format", "other/1"});
+  expect_usage_error(run_cli({"report", "--results", results_->path().string(), "--out", out,
+                              "--error-images", "-1"}),
+                     {"--error-images", "-1"});
+  expect_usage_error(run_cli({"report", "--out", out}), {"--results"});
+
+  struct Case {
+    std::string file, text;
+    std::vector<std::string> expect;
+  };
+  const std::vector<Case> cases = {
+      {"lod.json", "{not json", {"lod.json", "not JSON"}},
+      {"lod.json",
+       R"({"format": "nurbsbench-lod/2", "rows": []})",
+       {"lod.json", "format", "lod/2"}},
+      {"lod.json", R"({"format": "nurbsbench-lod/1", "rows": 5})", {"lod.json", "rows", "list"}},
+      {"memory.json",
+       R"({"format": "nurbsbench-memory/1", "rows": [3]})",
+       {"memory.json", "rows[0]", "object"}},
+      {"memory.json", R"([1, 2])", {"memory.json", "format", "(missing)"}},
+  };
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const std::string dir = copy_results(fmt::format("bad{}", k));
+    write_text(fs::path(dir) / cases[k].file, cases[k].text);
+    SCOPED_TRACE(cases[k].text);
+    expect_usage_error(run_cli({"report", "--results", dir, "--out", out}), cases[k].expect);
+  }
+  EXPECT_FALSE(fs::exists(out)) << "nothing may be written for bad input";
+}
+
+// ---------------------------------------------------------------------------------- recommend
+
+Record synthetic(const std::string& strategy, double points_per_s, double max_ulp,
+                 Status status = Status::ok) {
+  Record r;
+  r.scene = "patch144";
+  r.strategy = strategy;
+  r.role = "strategy";
+  r.device = {"host CPU", "cpu", {}};
+  r.precision = "f32";
+  r.sampling = "grid";
+  r.samples = "256x256";
+  r.points = 65536;
+  r.repetitions = 3;
+  if (points_per_s > 0) {
+    r.evaluate = {0.9 * 65536 / points_per_s, 65536 / points_per_s, 1.1 * 65536 / points_per_s};
+    r.end_to_end = {0, 2 * 65536 / points_per_s, 0};
+  }
+  r.throughput_pts_per_s = points_per_s;
+  r.status = status;
+  if (status == Status::ok) {
+    Accuracy a;
+    a.max_ulp = max_ulp;
+    a.max_abs = max_ulp * 1e-7;
+    r.accuracy = a;
+  } else {
+    r.reason = "device lost";
+  }
+  return r;
+}
+
+class CliRecommend : public ::testing::Test {
+ protected:
+  std::string write_results(const std::vector<Record>& records) {
+    const std::string dir = tmp_ / fmt::format("results{}", ++count_);
+    ResultsWriter writer(dir, json{{"cpu_model", "Test CPU"}}, json::object());
+    for (const Record& r : records) writer.append(r);
+    return dir;
+  }
+  std::vector<Record> standard() {
+    Record limit = synthetic("limit-store-bandwidth", 1e12, 0);
+    limit.role = "limit";
+    limit.accuracy.reset();
+    return {synthetic("fast-but-rough", 4e9, 10), synthetic("middle", 2e9, 2),
+            synthetic("slow-and-exact", 1e9, 0.5), synthetic("broken", 9e9, 0, Status::failed),
+            limit};
+  }
+  TempDir tmp_;
+  int count_ = 0;
+};
+
+TEST_F(CliRecommend, RanksByThroughputWithinTheToleranceAndSaysWhyOthersAreOut) {
+  const CliResult r = run_cli({"recommend", "--results", write_results(standard()), "--scene",
+                               "patch144", "--tolerance", "4ulp", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  ASSERT_EQ(j["ranked"].size(), 2u) << r.out;
+  EXPECT_EQ(j["ranked"][0]["strategy"], "middle");
+  EXPECT_EQ(j["ranked"][1]["strategy"], "slow-and-exact");
+  EXPECT_NEAR(j["ranked"][0]["points_per_s"].get<double>(), 2e9, 1);
+  ASSERT_EQ(j["excluded"].size(), 2u);
+  for (const json& e : j["excluded"]) {
+    if (e["strategy"] == "fast-but-rough")
+      EXPECT_NE(e["excluded"].get<std::string>().find("max_ulp 10 exceeds the tolerance 4 ulp"),
+                std::string::npos)
+          << e;
+    else
+      EXPECT_EQ(e["excluded"], "failed on patch144 256x256: device lost");
+  }
+  EXPECT_EQ(r.out.find("limit-store-bandwidth"), std::string::npos) << "a limit is no candidate";
+
+  const CliResult text =
+      run_cli({"recommend", "--results", write_results(standard()), "--tolerance", "4ulp"});
+  ASSERT_EQ(text.exit_code, 0);
+  EXPECT_LT(text.out.find("1    middle"), text.out.find("2    slow-and-exact")) << text.out;
+  EXPECT_NE(text.out.find("excluded:\n"), std::string::npos);
+}
+
+TEST_F(CliRecommend, ToleranceInModelUnitsComparesMaxAbs) {
+  const CliResult r = run_cli(
+      {"recommend", "--results", write_results(standard()), "--tolerance", "5e-7", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  ASSERT_EQ(j["ranked"].size(), 2u);  // max_abs 2e-7 and 5e-8 are in; 1e-6 is out
+  EXPECT_EQ(j["tolerance"]["unit"], "model");
+}
+
+TEST_F(CliRecommend, NothingWithinToleranceIsExitOne) {
+  const CliResult r =
+      run_cli({"recommend", "--results", write_results(standard()), "--tolerance", "0.1ulp"});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.out.find("no strategy meets the tolerance"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("slow-and-exact f32: max_ulp 0.5 exceeds"), std::string::npos) << r.out;
+}
+
+TEST_F(CliRecommend, OnlyOneStrategyAvailable) {
+  std::vector<Record> records = {synthetic("only-one", 1e8, 1),
+                                 synthetic("missing", 0, 0, Status::unavailable)};
+  const CliResult r =
+      run_cli({"recommend", "--results", write_results(records), "--tolerance", "8ulp", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  ASSERT_EQ(j["ranked"].size(), 1u);
+  EXPECT_EQ(j["ranked"][0]["strategy"], "only-one");
+  EXPECT_EQ(j["excluded"][0]["excluded"], "unavailable on patch144 256x256: device lost");
+}
+
+TEST_F(CliRecommend, DeformingRanksByFrameTime) {
+  std::vector<Record> records = standard();
+  records[2].extra_phases["frame"] = PhaseStats{0.001, 0.001, 0.001};  // slow-and-exact
+  const CliResult r = run_cli({"recommend", "--results", write_results(records), "--tolerance",
+                               "4ulp", "--deforming", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  ASSERT_EQ(j["ranked"].size(), 1u);
+  EXPECT_EQ(j["ranked"][0]["strategy"], "slow-and-exact");
+  EXPECT_NEAR(j["ranked"][0]["points_per_s"].get<double>(), 65536e3, 1);
+}
+
+TEST_F(CliRecommend, QuickMeasurementOfAParametricWorkload) {
+  const CliResult r = run_cli({"recommend", "--degree", "2", "--control-net", "6x5", "--samples",
+                               "8x8", "--repetitions", "1", "--tolerance", "1e6ulp", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_FALSE(j["ranked"].empty());
+  const std::vector<std::string> known = strategy_names();
+  for (const json& c : j["ranked"])
+    EXPECT_NE(std::find(known.begin(), known.end(), c["strategy"].get<std::string>()), known.end());
+  EXPECT_NE(j["scope"].get<std::string>().find("workload-d2-6x5-s1"), std::string::npos);
+}
+
+TEST_F(CliRecommend, BadInputIsExitTwo) {
+  const std::string results = write_results(standard());
+  expect_usage_error(run_cli({"recommend", "--results", results, "--tolerance", "abc"}),
+                     {"--tolerance", "abc"});
+  expect_usage_error(run_cli({"recommend", "--results", results, "--tolerance", "-3ulp"}),
+                     {"--tolerance", "-3ulp"});
+  expect_usage_error(
+      run_cli({"recommend", "--results", results, "--scene", "teapot", "--tolerance", "8ulp"}),
+      {"no measurement matches", "teapot", "patch144"});
+  expect_usage_error(run_cli({"recommend", "--results", results, "--degree", "3", "--surfaces", "4",
+                              "--tolerance", "8ulp"}),
+                     {"--scene"});
+  expect_usage_error(run_cli({"recommend", "--degree", "0", "--tolerance", "8ulp"}), {"--degree"});
+  expect_usage_error(run_cli({"recommend", "--control-net", "2x2", "--tolerance", "8ulp"}),
+                     {"--control-net"});
+  expect_usage_error(run_cli({"recommend", "--results", results}), {"--tolerance"});
+}
+
+// ------------------------------------------------------------------------------- gbench-json
+
+TEST_F(CliRecommend, GbenchJsonHasGoogleBenchmarksSchema) {
+  const std::string out = tmp_ / "gb.json";
+  const CliResult r =
+      run_cli({"gbench-json", "--results", write_results(standard()), "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(read_text(out));
+  ASSERT_TRUE(j.contains("context") && j["context"].contains("date"));
+  // 3 measured strategies x (evaluate, end_to_end) + the limit row; the failed one is left out.
+  ASSERT_EQ(j["benchmarks"].size(), 7u);
+  for (const json& b : j["benchmarks"]) {
+    for (const char* key : {"name", "run_type", "real_time", "cpu_time", "time_unit", "iterations"})
+      EXPECT_TRUE(b.contains(key)) << key << " in " << b;
+    EXPECT_EQ(b["run_type"], "iteration");
+    EXPECT_EQ(b["time_unit"], "us");
+    EXPECT_EQ(b["name"].get<std::string>().find("broken"), std::string::npos);
+  }
+  EXPECT_EQ(j["benchmarks"][2]["name"], "middle/patch144/256x256/f32");
+  EXPECT_NEAR(j["benchmarks"][2]["real_time"].get<double>(), 65536 / 2e9 * 1e6, 1e-9);
+  expect_usage_error(run_cli({"gbench-json", "--results", tmp_ / "none"}), {"none"});
+}
+
+// ------------------------------------------------------------------------------- error images
+
+class CliErrorImage : public ::testing::Test {
+ protected:
+  TempDir tmp_;
+};
+
+TEST_F(CliErrorImage, ExrHoldsTheErrorOfEverySampleAgainstTheReference) {
+  const std::string exr = tmp_ / "e.exr", csv = tmp_ / "p.csv";
+  const CliResult r = run_cli({"eval", "--scene", "patch144", "--strategy", "gl-pingpong",
+                               "--samples", "16x12", "--error-image", exr, "--out", csv});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto in = OIIO::ImageInput::open(exr);
+  ASSERT_TRUE(in) << OIIO::geterror();
+  const OIIO::ImageSpec spec = in->spec();
+  ASSERT_EQ(spec.width, 16);
+  ASSERT_EQ(spec.height, 12);
+  ASSERT_EQ(spec.nchannels, 1);
+  std::vector<float> pixels(16 * 12);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, pixels.data()));
+  in->close();
+
+  // Independently: the CSV's positions against the reference at the CSV's (u, v).
+  const Scene scene = *make_builtin_scene("patch144");
+  const std::vector<std::string> lines = split_lines(read_text(csv));
+  ASSERT_EQ(lines.size(), 1u + 16 * 12);
+  for (int k : {0, 5, 17, 100, 191}) {  // CSV order: u-index a, then v-index b
+    const std::vector<std::string> f = split_csv(lines[1 + k]);
+    SurfaceSamples one;
+    one.tensor = false;
+    one.u = {std::stod(f[1])};
+    one.v = {std::stod(f[2])};
+    const Point3 ref = evaluate_reference(scene, {one}, false)[0].positions[0];
+    const double error =
+        // f32 coordinates are printed in shortest float form: read them back as floats.
+        std::hypot(double{std::stof(f[3])} - ref[0], double{std::stof(f[4])} - ref[1],
+                   double{std::stof(f[5])} - ref[2]);
+    const int a = k / 12, b = k % 12;
+    EXPECT_NEAR(pixels[b * 16 + a], error, 1e-6 * error + 1e-15) << "sample " << k;
+  }
+  EXPECT_GT(*std::max_element(pixels.begin(), pixels.end()), 0.0f);
+}
+
+TEST_F(CliErrorImage, PngHasTheDocumentedSizeAndOneFilePerSurface) {
+  const std::string png = tmp_ / "m.png";
+  const CliResult r =
+      run_cli({"eval", "--scene", "many-4", "--strategy", "cpu-coxdeboor", "--samples", "16x12",
+               "--error-image", png, "--out", tmp_ / "p.csv"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(png));
+  for (int i = 0; i < 4; ++i) {
+    const std::string path = tmp_ / fmt::format("m-{}.png", i);
+    auto in = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(in) << path;
+    const auto [w, h] = error_png_size(16, 12);
+    EXPECT_EQ(in->spec().width, w);
+    EXPECT_EQ(in->spec().height, h);
+    EXPECT_EQ(w, 16 * 16 + kLegendWidth);
+    EXPECT_EQ(h, 256);
+  }
+}
+
+TEST_F(CliErrorImage, ExplicitListOrUnknownFormatIsExitTwoAndWritesNothing) {
+  const std::string uv = tmp_ / "uv.csv", out = tmp_ / "p.csv";
+  write_text(uv, "0,0.5,0.5\n0,0.25,0.75\n");
+  expect_usage_error(run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor", "--uv",
+                              uv, "--error-image", tmp_ / "e.png", "--out", out}),
+                     {"--error-image", "explicit", "--uv"});
+  expect_usage_error(run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor",
+                              "--error-image", tmp_ / "e.jpg", "--out", out}),
+                     {"--error-image", ".jpg", ".exr", ".png"});
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(tmp_ / "e.png"));
+}
+
+}  // namespace
+}  // namespace nurbs::test
