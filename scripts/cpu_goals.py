@@ -51,6 +51,24 @@ def main():
         if t and c:
             row(scene, "cpu-tensor >= 5x cpu-coxdeboor, 1 thread (f64)", ms(t), ms(c),
                 c["evaluate"]["median_s"] / t["evaluate"]["median_s"], 5)
+    nosimd_dir = root / "f64-1thread-nosimd"
+    if nosimd_dir.exists():
+        _, nosimd = records(nosimd_dir)
+        print("\nWhere cpu-tensor's gain over cpu-coxdeboor comes from (f64, 1024x1024): algorithm = "
+              "cpu-coxdeboor / cpu-tensor with simd=off (one run, 1 thread); SIMD = simd=off / "
+              "simd=on (two 1-thread runs); threads = 1 thread / all threads (two runs).\n")
+        print("| scene | algorithm | SIMD | threads | total |")
+        print("|---|---|---|---|---|")
+        for scene in scenes:
+            try:
+                cox = nosimd[(scene, "cpu-coxdeboor")]["evaluate"]["median_s"]
+                scalar = nosimd[(scene, "cpu-tensor")]["evaluate"]["median_s"]
+                simd = one_records[(scene, "cpu-tensor")]["evaluate"]["median_s"]
+                threads = f64_records[(scene, "cpu-tensor")]["evaluate"]["median_s"]
+            except KeyError:
+                continue
+            print(f"| {scene} | {cox / scalar:.3g}x | {scalar / simd:.3g}x | "
+                  f"{simd / threads:.3g}x | {cox / threads:.3g}x |")
     print("\nAll records of the f64 run:\n")
     print("| scene | strategy | evaluate median | points/s |")
     print("|---|---|---|---|")

@@ -3,7 +3,7 @@
 # as ratios in one run): cpu-tensor f64 vs SISL s1506 (goal >= 10x, stretch 20x); cpu-tensor f32
 # vs the machine's store bandwidth (limit-store-bandwidth row; goal >= 50%); cpu-tensor vs
 # cpu-coxdeboor on one thread (goal >= 5x). On patch144 and the random bicubic 12x12, 1024x1024.
-# Writes results/cpu-goals/{f64,f32,f64-1thread}/results.{json,csv} and results/cpu-goals/RATIOS.md.
+# Writes results/cpu-goals/{f64,f32,f64-1thread,f64-1thread-nosimd}/results.{json,csv} and results/cpu-goals/RATIOS.md.
 # Run on an otherwise idle machine: OpenMP timings collapse when other processes share the cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,4 +16,7 @@ scenes=patch144,random-bicubic-12x12
   --precision f32 --repetitions 15 --out "$out/f32"
 "$bin" run --strategies cpu-tensor,cpu-horner,cpu-coxdeboor,sisl --scenes "$scenes" \
   --samples 1024x1024 --precision f64 --threads 1 --repetitions 5 --out "$out/f64-1thread"
+# The split of the one-thread gain: the same run with cpu-tensor's kernels built without SIMD.
+"$bin" run --strategies cpu-tensor,cpu-coxdeboor --scenes "$scenes" --samples 1024x1024 \
+  --precision f64 --threads 1 --repetitions 5 --strategy-option simd=off --out "$out/f64-1thread-nosimd"
 python3 scripts/cpu_goals.py "$out" | tee "$out/RATIOS.md"
