@@ -2,7 +2,9 @@
 #pragma once
 
 #include <fmt/format.h>
+#include <omp.h>
 
+#include <algorithm>
 #include <charconv>
 #include <stdexcept>
 #include <string>
@@ -25,6 +27,11 @@ inline int positive_option(const StrategyOptions& options, const std::string& ke
     throw std::invalid_argument(
         fmt::format("{} option {} = '{}': must be a positive integer", strategy, key, it->second));
   return value;
+}
+
+// The OpenMP thread count a CPU strategy uses: options.threads, or every core when it is 0.
+inline int openmp_threads(const StrategyOptions& options) {
+  return options.threads > 0 ? options.threads : std::max(1, omp_get_max_threads());
 }
 
 }  // namespace nurbs

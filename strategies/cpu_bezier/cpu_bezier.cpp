@@ -8,6 +8,7 @@
 
 #include "reference/bezier_decomposition.h"
 #include "reference/nurbs_math.h"
+#include "strategies/strategy_options.h"
 
 namespace nurbs {
 namespace {
@@ -173,13 +174,9 @@ void patch_point(const BezierSurface<T>& s, const AxisSample<T>& su, const AxisS
   for (int c = 0; c < 3; ++c) normal[c] = n[c];
 }
 
-int resolve_threads(int requested) {
-  return requested > 0 ? requested : std::max(1, omp_get_max_threads());
-}
-
 class CpuBezier final : public Strategy {
  public:
-  explicit CpuBezier(const StrategyOptions& options) : threads_(resolve_threads(options.threads)) {}
+  explicit CpuBezier(const StrategyOptions& options) : threads_(openmp_threads(options)) {}
 
   std::string_view name() const override { return "cpu-bezier"; }
   Capabilities capabilities() const override { return bezier_capabilities(); }

@@ -7,6 +7,7 @@
 
 #include "reference/nurbs_math.h"
 #include "strategies/cpu_horner/power_basis.h"
+#include "strategies/strategy_options.h"
 
 namespace nurbs {
 namespace {
@@ -60,8 +61,7 @@ struct HornerSurface {
 
 class CpuHorner final : public Strategy {
  public:
-  explicit CpuHorner(const StrategyOptions& options)
-      : threads_(options.threads > 0 ? options.threads : std::max(1, omp_get_max_threads())) {
+  explicit CpuHorner(const StrategyOptions& options) : threads_(openmp_threads(options)) {
     const auto it = options.extra.find("horner-origin");
     if (it != options.extra.end()) {
       if (it->second == "zero")

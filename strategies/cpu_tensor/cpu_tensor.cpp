@@ -7,6 +7,7 @@
 
 #include "reference/nurbs_math.h"
 #include "strategies/cpu_tensor/tensor_kernels.h"
+#include "strategies/strategy_options.h"
 
 namespace nurbs {
 namespace {
@@ -17,10 +18,6 @@ Capabilities tensor_capabilities() {
   // Only the separable samplings: an explicit list has no rows to share basis tables across.
   c.sampling.explicit_list = false;
   return c;
-}
-
-int resolve_threads(int requested) {
-  return requested > 0 ? requested : std::max(1, omp_get_max_threads());
 }
 
 std::string simd_description() {
@@ -129,7 +126,7 @@ bool simd_option(const StrategyOptions& options) {
 class CpuTensor final : public Strategy {
  public:
   explicit CpuTensor(const StrategyOptions& options)
-      : threads_(resolve_threads(options.threads)), simd_(simd_option(options)) {}
+      : threads_(openmp_threads(options)), simd_(simd_option(options)) {}
 
   std::string_view name() const override { return "cpu-tensor"; }
   Capabilities capabilities() const override { return tensor_capabilities(); }
