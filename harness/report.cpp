@@ -289,32 +289,43 @@ void set_no_data(ReportSection& s, const std::string& command) {
   s.no_data = fmt::format("no data in these results: run {}", command);
 }
 
+// A section whose data `run` regenerates (DIR: where it is written).
+ReportSection section(std::string id, std::string title, const std::string& run,
+                      const std::vector<ResultSet>& sets) {
+  ReportSection s;
+  s.id = std::move(id);
+  s.title = std::move(title);
+  s.command = regenerate(run, sets);
+  return s;
+}
+
+// The rows a section shows give its context (machine, devices, commit) and the directory its
+// command regenerates; without rows the section says what to run. False: nothing to show.
+bool show_rows(ReportSection& s, const std::vector<Row>& rows, const std::string& run,
+               const std::vector<ResultSet>& sets) {
+  s.context = context_of(rows, sets);
+  if (rows.empty()) {
+    set_no_data(s, s.command);
+    return false;
+  }
+  s.command = regenerate_in(run, rows.front().set->directory.string());
+  return true;
+}
+
 ReportSection time_vs_points(const std::vector<ResultSet>& sets, const Labeller& label,
                              json& charts) {
   const std::string run =
       "nurbsbench run --scenes patch144 --strategies all --samples "
       "4x4,8x8,16x16,32x32,64x64,128x128,256x256,512x512,1024x1024,2048x2048 --out DIR";
-  ReportSection s{"fig7_time_vs_points",
-                  "Krishnamurthy 2007 Fig 7 / Krishnamurthy-Yasui Fig 9: evaluation time vs number "
-                  "of evaluation points (patch144, 144 control points)",
-                  "",
-                  regenerate(run, sets),
-                  "",
-                  false,
-                  "",
-                  {},
-                  {},
-                  {}};
+  ReportSection s =
+      section("fig7_time_vs_points",
+              "Krishnamurthy 2007 Fig 7 / Krishnamurthy-Yasui Fig 9: evaluation time vs number "
+              "of evaluation points (patch144, 144 control points)",
+              run, sets);
   const auto rows = rows_where(sets, [](const Record& r) {
     return is_measurement(r) && r.scene == "patch144" && r.sampling == "grid";
   });
-  s.context = context_of(rows, sets);
-  // The command that remakes the data lands where this section's data came from.
-  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
-  if (rows.empty()) {
-    set_no_data(s, s.command);
-    return s;
-  }
+  if (!show_rows(s, rows, run, sets)) return s;
   std::vector<Series> series;
   for (const Row& r : rows)
     add_point(series, label(r), static_cast<double>(r.record->points), r.record->evaluate.median_s);
@@ -358,17 +369,11 @@ ReportSection deboor_vs_basis(const std::vector<ResultSet>& sets, const Labeller
   const std::vector<std::string> scenes = {"tan16", "tan64", "tan256"};
   const std::string run =
       "nurbsbench run --scenes tan16,tan64,tan256 --strategies all --samples 256x256 --out DIR";
-  ReportSection s{"fig14_deboor_vs_basis",
-                  "Tan 2012 Fig 14: one-pass de Boor (glsl-deboor) vs multi-pass basis functions "
-                  "(gl-pingpong), 16², 64², 256² control points",
-                  "",
-                  regenerate(run, sets),
-                  "",
-                  false,
-                  "",
-                  {},
-                  {},
-                  {}};
+  ReportSection s =
+      section("fig14_deboor_vs_basis",
+              "Tan 2012 Fig 14: one-pass de Boor (glsl-deboor) vs multi-pass basis functions "
+              "(gl-pingpong), 16², 64², 256² control points",
+              run, sets);
   auto rows = rows_where(sets, [&](const Record& r) {
     return is_measurement(r) && r.sampling == "grid" &&
            std::find(scenes.begin(), scenes.end(), r.scene) != scenes.end();
@@ -388,13 +393,7 @@ ReportSection deboor_vs_basis(const std::vector<ResultSet>& sets, const Labeller
       grid = name;
     }
   std::erase_if(rows, [&](const Row& r) { return r.record->samples != grid; });
-  s.context = context_of(rows, sets);
-  // The command that remakes the data lands where this section's data came from.
-  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
-  if (rows.empty()) {
-    set_no_data(s, s.command);
-    return s;
-  }
+  if (!show_rows(s, rows, run, sets)) return s;
   s.title += fmt::format(", {} samples", grid);
   std::vector<std::string> categories;
   for (const std::string& scene : scenes)
@@ -422,17 +421,11 @@ ReportSection deboor_vs_basis(const std::vector<ResultSet>& sets, const Labeller
 
 ReportSection lod_section(const std::vector<ResultSet>& sets, json& charts) {
   const std::string run = "nurbsbench lod --out DIR";
-  ReportSection s{"fig15_lod",
-                  "Tan 2012 Fig 15: LOD change by Haar wavelet vs re-evaluation (21×23 control "
-                  "points; 128², 512², 1024² samples)",
-                  "",
-                  regenerate(run, sets),
-                  "",
-                  false,
-                  "",
-                  {},
-                  {},
-                  {}};
+  ReportSection s =
+      section("fig15_lod",
+              "Tan 2012 Fig 15: LOD change by Haar wavelet vs re-evaluation (21×23 control "
+              "points; 128², 512², 1024² samples)",
+              run, sets);
   ReportTable times{"Median times of one LOD change (from lod.json)",
                     {"scene", "samples", "device", "coarser by Haar", "coarser by re-evaluation",
                      "Haar speed-up", "finer by Haar", "finer by re-evaluation", "Haar speed-up"},
@@ -497,21 +490,12 @@ ReportSection frame_section(const std::vector<ResultSet>& sets, const Labeller& 
   const std::string run =
       "nurbsbench run --deforming --scenes patch144,teapot --strategies all --samples 256x256 "
       "--out DIR";
-  ReportSection s{
+  ReportSection s = section(
       "rpns_frame", "RPNS 2014: time per frame with deforming control points (update + evaluate)",
-      "",           regenerate(run, sets),
-      "",           false,
-      "",           {},
-      {},           {}};
+      run, sets);
   const auto rows = rows_where(
       sets, [](const Record& r) { return is_measurement(r) && r.extra_phases.contains("frame"); });
-  s.context = context_of(rows, sets);
-  // The command that remakes the data lands where this section's data came from.
-  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
-  if (rows.empty()) {
-    set_no_data(s, s.command);
-    return s;
-  }
+  if (!show_rows(s, rows, run, sets)) return s;
   std::vector<std::string> categories;
   for (const Row& r : rows) categories.push_back(r.record->scene + " " + r.record->samples);
   categories = sorted_unique(categories);
@@ -539,16 +523,8 @@ ReportSection frame_section(const std::vector<ResultSet>& sets, const Labeller& 
 
 ReportSection memory_section(const std::vector<ResultSet>& sets) {
   const std::string run = "nurbsbench memory --out DIR";
-  ReportSection s{"rpns_memory",
-                  "RPNS 2014 Table 1: memory of NURBS vs Bézier control points",
-                  "",
-                  regenerate(run, sets),
-                  "",
-                  false,
-                  "",
-                  {},
-                  {},
-                  {}};
+  ReportSection s = section(
+      "rpns_memory", "RPNS 2014 Table 1: memory of NURBS vs Bézier control points", run, sets);
   s.context = context_of({}, sets);
   ReportTable table{"Control-point memory (from memory.json)",
                     {"scene", "surfaces", "NURBS control points", "NURBS bytes", "Bézier patches",
@@ -577,17 +553,11 @@ ReportSection many_surfaces(const std::vector<ResultSet>& sets, const Labeller& 
   const std::string run =
       "nurbsbench run --scenes many-1,many-4,many-16,many-64,many-256,many-1024,many-4096 "
       "--strategies all --samples 16x16 --out DIR";
-  ReportSection s{"fig8_many_surfaces",
-                  "Krishnamurthy 2007 Fig 8 style: throughput vs number of surfaces (16×16 samples "
-                  "each)",
-                  "",
-                  regenerate(run, sets),
-                  "",
-                  false,
-                  "",
-                  {},
-                  {},
-                  {}};
+  ReportSection s =
+      section("fig8_many_surfaces",
+              "Krishnamurthy 2007 Fig 8 style: throughput vs number of surfaces (16×16 samples "
+              "each)",
+              run, sets);
   auto rows = rows_where(sets, [](const Record& r) {
     return is_measurement(r) && numbered_scene(r.scene, "many-").has_value();
   });
@@ -595,13 +565,7 @@ ReportSection many_surfaces(const std::vector<ResultSet>& sets, const Labeller& 
   const bool has_16 = std::any_of(rows.begin(), rows.end(),
                                   [](const Row& r) { return r.record->samples == "16x16"; });
   if (has_16) std::erase_if(rows, [](const Row& r) { return r.record->samples != "16x16"; });
-  s.context = context_of(rows, sets);
-  // The command that remakes the data lands where this section's data came from.
-  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
-  if (rows.empty()) {
-    set_no_data(s, s.command);
-    return s;
-  }
+  if (!show_rows(s, rows, run, sets)) return s;
   std::vector<Series> throughput, frames;
   for (const Row& r : rows) {
     const std::string l = has_16 ? label(r) : label(r) + " " + r.record->samples;
@@ -622,25 +586,12 @@ ReportSection many_surfaces(const std::vector<ResultSet>& sets, const Labeller& 
 ReportSection accuracy_heatmap(const std::vector<ResultSet>& sets, const Labeller& label,
                                json& charts) {
   const std::string run = "nurbsbench run --scenes all --strategies all --samples 64x64 --out DIR";
-  ReportSection s{"accuracy_heatmap",
-                  "Accuracy: max_ulp per strategy and scene (worst over samplings)",
-                  "",
-                  regenerate(run, sets),
-                  "",
-                  false,
-                  "",
-                  {},
-                  {},
-                  {}};
+  ReportSection s =
+      section("accuracy_heatmap", "Accuracy: max_ulp per strategy and scene (worst over samplings)",
+              run, sets);
   const auto rows =
       rows_where(sets, [](const Record& r) { return is_measurement(r) && r.accuracy.has_value(); });
-  s.context = context_of(rows, sets);
-  // The command that remakes the data lands where this section's data came from.
-  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
-  if (rows.empty()) {
-    set_no_data(s, s.command);
-    return s;
-  }
+  if (!show_rows(s, rows, run, sets)) return s;
   std::vector<std::string> scenes, labels;
   for (const Row& r : rows) {
     if (std::find(scenes.begin(), scenes.end(), r.record->scene) == scenes.end())
@@ -687,26 +638,12 @@ ReportSection accuracy_vs_degree(const std::vector<ResultSet>& sets, const Label
   const std::string run =
       "nurbsbench run --scenes degree-1,degree-2,degree-3,degree-4,degree-5,degree-6,degree-7,"
       "degree-8,degree-9 --strategies all --samples 64x64 --out DIR";
-  ReportSection s{"accuracy_vs_degree",
-                  "Accuracy: max_ulp vs degree (scenes degree-1 … degree-9)",
-                  "",
-                  regenerate(run, sets),
-                  "",
-                  false,
-                  "",
-                  {},
-                  {},
-                  {}};
+  ReportSection s = section("accuracy_vs_degree",
+                            "Accuracy: max_ulp vs degree (scenes degree-1 … degree-9)", run, sets);
   const auto rows = rows_where(sets, [](const Record& r) {
     return is_measurement(r) && r.accuracy && numbered_scene(r.scene, "degree-").has_value();
   });
-  s.context = context_of(rows, sets);
-  // The command that remakes the data lands where this section's data came from.
-  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
-  if (rows.empty()) {
-    set_no_data(s, s.command);
-    return s;
-  }
+  if (!show_rows(s, rows, run, sets)) return s;
   std::map<std::pair<std::string, int>, double> worst;
   for (const Row& r : rows) {
     double& w = worst.try_emplace({label(r), *numbered_scene(r.record->scene, "degree-")}, 0.0)
@@ -727,12 +664,9 @@ ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller&
                              json& charts) {
   const std::string run =
       "nurbsbench run --scenes patch144 --strategies all --samples 256x256 --out DIR";
-  ReportSection s{
-      "phases", "Phase breakdown: where the time goes (setup, upload, evaluate, read back)",
-      "",       regenerate(run, sets),
-      "",       false,
-      "",       {},
-      {},       {}};
+  ReportSection s =
+      section("phases", "Phase breakdown: where the time goes (setup, upload, evaluate, read back)",
+              run, sets);
   // One configuration for the chart: the (set, scene, samples, precision) with the most
   // strategies measured (ties: the most points).
   std::map<std::tuple<const ResultSet*, std::string, std::string, std::string>,
@@ -745,8 +679,7 @@ ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller&
     c.second = std::max(c.second, r.record->points);
   }
   if (configs.empty()) {
-    s.context = context_of({}, sets);
-    set_no_data(s, s.command);
+    show_rows(s, {}, run, sets);
     return s;
   }
   auto best = configs.begin();
@@ -759,9 +692,7 @@ ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller&
         r.record->precision == precision)
       rows.push_back(r);
   s.title += fmt::format(" — {} at {}, {}", scene, samples, precision);
-  s.context = context_of(rows, sets);
-  // The command that remakes the data lands where this section's data came from.
-  if (!rows.empty()) s.command = regenerate_in(run, rows.front().set->directory.string());
+  show_rows(s, rows, run, sets);
   std::set<std::string> extra;
   for (const Row& r : rows)
     for (const auto& [name, stats] : r.record->extra_phases) extra.insert(name);

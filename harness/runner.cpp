@@ -57,6 +57,44 @@ bool runnable(const StrategyEntry& entry, const Scene& scene, const EvalRequest&
   return true;
 }
 
+// Compares the result with the reference where the strategy sampled: the requested samples, or
+// (a tessellator given a density) its own, whose count then becomes the record's points. The
+// reference at the requested samples is reused when the caller has one for this scene.
+void score(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
+           const std::vector<SurfaceSamples>& requested, const EvalResult& result,
+           const std::vector<ReferenceSurface>* reference_at_requested,
+           ReferencePrecision reference_precision, Record& r) {
+  const std::vector<SurfaceSamples> produced = result_samples(result);
+  const bool as_requested = same_samples(produced, requested);
+  if (!as_requested) {
+    if (!entry.capabilities().chooses_own_samples)
+      throw std::runtime_error("result carries other (u, v) than the requested samples");
+    r.points = total_samples(produced);
+  }
+  r.accuracy = as_requested && reference_at_requested != nullptr
+                   ? measure_accuracy(scene, result, *reference_at_requested)
+                   : measure_accuracy(
+                         scene, result,
+                         evaluate_reference(scene, produced, request.normals, reference_precision));
+  r.throughput_pts_per_s =
+      r.evaluate.median_s > 0 ? static_cast<double>(r.points) / r.evaluate.median_s : 0;
+  r.status = Status::ok;
+}
+
+// A strategy that throws is a result too: refused (it said it cannot serve the request) or failed.
+template <class Measurement>
+void guarded(Record& r, Measurement&& measurement) {
+  try {
+    measurement();
+  } catch (const RefusedError& e) {
+    r.status = Status::refused;
+    r.reason = e.what();
+  } catch (const std::exception& e) {
+    r.status = Status::failed;
+    r.reason = e.what();
+  }
+}
+
 }  // namespace
 
 Record measure(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
@@ -64,7 +102,7 @@ Record measure(const StrategyEntry& entry, const StrategyOptions& options, const
   Record r = skeleton(entry, scene, request, sample_parameters(scene, request.sampling));
   r.repetitions = repetitions;
   if (!runnable(entry, scene, request, r)) return r;
-  try {
+  guarded(r, [&] {
     std::unique_ptr<Strategy> strategy;
     // setup: context, compilation and the first (cold) prepare; paid once.
     r.setup_s = time_seconds([&] {
@@ -107,29 +145,9 @@ Record measure(const StrategyEntry& entry, const StrategyOptions& options, const
     r.end_to_end = PhaseStats::of(end_to_end_s);
     if (!device_evaluate_s.empty())
       r.device_evaluate_median_s = PhaseStats::of(device_evaluate_s).median_s;
-    // A strategy that chooses its own samples (a tessellator given a density) is compared with
-    // the reference where it sampled, and its throughput counts the samples it produced.
-    const std::vector<SurfaceSamples> produced = result_samples(result);
-    if (same_samples(produced, sample_parameters(scene, request.sampling))) {
-      r.accuracy = measure_accuracy(scene, result, references.get(scene, request));
-    } else {
-      if (!entry.capabilities().chooses_own_samples)
-        throw std::runtime_error("result carries other (u, v) than the requested samples");
-      r.points = total_samples(produced);
-      r.accuracy = measure_accuracy(
-          scene, result,
-          evaluate_reference(scene, produced, request.normals, references.precision()));
-    }
-    r.throughput_pts_per_s =
-        r.evaluate.median_s > 0 ? static_cast<double>(r.points) / r.evaluate.median_s : 0;
-    r.status = Status::ok;
-  } catch (const RefusedError& e) {
-    r.status = Status::refused;
-    r.reason = e.what();
-  } catch (const std::exception& e) {
-    r.status = Status::failed;
-    r.reason = e.what();
-  }
+    score(entry, scene, request, sample_parameters(scene, request.sampling), result,
+          &references.get(scene, request), references.precision(), r);
+  });
   return r;
 }
 
@@ -141,7 +159,7 @@ Record measure_deforming(const StrategyEntry& entry, const StrategyOptions& opti
   r.repetitions = frames;
   r.figures["frames"] = frames;
   if (!runnable(entry, scene, request, r)) return r;
-  try {
+  guarded(r, [&] {
     const bool updates = entry.capabilities().updates_control_points;
     Scene frame_scene = deformed_scene(scene, 0);
     std::unique_ptr<Strategy> strategy;
@@ -175,26 +193,9 @@ Record measure_deforming(const StrategyEntry& entry, const StrategyOptions& opti
     r.end_to_end = PhaseStats::of(frame_s);
     r.extra_phases["frame"] = r.end_to_end;
     r.extra_phases[updates ? "frame_update" : "frame_prepare"] = r.upload;
-    // Compared where the strategy sampled, as in measure().
-    const std::vector<SurfaceSamples> produced = result_samples(result);
-    if (!same_samples(produced, samples)) {
-      if (!entry.capabilities().chooses_own_samples)
-        throw std::runtime_error("result carries other (u, v) than the requested samples");
-      r.points = total_samples(produced);
-    }
-    r.accuracy = measure_accuracy(
-        frame_scene, result,
-        evaluate_reference(frame_scene, produced, request.normals, reference_precision));
-    r.throughput_pts_per_s =
-        r.evaluate.median_s > 0 ? static_cast<double>(r.points) / r.evaluate.median_s : 0;
-    r.status = Status::ok;
-  } catch (const RefusedError& e) {
-    r.status = Status::refused;
-    r.reason = e.what();
-  } catch (const std::exception& e) {
-    r.status = Status::failed;
-    r.reason = e.what();
-  }
+    // The reference of the last frame's control points, computed here.
+    score(entry, frame_scene, request, samples, result, nullptr, reference_precision, r);
+  });
   return r;
 }
 
