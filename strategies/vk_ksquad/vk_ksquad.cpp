@@ -58,9 +58,10 @@ extern const std::string_view vk_ksquad_frag;
 namespace nurbs {
 namespace {
 
-constexpr int kSurfaceInts = 16;  // ksquad_tables.glsl: SURFACE_INTS
-constexpr int kPatchInts = 20;    // ksquad_tables.glsl: PATCH_INTS
-constexpr int kSlotFloats = 5;    // ksquad_tables.glsl: SLOT_FLOATS
+constexpr int kSurfaceInts = 16;                    // ksquad_tables.glsl: SURFACE_INTS
+constexpr int kPatchInts = 20;                      // ksquad_tables.glsl: PATCH_INTS
+constexpr int kPatchLevelU = 9, kPatchLevelV = 10;  // a patch row's tessellation levels
+constexpr int kSlotFloats = 5;                      // ksquad_tables.glsl: SLOT_FLOATS
 constexpr int kConstantFloats = 119;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
               "stair_basis.glsl reads StairConstants<float> as 119 packed floats");
@@ -137,19 +138,30 @@ std::array<float, 16> view_projection(const std::array<double, 3>& eye,
   return m;
 }
 
-// Adaptive mode's settings (StrategyOptions.extra): vk-mode = uniform|adaptive, vk-eye and
+// Patches per vkCmdDraw, bounded by the vertices the tessellator makes for them. Not in the
+// paper, which draws each KSQuad set at once: Mesa's draw module (lavapipe, 22.3) resets the
+// vertex ids of every vertex of the current draw at each of its internal flushes, so one draw's
+// cost grows with the square of its vertex count -- patch144 at 2048x2048 (4M vertices) in one
+// draw took minutes per evaluation. Bounded draws keep it linear; on a GPU they are a handful of
+// draw calls more. Measured on lavapipe, patch144 at 1024x1024: 14 s per evaluation in one draw,
+// 1.2 s with 1024 to 16384 vertices per draw, 2.9 s with 262144.
+constexpr std::uint64_t kDefaultVerticesPerDraw = 16384;
+
+// Settings (StrategyOptions.extra). Adaptive mode: vk-mode = uniform|adaptive, vk-eye and
 // vk-center = "x,y,z" (default: the scene's bounding sphere seen from (1, 0.8, 0.6) at 2.5
 // radii), vk-fov = degrees (45), vk-viewport = "WxH" (1024x768), vk-mu = pixels (4),
-// vk-max-level = N (the device's maxTessellationGenerationLevel).
-struct AdaptiveSettings {
+// vk-max-level = N (the device's maxTessellationGenerationLevel). Both modes:
+// vk-vertices-per-draw = N (kDefaultVerticesPerDraw; 0 = one draw per degree pair).
+struct KsquadSettings {
   bool adaptive = false;
   std::vector<double> eye, center, viewport;
   double fov = 45, mu = 4;
   int max_level = 0;
+  std::uint64_t vertices_per_draw = kDefaultVerticesPerDraw;
 };
 
-AdaptiveSettings adaptive_settings(const StrategyOptions& options) {
-  AdaptiveSettings a;
+KsquadSettings ksquad_settings(const StrategyOptions& options) {
+  KsquadSettings a;
   if (auto it = options.extra.find("vk-mode"); it != options.extra.end() && !it->second.empty()) {
     if (it->second != "uniform" && it->second != "adaptive")
       throw std::invalid_argument("vk-ksquad option vk-mode = '" + it->second +
@@ -165,6 +177,10 @@ AdaptiveSettings adaptive_settings(const StrategyOptions& options) {
   if (a.mu <= 0 || a.fov <= 0 || a.fov >= 180 || a.viewport[0] < 1 || a.viewport[1] < 1)
     throw std::invalid_argument("vk-ksquad: vk-mu, vk-fov and vk-viewport must be positive");
   a.max_level = positive_option(options, "vk-max-level", "vk-ksquad");
+  if (auto it = options.extra.find("vk-vertices-per-draw"); it != options.extra.end())
+    a.vertices_per_draw = it->second == "0" ? 0
+                                            : static_cast<std::uint64_t>(positive_option(
+                                                  options, "vk-vertices-per-draw", "vk-ksquad"));
   return a;
 }
 constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
@@ -196,18 +212,18 @@ Capabilities ksquad_capabilities() {
 
 class VkKsquad final : public Strategy {
  public:
-  VkKsquad(int device_index, const AdaptiveSettings& adaptive)
+  VkKsquad(int device_index, const KsquadSettings& settings)
       : device_(device_index, ksquad_requirements()),
         queries_(device_, kStatistics),
-        adaptive_(adaptive) {
+        settings_(settings) {
     record_ = device_.record();
     const int cap = static_cast<int>(device_.limits().maxTessellationGenerationLevel);
-    if (adaptive_.max_level == 0) adaptive_.max_level = cap;
-    if (adaptive_.max_level > cap)
+    if (settings_.max_level == 0) settings_.max_level = cap;
+    if (settings_.max_level > cap)
       throw std::invalid_argument(
           fmt::format("vk-ksquad: vk-max-level {} exceeds maxTessellationGenerationLevel {}",
-                      adaptive_.max_level, cap));
-    if (adaptive_.adaptive) record_.details["vk_mode"] = "adaptive";
+                      settings_.max_level, cap));
+    if (settings_.adaptive) record_.details["vk_mode"] = "adaptive";
     create_pipeline();
   }
   ~VkKsquad() override {
@@ -230,7 +246,7 @@ class VkKsquad final : public Strategy {
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
     refuse_unsupported(name(), capabilities(), scene, request);
-    if (adaptive_.adaptive && request.normals)
+    if (settings_.adaptive && request.normals)
       throw RefusedError("vk-ksquad: normals are computed in uniform mode only");
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
@@ -241,7 +257,7 @@ class VkKsquad final : public Strategy {
 
   void evaluate() override {
     device_.submit_and_wait([&](VkCommandBuffer cb) {
-      if (adaptive_.adaptive) {
+      if (settings_.adaptive) {
         // Unwritten capture slots read back as NaN (a quiet NaN's bits in every word).
         vkCmdFillBuffer(cb, positions_.handle(), 0, VK_WHOLE_SIZE, 0x7fc00000u);
         VkMemoryBarrier filled{};
@@ -278,7 +294,7 @@ class VkKsquad final : public Strategy {
   }
 
   EvalResult read_back() override {
-    if (adaptive_.adaptive) return read_back_adaptive();
+    if (settings_.adaptive) return read_back_adaptive();
     std::vector<float> host(total_ * 3);
     positions_.read(host.data(), host.size() * sizeof(float));
     EvalResult out;
@@ -305,7 +321,7 @@ class VkKsquad final : public Strategy {
     if (points.size() * sizeof(float) != points_.size())
       throw std::invalid_argument("vk-ksquad: update_control_points changed the control nets");
     points_.write(points.data(), points.size() * sizeof(float));
-    if (adaptive_.adaptive) {  // the corners move with the points
+    if (settings_.adaptive) {  // the corners move with the points
       corners_ = corner_table(scene);
       corners_buf_.write(corners_.data(), corners_.size() * sizeof(float));
     }
@@ -358,7 +374,7 @@ class VkKsquad final : public Strategy {
   // Adaptive mode: the levels the control stage chose, read back from its storage buffer.
   KsquadStatistics statistics() const {
     KsquadStatistics st = stats_;
-    if (!adaptive_.adaptive || patch_count_ == 0) return st;
+    if (!settings_.adaptive || patch_count_ == 0) return st;
     std::vector<float> levels(8 * patch_count_);
     levels_.read(levels.data(), levels.size() * sizeof(float));
     st.implied_vertices = 0;
@@ -380,9 +396,9 @@ class VkKsquad final : public Strategy {
   // Adaptive mode: every captured vertex on each KSQuad's four edges, keyed by the edge.
   std::vector<CapturedEdge> captured_edges() const {
     std::vector<CapturedEdge> edges;
-    if (!adaptive_.adaptive) return edges;
+    if (!settings_.adaptive) return edges;
     const std::vector<float> slots = read_slots();
-    const int per_edge = adaptive_.max_level + 1;
+    const int per_edge = settings_.max_level + 1;
     for (std::size_t k = 0; k < patch_count_; ++k) {
       const int* row = &patches_[kPatchInts * k];
       const float* c_u = &constants_[row[3]];
@@ -454,13 +470,13 @@ class VkKsquad final : public Strategy {
   // The adaptive camera: given, or fitted to the scene's control-point bounding sphere.
   void set_mode(const Scene& scene) {
     mode_ = {};
-    mode_.adaptive = adaptive_.adaptive ? 1 : 0;
-    mode_.max_level = adaptive_.max_level;
+    mode_.adaptive = settings_.adaptive ? 1 : 0;
+    mode_.max_level = settings_.max_level;
     mode_.region = static_cast<std::int32_t>(region_);
     mode_.normals = request_.normals ? 1 : 0;
-    mode_.mu = static_cast<float>(adaptive_.mu);
-    mode_.viewport[0] = static_cast<float>(adaptive_.viewport[0]);
-    mode_.viewport[1] = static_cast<float>(adaptive_.viewport[1]);
+    mode_.mu = static_cast<float>(settings_.mu);
+    mode_.viewport[0] = static_cast<float>(settings_.viewport[0]);
+    mode_.viewport[1] = static_cast<float>(settings_.viewport[1]);
     std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (const Surface& s : scene.surfaces)
       for (const auto& p : s.points)
@@ -474,9 +490,9 @@ class VkKsquad final : public Strategy {
                         (hi[2] - lo[2]) * (hi[2] - lo[2]));
     const double dir[3] = {1 / std::sqrt(2.0), 0.8 / std::sqrt(2.0), 0.6 / std::sqrt(2.0)};
     for (int c = 0; c < 3; ++c) {
-      center[c] = adaptive_.center.empty() ? 0.5 * (lo[c] + hi[c]) : adaptive_.center[c];
-      eye[c] = adaptive_.eye.empty() ? center[c] + 2.5 * std::max(radius, 1e-30) * dir[c]
-                                     : adaptive_.eye[c];
+      center[c] = settings_.center.empty() ? 0.5 * (lo[c] + hi[c]) : settings_.center[c];
+      eye[c] = settings_.eye.empty() ? center[c] + 2.5 * std::max(radius, 1e-30) * dir[c]
+                                     : settings_.eye[c];
     }
     double distance = 0;
     for (int c = 0; c < 3; ++c)
@@ -484,8 +500,8 @@ class VkKsquad final : public Strategy {
     distance = std::sqrt(distance);
     const double far = distance + 1.5 * radius + 1e-30;
     const double near = std::max(distance - 1.5 * radius, 1e-4 * far);
-    const auto m = view_projection(eye, center, adaptive_.fov,
-                                   adaptive_.viewport[0] / adaptive_.viewport[1], near, far);
+    const auto m = view_projection(eye, center, settings_.fov,
+                                   settings_.viewport[0] / settings_.viewport[1], near, far);
     std::copy(m.begin(), m.end(), mode_.view_projection);
   }
 
@@ -576,25 +592,25 @@ class VkKsquad final : public Strategy {
     };
     const int cap = static_cast<int>(device_.limits().maxTessellationGenerationLevel);
     stats_ = {};
-    stats_.level_cap = adaptive_.adaptive ? adaptive_.max_level : cap;
+    stats_.level_cap = settings_.adaptive ? settings_.max_level : cap;
     surface_count_ = scene.surfaces.size();
     // Adaptive: one patch per KSQuad of the span grid (the tessellator chooses the samples).
     Sampling one_per_span;
     one_per_span.mode = SamplingMode::span_grid;
     one_per_span.span_steps = 1;
-    const auto quads = adaptive_.adaptive
+    const auto quads = settings_.adaptive
                            ? ksquad::build_ksquads<float>(
                                  scene, sample_parameters(scene, one_per_span), one_per_span)
                            : ksquad::build_ksquads<float>(scene, samples_, request_.sampling);
-    if (adaptive_.adaptive) corner_index_.clear();
+    if (settings_.adaptive) corner_index_.clear();
     const std::vector<float> corner_rows =
-        adaptive_.adaptive ? corner_table(scene) : std::vector<float>{};
+        settings_.adaptive ? corner_table(scene) : std::vector<float>{};
     corners_ = corner_rows;
     for (const ksquad::KSQuad& q : quads) {
       const Surface& s = scene.surfaces[q.surface];
       const int cu = constants(q.surface, 0, q.u.span), cv = constants(q.surface, 1, q.v.span);
       int c[4] = {0, 0, 0, 0};
-      if (adaptive_.adaptive)
+      if (settings_.adaptive)
         for (int k = 0; k < 4; ++k)
           c[k] = corner(s, q.surface, q.u.span + (k & 1), q.v.span + (k >> 1));
       // A2.1 puts a span's end knot in the next non-empty span (the last span keeps the end).
@@ -607,7 +623,7 @@ class VkKsquad final : public Strategy {
       const int next_v = next_span(s.knots_v, q.v.span, s.count_v);
       const int cu_next = constants(q.surface, 0, next_u);
       const int cv_next = constants(q.surface, 1, next_v);
-      const int piece_cap = adaptive_.adaptive ? std::numeric_limits<int>::max() : cap;
+      const int piece_cap = settings_.adaptive ? std::numeric_limits<int>::max() : cap;
       for (const ksquad::SpanRun& a : vk_ksquad::split_run(q.u, piece_cap))
         for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, piece_cap)) {
           const int lu = vk_ksquad::run_level(a), lv = vk_ksquad::run_level(b);
@@ -629,14 +645,27 @@ class VkKsquad final : public Strategy {
     };
     std::stable_sort(rows.begin(), rows.end(),
                      [&](const auto& a, const auto& b) { return degrees(a) < degrees(b); });
+    // A draw also ends where its vertices would pass vk-vertices-per-draw (see
+    // kDefaultVerticesPerDraw); adaptive patches are counted at the level cap.
     draws_.clear();
+    std::uint64_t draw_vertices = 0;
     for (std::size_t k = 0; k < rows.size(); ++k) {
       std::copy(rows[k].begin(), rows[k].end(), &patches_[kPatchInts * k]);
       const auto [du, dv] = degrees(rows[k]);
-      if (draws_.empty() || draws_.back().du != du || draws_.back().dv != dv)
+      const std::uint64_t vertices =
+          settings_.adaptive
+              ? vk_ksquad::quad_domain_vertices(settings_.max_level, settings_.max_level)
+              : vk_ksquad::quad_domain_vertices(rows[k][kPatchLevelU], rows[k][kPatchLevelV]);
+      const bool full = settings_.vertices_per_draw > 0 && draw_vertices > 0 &&
+                        draw_vertices + vertices > settings_.vertices_per_draw;
+      if (draws_.empty() || draws_.back().du != du || draws_.back().dv != dv || full) {
         draws_.push_back({du, dv, static_cast<std::uint32_t>(k), 0});
+        draw_vertices = 0;
+      }
       ++draws_.back().count;
+      draw_vertices += vertices;
     }
+    record_.details["draws"] = std::to_string(draws_.size());
     patch_count_ = rows.size();
     stats_.patches_drawn = patch_count_;
   }
@@ -649,13 +678,13 @@ class VkKsquad final : public Strategy {
   }
 
   void upload_tables(const Scene& scene) {
-    const int level = adaptive_.max_level;
-    region_ = adaptive_.adaptive
+    const int level = settings_.max_level;
+    region_ = settings_.adaptive
                   ? static_cast<std::size_t>(4 * (level + 1) + (level - 1) * (level - 1))
                   : 0;
     set_mode(scene);
     const std::size_t output_floats =
-        adaptive_.adaptive ? patch_count_ * region_ * kSlotFloats : total_ * 3;
+        settings_.adaptive ? patch_count_ * region_ * kSlotFloats : total_ * 3;
     corners_buf_ = storage(corners_, "KSQuad corners");
     levels_ = vulkan::Buffer(device_, 8 * patch_count_ * sizeof(float),
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chosen levels");
@@ -862,8 +891,8 @@ class VkKsquad final : public Strategy {
     return pipeline;
   }
 
-  std::uint32_t image_width() const { return static_cast<std::uint32_t>(adaptive_.viewport[0]); }
-  std::uint32_t image_height() const { return static_cast<std::uint32_t>(adaptive_.viewport[1]); }
+  std::uint32_t image_width() const { return static_cast<std::uint32_t>(settings_.viewport[0]); }
+  std::uint32_t image_height() const { return static_cast<std::uint32_t>(settings_.viewport[1]); }
 
   // The render target of render(), made on its first call: RGBA8 colour (copied out by tests),
   // 32-bit depth, a render pass clearing both, and the raster pipeline.
@@ -939,7 +968,7 @@ class VkKsquad final : public Strategy {
   vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_,
       corners_buf_, levels_, normals_;
   std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
-  AdaptiveSettings adaptive_;
+  KsquadSettings settings_;
   ModeConstants mode_{};
   std::map<std::array<int, 3>, int> corner_index_;
   std::optional<double> evaluate_s_;
@@ -950,7 +979,7 @@ class VkKsquad final : public Strategy {
 
 std::unique_ptr<Strategy> make_vk_ksquad(const StrategyOptions& options) {
   try {
-    return std::make_unique<VkKsquad>(vulkan::device_option(options), adaptive_settings(options));
+    return std::make_unique<VkKsquad>(vulkan::device_option(options), ksquad_settings(options));
   } catch (const vulkan::MissingFeature& e) {
     throw std::runtime_error(std::string("unavailable: ") + e.what());
   }

@@ -290,6 +290,40 @@ TEST_F(VkKsquadTest, AdaptiveOptionsAreChecked) {
   EXPECT_THROW(make_vk_ksquad(options), std::invalid_argument);
 }
 
+// Draws bounded by vk-vertices-per-draw (one patch each at 1) evaluate exactly what one draw per
+// degree pair does: each draw's patch_base finds its own rows of the Info-KSQuad table.
+TEST_F(VkKsquadTest, DrawsSplitByVertexBudgetGiveTheSameSamples) {
+  const Scene scene = *make_builtin_scene("many-16");
+  const EvalRequest request{span_grid(4), Precision::f32, false};
+  std::vector<EvalResult> results;
+  std::vector<std::string> draws;
+  std::uint64_t patches = 0;
+  for (const char* budget : {"0", "1"}) {
+    StrategyOptions options;
+    options.extra = {{"vk-vertices-per-draw", budget}};
+    std::unique_ptr<Strategy> strategy = make_vk_ksquad(options);
+    strategy->prepare(scene, request);
+    strategy->evaluate();
+    results.push_back(strategy->read_back());
+    draws.push_back(strategy->device().details.at("draws"));
+    patches = ksquad_statistics(*strategy).patches_drawn;
+  }
+  EXPECT_EQ(draws[0], "1");  // many-16: bicubic patches only, one degree pair
+  EXPECT_EQ(patches, 16u);
+  EXPECT_EQ(draws[1], std::to_string(patches));
+  ASSERT_EQ(results[0].surfaces.size(), results[1].surfaces.size());
+  for (std::size_t k = 0; k < results[0].surfaces.size(); ++k) {
+    const PointArray &one_draw = results[0].surfaces[k].positions,
+                     &split = results[1].surfaces[k].positions;
+    ASSERT_EQ(one_draw.size(), split.size());
+    for (std::size_t i = 0; i < one_draw.size(); ++i)
+      ASSERT_EQ(one_draw[i], split[i]) << "surface " << k << ", sample " << i;
+  }
+  StrategyOptions bad;
+  bad.extra = {{"vk-vertices-per-draw", "-3"}};
+  EXPECT_THROW(make_vk_ksquad(bad), std::invalid_argument);
+}
+
 // render(): the patches drawn with rasterization into the offscreen image, in both modes.
 TEST_F(VkKsquadTest, RenderDrawsTheSurfaceOffscreen) {
   const Scene scene = *make_builtin_scene("teapot");
