@@ -88,8 +88,13 @@ struct Row {
   const Record* record;
 };
 
+// A measurement of the scene as given: neither a limit row nor a deforming run (whose control
+// points moved every frame; only the frame section reads those).
 bool is_measurement(const Record& r) {
-  return r.status == Status::ok && r.role != "limit";
+  return r.status == Status::ok && r.role != "limit" && !r.extra_phases.contains("frame");
+}
+bool is_frame_measurement(const Record& r) {
+  return r.status == Status::ok && r.role != "limit" && r.extra_phases.contains("frame");
 }
 
 // Labels name the strategy; the precision and the results set only where the report holds more
@@ -285,6 +290,22 @@ std::vector<Row> rows_where(const std::vector<ResultSet>& sets,
   return rows;
 }
 
+// Several results sets can hold the same measurement (patch144 at 64x64 is in a Fig 7 run and in
+// an accuracy run): a chart keeps one row per label, scene and samples, the one from the set that
+// gives the chart the most rows, so no series has two points at one x.
+std::vector<Row> one_per_measurement(const std::vector<Row>& rows, const Labeller& label) {
+  std::map<const ResultSet*, int> rows_of_set;
+  for (const Row& r : rows) ++rows_of_set[r.set];
+  std::map<std::tuple<std::string, std::string, std::string>, Row> kept;
+  for (const Row& r : rows) {
+    const auto [it, inserted] = kept.try_emplace({label(r), r.record->scene, r.record->samples}, r);
+    if (!inserted && rows_of_set[r.set] > rows_of_set[it->second.set]) it->second = r;
+  }
+  std::vector<Row> out;
+  for (const auto& [key, row] : kept) out.push_back(row);
+  return out;
+}
+
 void set_no_data(ReportSection& s, const std::string& command) {
   s.no_data = fmt::format("no data in these results: run {}", command);
 }
@@ -322,9 +343,12 @@ ReportSection time_vs_points(const std::vector<ResultSet>& sets, const Labeller&
               "Krishnamurthy 2007 Fig 7 / Krishnamurthy-Yasui Fig 9: evaluation time vs number "
               "of evaluation points (patch144, 144 control points)",
               run, sets);
-  const auto rows = rows_where(sets, [](const Record& r) {
-    return is_measurement(r) && r.scene == "patch144" && r.sampling == "grid";
-  });
+  const auto rows = one_per_measurement(
+      rows_where(sets,
+                 [](const Record& r) {
+                   return is_measurement(r) && r.scene == "patch144" && r.sampling == "grid";
+                 }),
+      label);
   if (!show_rows(s, rows, run, sets)) return s;
   std::vector<Series> series;
   for (const Row& r : rows)
@@ -374,10 +398,13 @@ ReportSection deboor_vs_basis(const std::vector<ResultSet>& sets, const Labeller
               "Tan 2012 Fig 14: one-pass de Boor (glsl-deboor) vs multi-pass basis functions "
               "(gl-pingpong), 16², 64², 256² control points",
               run, sets);
-  auto rows = rows_where(sets, [&](const Record& r) {
-    return is_measurement(r) && r.sampling == "grid" &&
-           std::find(scenes.begin(), scenes.end(), r.scene) != scenes.end();
-  });
+  auto rows = one_per_measurement(rows_where(sets,
+                                             [&](const Record& r) {
+                                               return is_measurement(r) && r.sampling == "grid" &&
+                                                      std::find(scenes.begin(), scenes.end(),
+                                                                r.scene) != scenes.end();
+                                             }),
+                                  label);
   // One grid for the whole chart: the one measured most often on these scenes (ties: the larger).
   std::map<std::string, std::pair<int, std::size_t>> grids;
   for (const Row& r : rows) {
@@ -493,8 +520,7 @@ ReportSection frame_section(const std::vector<ResultSet>& sets, const Labeller& 
   ReportSection s = section(
       "rpns_frame", "RPNS 2014: time per frame with deforming control points (update + evaluate)",
       run, sets);
-  const auto rows = rows_where(
-      sets, [](const Record& r) { return is_measurement(r) && r.extra_phases.contains("frame"); });
+  const auto rows = rows_where(sets, is_frame_measurement);
   if (!show_rows(s, rows, run, sets)) return s;
   std::vector<std::string> categories;
   for (const Row& r : rows) categories.push_back(r.record->scene + " " + r.record->samples);
@@ -558,9 +584,12 @@ ReportSection many_surfaces(const std::vector<ResultSet>& sets, const Labeller& 
               "Krishnamurthy 2007 Fig 8 style: throughput vs number of surfaces (16×16 samples "
               "each)",
               run, sets);
-  auto rows = rows_where(sets, [](const Record& r) {
-    return is_measurement(r) && numbered_scene(r.scene, "many-").has_value();
-  });
+  auto rows = one_per_measurement(rows_where(sets,
+                                             [](const Record& r) {
+                                               return is_measurement(r) &&
+                                                      numbered_scene(r.scene, "many-").has_value();
+                                             }),
+                                  label);
   // The paper's 16×16 per surface when measured; otherwise every grid, labelled by it.
   const bool has_16 = std::any_of(rows.begin(), rows.end(),
                                   [](const Row& r) { return r.record->samples == "16x16"; });

@@ -76,16 +76,30 @@ def draw(chart, path):
     plt.close(fig)
 
 
+def style(k):
+    """Series k's colour (tab20's dark shades, then its light ones: 20 distinct colours), with a
+    marker and a line style that also differ, so series stay apart past 20 and in grey print."""
+    import matplotlib.pyplot as plt
+
+    colors = plt.get_cmap("tab20").colors
+    return {
+        "color": colors[(2 * k) % 20 + (k // 10) % 2],
+        "marker": "osD^vPX*<>"[k % 10],
+        "linestyle": "-" if (k // 10) % 2 == 0 else "--",
+    }
+
+
 def lines(ax, chart):
     xlog, ylog = chart.get("xlog", False), chart.get("ylog", False)
-    for s in chart["series"]:
+    for k, s in enumerate(chart["series"]):
         pts = [
             (x, y)
             for x, y in zip(s["x"], s["y"])
             if finite(x) and finite(y) and (not xlog or x > 0) and (not ylog or y > 0)
         ]
         if pts:
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=s["label"])
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], label=s["label"], markersize=5,
+                    **style(k))
     if xlog:
         ax.set_xscale("log", base=2)
     if ylog:
@@ -103,7 +117,7 @@ def bars(ax, chart):
     for k, s in enumerate(series):
         xs = [c + (k - (len(series) - 1) / 2) * width for c in range(len(categories))]
         ys = [v if positive(v) else 0 for v in s["values"]]
-        ax.bar(xs, ys, width=width, label=s["label"])
+        ax.bar(xs, ys, width=width, label=s["label"], color=style(k)["color"])
     ax.set_xticks(range(len(categories)))
     ax.set_xticklabels(categories, rotation=20 if len(categories) > 4 else 0, fontsize=8)
     if chart.get("ylog") and any(positive(v) for s in series for v in s["values"]):

@@ -108,7 +108,8 @@ std::optional<Sampling> sampling_of(const Record& r) {
 ReportSection error_maps(const std::vector<ResultSet>& sets, int count, const fs::path& out) {
   ReportSection s;
   s.id = "error_maps";
-  s.title = fmt::format("Error heat maps of the {} worst (strategy, scene) pairs", count);
+  s.title = fmt::format(
+      "Error heat maps of the {} worst (strategy, scene) pairs that can be redrawn here", count);
   s.command = "nurbsbench eval --scene S --strategy X --samples NxM --error-image F.png";
   std::vector<const Record*> worst;
   for (const ResultSet& set : sets)
@@ -121,8 +122,11 @@ ReportSection error_maps(const std::vector<ResultSet>& sets, int count, const fs
   ReportTable table{"Pairs drawn (re-evaluated on this machine; colour = f32 ulps, log scale)",
                     {"strategy", "scene", "samples", "precision", "max_ulp in results", "image"},
                     {}};
+  // A pair that cannot be drawn is listed with the reason and the next one is tried, up to three
+  // times `count` pairs.
+  int drawn = 0;
   for (const Record* r : worst) {
-    if (static_cast<int>(done.size()) >= count) break;
+    if (drawn >= count || static_cast<int>(done.size()) >= 3 * count) break;
     if (!done.insert({r->strategy, r->scene}).second) continue;
     std::string image = "-";
     try {
@@ -144,6 +148,8 @@ ReportSection error_maps(const std::vector<ResultSet>& sets, int count, const fs
       strategy->prepare(scene, request);
       strategy->evaluate();
       const EvalResult result = strategy->read_back();
+      if (!same_samples(result_samples(result), sample_parameters(scene, *sampling)))
+        throw std::runtime_error("it chose its own samples, which have no (u, v) image layout");
       const auto reference =
           evaluate_reference(scene, result_samples(result), false, ReferencePrecision::long_double);
       std::vector<ErrorGrid> grids = error_grids(scene, result, reference);
@@ -156,6 +162,7 @@ ReportSection error_maps(const std::vector<ResultSet>& sets, int count, const fs
                          fmt::format("{} on {} ({}, {}), surface {}", r->strategy, r->scene,
                                      r->precision, sampling->label(), surface));
       s.images.push_back(name);
+      ++drawn;
       image = fmt::format("{} (surface {}, {})", name, surface, sampling->label());
     } catch (const std::exception& e) {
       image = fmt::format("not drawn: {}", e.what());

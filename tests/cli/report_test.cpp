@@ -43,6 +43,36 @@ bool matplotlib_present() {
   return std::system("/usr/bin/python3 -c 'import matplotlib' > /dev/null 2>&1") == 0;
 }
 
+// A record written by hand: patch144 at 256x256, f32, with the given throughput and error.
+Record synthetic(const std::string& strategy, double points_per_s, double max_ulp,
+                 Status status = Status::ok) {
+  Record r;
+  r.scene = "patch144";
+  r.strategy = strategy;
+  r.role = "strategy";
+  r.device = {"host CPU", "cpu", {}};
+  r.precision = "f32";
+  r.sampling = "grid";
+  r.samples = "256x256";
+  r.points = 65536;
+  r.repetitions = 3;
+  if (points_per_s > 0) {
+    r.evaluate = {0.9 * 65536 / points_per_s, 65536 / points_per_s, 1.1 * 65536 / points_per_s};
+    r.end_to_end = {0, 2 * 65536 / points_per_s, 0};
+  }
+  r.throughput_pts_per_s = points_per_s;
+  r.status = status;
+  if (status == Status::ok) {
+    Accuracy a;
+    a.max_ulp = max_ulp;
+    a.max_abs = max_ulp * 1e-7;
+    r.accuracy = a;
+  } else {
+    r.reason = "device lost";
+  }
+  return r;
+}
+
 // ------------------------------------------------------------------------------------- report
 
 class CliReport : public ::testing::Test {
@@ -61,8 +91,10 @@ class CliReport : public ::testing::Test {
   }
   static std::set<std::string> strategies_in_results() {
     std::set<std::string> names;
-    for (const json& r : json::parse(read_text(results_->path() / "results.json"))["records"])
-      names.insert(r["strategy"].get<std::string>());
+    // Named, not iterated as a temporary: a range-for over `parse(...)["records"]` would outlive
+    // the parsed document (the heap-use-after-free that ASan aborted this suite on).
+    const json results = json::parse(read_text(results_->path() / "results.json"));
+    for (const json& r : results["records"]) names.insert(r["strategy"].get<std::string>());
     return names;
   }
   // A copy of the run's results in a fresh directory, where side files can be added.
@@ -196,6 +228,53 @@ TEST_F(CliReport, SeveralResultsSetsAreOneReport) {
   EXPECT_NE(read_text(fs::path(out) / "REPORT.md").find("| second |"), std::string::npos);
 }
 
+// The same measurement in two sets of one machine and commit (a Fig 7 run and an accuracy run
+// both hold patch144 at 8x8) is one point of its series, not two at the same x.
+TEST_F(CliReport, ChartsKeepOnePointPerMeasurementAcrossSets) {
+  const auto series_of = [&](const std::vector<std::string>& sets, const std::string& name) {
+    std::vector<std::string> args{"report"};
+    for (const std::string& set : sets) args.insert(args.end(), {"--results", set});
+    const std::string out = tmp_ / name;
+    args.insert(args.end(), {"--out", out, "--error-images", "0", "--python", "/bin/false"});
+    EXPECT_EQ(run_cli(args).exit_code, 0);
+    std::map<std::string, json> series;
+    const json charts = json::parse(read_text(fs::path(out) / "charts.json"));
+    for (const json& chart : charts["charts"])
+      if (chart["id"] == "fig7_time_vs_points" || chart["id"] == "fig8_many_surfaces")
+        series[chart["id"]] = chart["series"];
+    return series;
+  };
+  const auto one = series_of({results_->path().string()}, "one");
+  const auto two = series_of({results_->path().string(), copy_results("again")}, "two");
+  ASSERT_EQ(one.size(), 2u);
+  EXPECT_GT(one.at("fig7_time_vs_points").size(), 2u);
+  EXPECT_EQ(one, two);
+}
+
+// A pair whose strategy chose its own samples has no image layout: it is listed with that reason
+// and the next worst pair is drawn instead.
+TEST_F(CliReport, ErrorMapsSkipPairsWithoutAnImageLayout) {
+  Record own_samples = synthetic("glu-nurbs", 1e6, 50);
+  Record grid = synthetic("cpu-coxdeboor", 1e6, 3);
+  for (Record* r : {&own_samples, &grid}) r->samples = "16x16";
+  const std::string dir = tmp_ / "worst";
+  {
+    ResultsWriter writer(dir, json{{"cpu_model", "Test CPU"}}, json::object());
+    writer.append(own_samples);
+    writer.append(grid);
+  }
+  const std::string out = tmp_ / "report";
+  const CliResult r = run_cli({"report", "--results", dir, "--out", out, "--error-images", "1"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string md = read_text(fs::path(out) / "REPORT.md");
+  EXPECT_NE(md.find("| glu-nurbs | patch144 | 16x16 | f32 | 50 | not drawn: "), std::string::npos)
+      << md;
+  EXPECT_NE(md.find("![error-cpu-coxdeboor-patch144.png](error-cpu-coxdeboor-patch144.png)"),
+            std::string::npos)
+      << md;
+  EXPECT_TRUE(fs::exists(fs::path(out) / "error-cpu-coxdeboor-patch144.png"));
+}
+
 TEST_F(CliReport, BadInputIsExitTwoWithOneLineAndNoOutput) {
   const std::string out = tmp_ / "report";
   expect_usage_error(run_cli({"report", "--results", tmp_ / "missing", "--out", out}),
@@ -235,35 +314,6 @@ TEST_F(CliReport, BadInputIsExitTwoWithOneLineAndNoOutput) {
 }
 
 // ---------------------------------------------------------------------------------- recommend
-
-Record synthetic(const std::string& strategy, double points_per_s, double max_ulp,
-                 Status status = Status::ok) {
-  Record r;
-  r.scene = "patch144";
-  r.strategy = strategy;
-  r.role = "strategy";
-  r.device = {"host CPU", "cpu", {}};
-  r.precision = "f32";
-  r.sampling = "grid";
-  r.samples = "256x256";
-  r.points = 65536;
-  r.repetitions = 3;
-  if (points_per_s > 0) {
-    r.evaluate = {0.9 * 65536 / points_per_s, 65536 / points_per_s, 1.1 * 65536 / points_per_s};
-    r.end_to_end = {0, 2 * 65536 / points_per_s, 0};
-  }
-  r.throughput_pts_per_s = points_per_s;
-  r.status = status;
-  if (status == Status::ok) {
-    Accuracy a;
-    a.max_ulp = max_ulp;
-    a.max_abs = max_ulp * 1e-7;
-    r.accuracy = a;
-  } else {
-    r.reason = "device lost";
-  }
-  return r;
-}
 
 class CliRecommend : public ::testing::Test {
  protected:
