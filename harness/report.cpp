@@ -465,6 +465,7 @@ ReportSection lod_section(const std::vector<ResultSet>& sets, json& charts) {
   std::set<std::string> machines, devices, commits;
   for (const ResultSet& set : sets) {
     if (!set.lod) continue;
+    s.command = regenerate_in(run, set.directory.string());  // where lod.json is
     const json& machine = (*set.lod).value("machine", json::object());
     machines.insert(machine.is_object() ? machine.value("cpu_model", "unknown CPU")
                                         : "unknown CPU");
@@ -548,7 +549,7 @@ ReportSection frame_section(const std::vector<ResultSet>& sets, const Labeller& 
 }
 
 ReportSection memory_section(const std::vector<ResultSet>& sets) {
-  const std::string run = "nurbsbench memory --out DIR";
+  const std::string run = "nurbsbench memory --scenes all --json > DIR/memory.json";
   ReportSection s = section(
       "rpns_memory", "RPNS 2014 Table 1: memory of NURBS vs Bézier control points", run, sets);
   s.context = context_of({}, sets);
@@ -558,6 +559,7 @@ ReportSection memory_section(const std::vector<ResultSet>& sets) {
                     {}};
   for (const ResultSet& set : sets) {
     if (!set.memory) continue;
+    s.command = regenerate_in(run, set.directory.string());  // where memory.json is
     for (const json& row : (*set.memory)["rows"])
       table.rows.push_back(
           {text_field(row, "scene"), text_field(row, "surfaces"),
@@ -721,7 +723,13 @@ ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller&
         r.record->precision == precision)
       rows.push_back(r);
   s.title += fmt::format(" — {} at {}, {}", scene, samples, precision);
-  show_rows(s, rows, run, sets);
+  // The command remakes the configuration shown, not the section's default one.
+  const std::string sampling =
+      samples.starts_with("span") ? "--span-samples " + samples.substr(4) : "--samples " + samples;
+  show_rows(s, rows,
+            fmt::format("nurbsbench run --scenes {} --strategies all {} --precision {} --out DIR",
+                        scene, sampling, precision),
+            sets);
   std::set<std::string> extra;
   for (const Row& r : rows)
     for (const auto& [name, stats] : r.record->extra_phases) extra.insert(name);

@@ -4,7 +4,7 @@
 # deforming studies where this build has them, the report (REPORT.md, index.html, charts), a
 # Google Benchmark JSON of the evaluation-time run, and the machine record.
 #
-#   scripts/canonical.sh                  # the full job (about 15 min on 2 cores)
+#   scripts/canonical.sh                  # the full job (about 7 min on 2 cores, after the build)
 #   scripts/canonical.sh --tiny           # the same steps on tiny grids (a minute): proves the script
 #   scripts/canonical.sh --out DIR        # somewhere else than results/<machine-tag>
 #   scripts/canonical.sh --no-build       # use build/release as it is
