@@ -139,10 +139,11 @@ std::array<float, 16> view_projection(const std::array<double, 3>& eye,
 }
 
 // Patches per vkCmdDraw, bounded by the vertices the tessellator makes for them. Not in the
-// paper, which draws each KSQuad set at once: Mesa's draw module (lavapipe, 22.3) resets the
-// vertex ids of every vertex of the current draw at each of its internal flushes, so one draw's
-// cost grows with the square of its vertex count -- patch144 at 2048x2048 (4M vertices) in one
-// draw took minutes per evaluation. Bounded draws keep it linear; on a GPU they are a handful of
+// paper, which draws each KSQuad set at once: on lavapipe (Mesa 22.3) one draw's cost grows with
+// the square of its vertex count -- perf puts the time in a loop of libvulkan_lvp.so that stores
+// 0xffff into a 16-bit field of every vertex (by its shape, the draw module resetting vertex ids
+// at each internal flush), and patch144 at 2048x2048 (4M vertices) in one draw took minutes per
+// evaluation. Bounded draws keep it linear; on a GPU they are a handful of
 // draw calls more. Measured on lavapipe, patch144 at 1024x1024: 14 s per evaluation in one draw,
 // 1.2 s with 1024 to 16384 vertices per draw, 2.9 s with 262144.
 constexpr std::uint64_t kDefaultVerticesPerDraw = 16384;
