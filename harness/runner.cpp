@@ -59,11 +59,11 @@ bool runnable(const StrategyEntry& entry, const Scene& scene, const EvalRequest&
 
 // Compares the result with the reference where the strategy sampled: the requested samples, or
 // (a tessellator given a density) its own, whose count then becomes the record's points. The
-// reference at the requested samples is reused when the caller has one for this scene.
+// reference at the requested samples comes from `references` when the caller has a cache for
+// this scene (and is computed only if the strategy sampled there).
 void score(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
            const std::vector<SurfaceSamples>& requested, const EvalResult& result,
-           const std::vector<ReferenceSurface>* reference_at_requested,
-           ReferencePrecision reference_precision, Record& r) {
+           ReferenceCache* references, ReferencePrecision reference_precision, Record& r) {
   const std::vector<SurfaceSamples> produced = result_samples(result);
   const bool as_requested = same_samples(produced, requested);
   if (!as_requested) {
@@ -71,8 +71,8 @@ void score(const StrategyEntry& entry, const Scene& scene, const EvalRequest& re
       throw std::runtime_error("result carries other (u, v) than the requested samples");
     r.points = total_samples(produced);
   }
-  r.accuracy = as_requested && reference_at_requested != nullptr
-                   ? measure_accuracy(scene, result, *reference_at_requested)
+  r.accuracy = as_requested && references != nullptr
+                   ? measure_accuracy(scene, result, references->get(scene, request))
                    : measure_accuracy(
                          scene, result,
                          evaluate_reference(scene, produced, request.normals, reference_precision));
@@ -145,8 +145,8 @@ Record measure(const StrategyEntry& entry, const StrategyOptions& options, const
     r.end_to_end = PhaseStats::of(end_to_end_s);
     if (!device_evaluate_s.empty())
       r.device_evaluate_median_s = PhaseStats::of(device_evaluate_s).median_s;
-    score(entry, scene, request, sample_parameters(scene, request.sampling), result,
-          &references.get(scene, request), references.precision(), r);
+    score(entry, scene, request, sample_parameters(scene, request.sampling), result, &references,
+          references.precision(), r);
   });
   return r;
 }

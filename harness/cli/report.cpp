@@ -148,10 +148,11 @@ ReportSection error_maps(const std::vector<ResultSet>& sets, int count, const fs
       strategy->prepare(scene, request);
       strategy->evaluate();
       const EvalResult result = strategy->read_back();
-      if (!same_samples(result_samples(result), sample_parameters(scene, *sampling)))
+      const std::vector<SurfaceSamples> produced = result_samples(result);
+      if (!same_samples(produced, sample_parameters(scene, *sampling)))
         throw std::runtime_error("it chose its own samples, which have no (u, v) image layout");
       const auto reference =
-          evaluate_reference(scene, result_samples(result), false, ReferencePrecision::long_double);
+          evaluate_reference(scene, produced, false, ReferencePrecision::long_double);
       std::vector<ErrorGrid> grids = error_grids(scene, result, reference);
       const std::size_t surface = std::min<std::size_t>(
           static_cast<std::size_t>(r->accuracy->worst_surface), grids.size() - 1);
