@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "reference/nurbs_math.h"
+#include "reference/trim_classify.h"
 
 namespace nurbs {
 
@@ -72,6 +73,15 @@ ReferenceSurface evaluate_surface(const Surface& surface, const SurfaceSamples& 
 #pragma omp parallel for schedule(static)
     for (std::size_t k = 0; k < n; ++k)
       out.normals[k] = to_point(surface_normal(net, T(samples.u_of(k)), T(samples.v_of(k))));
+    if (surface.reversed)
+      for (Point3& normal : out.normals)
+        for (double& c : normal) c = -c;
+  }
+  if (surface.trim) {
+    TrimClassification trim =
+        classify_trim_samples(*surface.trim, samples, /*with_distance=*/true, TrimScalar::long_double);
+    out.inside = std::move(trim.inside);
+    out.trim_distance = std::move(trim.distance);
   }
   return out;
 }

@@ -4,6 +4,7 @@
 // requested (u, v).
 #pragma once
 
+#include <cstdint>
 #include <string_view>
 #include <vector>
 
@@ -19,7 +20,11 @@ std::string_view to_string(ReferencePrecision p);
 
 struct ReferenceSurface {
   std::vector<Point3> positions;  // one per sample, in SurfaceSamples order
-  std::vector<Point3> normals;    // unit normals (empty unless requested)
+  std::vector<Point3> normals;    // unit normals (empty unless requested); flipped on a reversed face
+  // Trimmed surfaces only (empty otherwise): the exact classification of every sample
+  // (reference/trim_classify.h, in long double) and its distance to the trim boundary in (u, v).
+  std::vector<std::uint8_t> inside;
+  std::vector<double> trim_distance;
 };
 
 std::vector<ReferenceSurface> evaluate_reference(

@@ -10,6 +10,11 @@ bool Surface::is_rational() const {
   return std::any_of(weights.begin(), weights.end(), [](double w) { return w != 1.0; });
 }
 
+bool Scene::has_trims() const {
+  return std::any_of(surfaces.begin(), surfaces.end(),
+                     [](const Surface& s) { return s.trim.has_value(); });
+}
+
 double Scene::largest_coordinate() const {
   double largest = 0;
   for (const Surface& s : surfaces)

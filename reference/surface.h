@@ -4,8 +4,11 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "reference/trim.h"
 
 namespace nurbs {
 
@@ -21,6 +24,14 @@ struct Surface {
   std::vector<double> knots_v;
   std::vector<Point3> points;   // point (i, j) at i*count_v + j, NOT pre-multiplied by the weight
   std::vector<double> weights;  // same order; all 1 for a non-rational surface
+  // The face this surface came from keeps only the part inside its trimming loops (absent: the
+  // whole domain). Every strategy still evaluates the whole surface; the trim says which samples
+  // count (reference/trim_classify.h).
+  std::optional<Trim> trim;
+  // The face is reversed relative to the surface (a CAD face's orientation): its outward normal
+  // is -(S_u x S_v). The reference's normals and every strategy's, as the harness scores and
+  // writes them, are flipped for such a surface (harness/metrics.h orient_normals).
+  bool reversed = false;
 
   const Point3& point(int i, int j) const {
     return points[static_cast<std::size_t>(i) * count_v + j];
@@ -45,6 +56,7 @@ struct Scene {
   // Diagonal of the control points' bounding box: the scale of max_rel.
   double bounding_box_diagonal() const;
   std::size_t control_point_count() const;
+  bool has_trims() const;
 };
 
 }  // namespace nurbs

@@ -129,6 +129,7 @@ void validate_surface(const Surface& s, int surface_index, std::string_view orig
   check.check_knots("knots_u", s.knots_u, s.degree_u, s.count_u);
   check.check_knots("knots_v", s.knots_v, s.degree_v, s.count_v);
   check.check_control_net();
+  if (s.trim) validate_trim(s, surface_index, origin);
 }
 
 void validate_scene(const Scene& scene, std::string_view origin) {

@@ -56,5 +56,10 @@ void validate_surface(const Surface& surface, int surface_index, std::string_vie
 // The degree and count rules alone: a loader checks them before it allocates anything.
 void validate_surface_sizes(const Surface& surface, int surface_index, std::string_view origin);
 void validate_scene(const Scene& scene, std::string_view origin);
+// The trim rules of nurbs-scene/2 (reference/trim.h): rule, tolerance, finite values, degrees
+// 1..15, knot counts and order, positive weights, bounded counts, each loop closed within the
+// tolerance and every curve inside the surface's domain within it. Errors name the loop and curve
+// in the field: "trim.loops[L].curves[C].knots[K] = ...". validate_surface calls it.
+void validate_trim(const Surface& surface, int surface_index, std::string_view origin);
 
 }  // namespace nurbs

@@ -3,6 +3,7 @@
 // evaluate() (returning when the device is done), and copies results to the host in read_back().
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -43,6 +44,10 @@ struct Capabilities {
   // false (the default update does nothing) the deforming benchmark calls prepare() again each
   // frame and records that phase as "frame_prepare" instead of "frame_update".
   bool updates_control_points = false;
+  // The strategy classifies its samples against the surfaces' trimming loops in classify() and
+  // returns SurfaceResult::inside for every trimmed surface (the real-CAD issue). A strategy
+  // without it still evaluates trimmed scenes; its records say "untrimmed".
+  bool trims = false;
   bool supports(Precision p) const { return p == Precision::f32 ? fp32 : fp64; }
 };
 
@@ -64,6 +69,9 @@ struct SurfaceResult {
   SurfaceSamples samples;  // the parameters the strategy was asked to evaluate
   PointArray positions;
   PointArray normals;  // empty unless requested
+  // Strategies that trim (Capabilities::trims), for a trimmed surface: 1 where the strategy
+  // classified the sample inside the face, 0 outside; empty otherwise.
+  std::vector<std::uint8_t> inside;
 };
 
 struct EvalResult {
@@ -92,6 +100,11 @@ class Strategy {
   // traditional path it is compared with (read back, upload as vertex buffers, draw; 002 §4.1).
   // Each returns false when the strategy has no such path.
   virtual bool render() { return false; }
+  // Strategies that trim: classify the samples of the last evaluate() against the trimming loops
+  // (returning when the device is done), timed by the runner as its own phase ("classify") and
+  // returned by read_back() as SurfaceResult::inside. Called after evaluate() and before
+  // read_back(); returns false when the strategy does not trim.
+  virtual bool classify() { return false; }
   virtual bool render_via_read_back() { return false; }
 };
 
