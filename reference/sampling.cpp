@@ -40,50 +40,89 @@ std::vector<double> span_grid_parameters(const std::vector<double>& knots, int d
   return t;
 }
 
+namespace {
+
+std::size_t nonempty_spans(const std::vector<double>& knots, int degree, int count) {
+  std::size_t spans = 0;
+  for (int s = degree; s < count; ++s) spans += knots[s] < knots[s + 1] ? 1 : 0;
+  return spans;
+}
+
+// The samples a request asks for, from the sizes alone: checked before any parameter list is
+// allocated (many-4096 at 65536x65536 would otherwise build 4 GiB of lists only to refuse them).
+// In double: a span grid's count can pass 2^64 (2^20 spans x 4097 steps, squared), and the limit
+// is far inside double's exact integers.
+double requested_samples(const Scene& scene, const Sampling& sampling) {
+  double total = 0;
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+    const Surface& s = scene.surfaces[i];
+    switch (sampling.mode) {
+      case SamplingMode::grid:
+        total += static_cast<double>(sampling.grid_u) * sampling.grid_v;
+        break;
+      case SamplingMode::span_grid:
+        total += static_cast<double>(nonempty_spans(s.knots_u, s.degree_u, s.count_u) *
+                                     (sampling.span_steps + 1)) *
+                 static_cast<double>(nonempty_spans(s.knots_v, s.degree_v, s.count_v) *
+                                     (sampling.span_steps + 1));
+        break;
+      case SamplingMode::explicit_list:
+        if (i < sampling.explicit_uv.size())
+          total += static_cast<double>(sampling.explicit_uv[i].size());
+        break;
+    }
+  }
+  return total;
+}
+
+}  // namespace
+
 std::vector<SurfaceSamples> sample_parameters(const Scene& scene, const Sampling& sampling) {
-  std::vector<SurfaceSamples> out(scene.surfaces.size());
   switch (sampling.mode) {
     case SamplingMode::grid:
       if (sampling.grid_u < 2 || sampling.grid_v < 2 || sampling.grid_u > kMaxGridPerDirection ||
           sampling.grid_v > kMaxGridPerDirection)
         throw InputError(fmt::format("grid {}x{}: each side must be in 2..{}", sampling.grid_u,
                                      sampling.grid_v, kMaxGridPerDirection));
-      for (std::size_t i = 0; i < out.size(); ++i) {
-        const Surface& s = scene.surfaces[i];
-        out[i].u = grid_parameters(s.u_min(), s.u_max(), sampling.grid_u);
-        out[i].v = grid_parameters(s.v_min(), s.v_max(), sampling.grid_v);
-      }
       break;
     case SamplingMode::span_grid:
       if (sampling.span_steps < 1 || sampling.span_steps > kMaxSpanSteps)
         throw InputError(
             fmt::format("span samples {}: must be in 1..{}", sampling.span_steps, kMaxSpanSteps));
-      for (std::size_t i = 0; i < out.size(); ++i) {
-        const Surface& s = scene.surfaces[i];
-        out[i].u = span_grid_parameters(s.knots_u, s.degree_u, s.count_u, sampling.span_steps);
-        out[i].v = span_grid_parameters(s.knots_v, s.degree_v, s.count_v, sampling.span_steps);
-      }
       break;
     case SamplingMode::explicit_list:
-      if (sampling.explicit_uv.size() != out.size())
+      if (sampling.explicit_uv.size() != scene.surfaces.size())
         throw InputError(fmt::format("explicit samples given for {} surfaces, scene has {}",
-                                     sampling.explicit_uv.size(), out.size()));
-      for (std::size_t i = 0; i < out.size(); ++i) {
+                                     sampling.explicit_uv.size(), scene.surfaces.size()));
+      break;
+  }
+  if (const double total = requested_samples(scene, sampling);
+      total > static_cast<double>(kMaxSamplesPerRequest))
+    throw InputError(fmt::format("{:.0f} samples over {} surfaces: more than the limit of {} per "
+                                 "request",
+                                 total, scene.surfaces.size(), kMaxSamplesPerRequest));
+
+  std::vector<SurfaceSamples> out(scene.surfaces.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const Surface& s = scene.surfaces[i];
+    switch (sampling.mode) {
+      case SamplingMode::grid:
+        out[i].u = grid_parameters(s.u_min(), s.u_max(), sampling.grid_u);
+        out[i].v = grid_parameters(s.v_min(), s.v_max(), sampling.grid_v);
+        break;
+      case SamplingMode::span_grid:
+        out[i].u = span_grid_parameters(s.knots_u, s.degree_u, s.count_u, sampling.span_steps);
+        out[i].v = span_grid_parameters(s.knots_v, s.degree_v, s.count_v, sampling.span_steps);
+        break;
+      case SamplingMode::explicit_list:
         out[i].tensor = false;
         for (const auto& uv : sampling.explicit_uv[i]) {
           out[i].u.push_back(uv[0]);
           out[i].v.push_back(uv[1]);
         }
-      }
-      break;
+        break;
+    }
   }
-  // Checked on the parameter lists, before any per-sample memory is allocated anywhere.
-  std::size_t total = 0;
-  for (const SurfaceSamples& s : out) total += s.count();
-  if (total > kMaxSamplesPerRequest)
-    throw InputError(
-        fmt::format("{} samples over {} surfaces: more than the limit of {} per request", total,
-                    out.size(), kMaxSamplesPerRequest));
   return out;
 }
 

@@ -2,10 +2,10 @@
 // control bytes (a binary file's content quoted back) escaped so an error stays one clean line.
 #pragma once
 
-#include <fmt/format.h>
-
 #include <nlohmann/json.hpp>
 #include <string>
+
+#include "reference/error_text.h"
 
 namespace nurbs {
 
@@ -14,11 +14,7 @@ inline std::string json_error_text(const nlohmann::json::exception& e) {
   if (message.starts_with("[json.exception.")) {
     if (auto pos = message.find("] "); pos != std::string::npos) message = message.substr(pos + 2);
   }
-  std::string clean;
-  for (unsigned char c : message)
-    clean += (c < 0x20 || c == 0x7f) ? fmt::format("\\x{:02x}", c)
-                                     : std::string(1, static_cast<char>(c));
-  return clean;
+  return printable(message);
 }
 
 }  // namespace nurbs

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/cli/parsing.h"
 #include "reference/reference_evaluator.h"
 #include "reference/sampling.h"
 #include "reference/scalar.h"
@@ -105,22 +106,5 @@ struct GbenchOptions {
   std::string out;  // default: stdout
 };
 int gbench_command(const GbenchOptions& options);
-
-// Shared parsing of CLI values; each throws InputError naming the option and the value.
-std::vector<Sampling> parse_grid_list(std::string_view option, std::string_view text);
-std::vector<Sampling> parse_span_list(std::string_view option, std::string_view text);
-Precision parse_precision(std::string_view text);
-ReferencePrecision parse_reference(std::string_view text);
-std::vector<std::string> split_list(std::string_view text);
-// --scenes: "default" = every listed built-in scene except those whose default grids exceed the
-// per-request sample limit (many-4096); "all" = every listed built-in scene; else a comma list.
-std::vector<std::string> scene_list(const std::string& text);
-// StrategyOptions.extra for --gl, --device and each --strategy-option KEY=VALUE (empty: the
-// strategies' defaults).
-std::map<std::string, std::string> backend_extra(
-    const std::string& gl, const std::string& device,
-    const std::vector<std::string>& strategy_options = {});
-// The thread setting shared by OpenMP, llvmpipe/lavapipe and PoCL; returns the count in force.
-int apply_thread_setting(int threads);
 
 }  // namespace nurbs::cli

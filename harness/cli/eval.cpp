@@ -8,6 +8,7 @@
 #include "harness/error_image.h"
 #include "harness/metrics.h"
 #include "harness/runner.h"
+#include "harness/uv_file.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
@@ -15,62 +16,6 @@
 namespace nurbs::cli {
 
 namespace {
-
-double parse_double(std::string_view text, bool& ok) {
-  std::string copy(text);
-  char* end = nullptr;
-  const double value = std::strtod(copy.c_str(), &end);
-  ok = !copy.empty() && end == copy.c_str() + copy.size() && std::isfinite(value);
-  return value;
-}
-
-// --uv FILE: CSV lines "surface,u,v" (surface = index or name; '#' comments and a header line
-// allowed). Every (u, v) must lie in that surface's domain.
-Sampling read_uv_file(const std::string& path, const Scene& scene) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot open (u,v) file", path));
-  Sampling sampling;
-  sampling.mode = SamplingMode::explicit_list;
-  sampling.explicit_uv.resize(scene.surfaces.size());
-  std::string line;
-  std::size_t line_number = 0, count = 0;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();  // CRLF files
-    if (line.empty() || line[0] == '#' || (line_number == 1 && line.starts_with("surface")))
-      continue;
-    const std::vector<std::string> fields = split_list(line);
-    auto fail = [&](const std::string& field, const std::string& value, const std::string& rule) {
-      throw InputError(
-          fmt::format("{}: line {}: {} = '{}': {}", path, line_number, field, value, rule));
-    };
-    if (fields.size() != 3 || std::count(line.begin(), line.end(), ',') != 2)
-      fail("(line)", line, "expected surface,u,v");
-    int surface = -1;
-    for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
-      if (scene.surfaces[i].name == fields[0]) surface = static_cast<int>(i);
-    bool ok = false;
-    if (surface < 0) {
-      const double index = parse_double(fields[0], ok);
-      if (!ok || index != std::floor(index) || index < 0 ||
-          index >= static_cast<double>(scene.surfaces.size()))
-        fail("surface", fields[0],
-             fmt::format("not a surface name or an index in 0..{}", scene.surfaces.size() - 1));
-      surface = static_cast<int>(index);
-    }
-    const Surface& s = scene.surfaces[surface];
-    const double u = parse_double(fields[1], ok);
-    if (!ok || u < s.u_min() || u > s.u_max())
-      fail("u", fields[1], fmt::format("must be a number in [{}, {}]", s.u_min(), s.u_max()));
-    const double v = parse_double(fields[2], ok);
-    if (!ok || v < s.v_min() || v > s.v_max())
-      fail("v", fields[2], fmt::format("must be a number in [{}, {}]", s.v_min(), s.v_max()));
-    if (++count > kMaxSamplesPerRequest) fail("(line)", line, "too many samples");
-    sampling.explicit_uv[surface].push_back({u, v});
-  }
-  if (count == 0) throw InputError(fmt::format("{}: no (u,v) samples in file", path));
-  return sampling;
-}
 
 Sampling single_sampling(const std::vector<Sampling>& list, std::string_view option) {
   if (list.size() != 1)

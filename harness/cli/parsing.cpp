@@ -1,16 +1,57 @@
+#include "harness/cli/parsing.h"
+
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
+#include <set>
 #include <string>
 #include <thread>
 
-#include "harness/cli/commands.h"
+#include "reference/error_text.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
 
 namespace nurbs::cli {
+
+std::string_view trim_blanks(std::string_view text) {
+  const std::size_t first = text.find_first_not_of(" \t");
+  if (first == std::string_view::npos) return {};
+  return text.substr(first, text.find_last_not_of(" \t") - first + 1);
+}
+
+namespace {
+
+// "OPTION = 'TEXT'": how every error below starts (the value escaped and cut, DESIGN.md's one
+// line).
+std::string option_text(std::string_view option, std::string_view text) {
+  return fmt::format("{} = '{}'", option, printable(text, kQuotedValueBytes));
+}
+
+int parse_int(std::string_view option, std::string_view whole, std::string_view digits, int lo,
+              int hi) {
+  int value = 0;
+  const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  if (digits.empty() || error != std::errc() || end != digits.data() + digits.size() ||
+      value < lo || value > hi)
+    throw InputError(fmt::format("{}: '{}' must be an integer in {}..{}",
+                                 option_text(option, whole), printable(digits, kQuotedValueBytes),
+                                 lo, hi));
+  return value;
+}
+
+// A sampling given twice would be measured twice and reported as two rows of one measurement.
+void refuse_repeats(std::string_view option, std::string_view text,
+                    const std::vector<Sampling>& samplings) {
+  std::set<std::string> seen;
+  for (const Sampling& s : samplings)
+    if (!seen.insert(s.label()).second)
+      throw InputError(fmt::format("{}: {} is given twice", option_text(option, text), s.label()));
+}
+
+}  // namespace
 
 std::vector<std::string> split_list(std::string_view text) {
   std::vector<std::string> out;
@@ -26,34 +67,46 @@ std::vector<std::string> split_list(std::string_view text) {
   return out;
 }
 
-std::vector<std::string> scene_list(const std::string& text) {
+std::vector<std::string> parse_list(std::string_view option, std::string_view text) {
+  std::vector<std::string> out;
+  if (trim_blanks(text).empty()) return out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string_view item = trim_blanks(text.substr(
+        start, comma == std::string_view::npos ? std::string_view::npos : comma - start));
+    if (item.empty())
+      throw InputError(fmt::format("{}: item {} is empty (items are separated by single commas)",
+                                   option_text(option, text), out.size() + 1));
+    if (out.size() == kMaxListItems)
+      throw InputError(
+          fmt::format("{}: more than {} items", option_text(option, text), kMaxListItems));
+    out.emplace_back(item);
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+std::vector<std::string> scene_list(std::string_view text, std::string_view option) {
   if (text == "default" || text == "all") {
     std::vector<std::string> names;
     for (const BuiltinSceneInfo& s : builtin_scenes())
       if (text == "all" || s.name != "many-4096") names.push_back(s.name);
     return names;
   }
-  return split_list(text);
+  std::vector<std::string> names = parse_list(option, text);
+  std::set<std::string_view> seen;
+  for (const std::string& name : names)
+    if (!seen.insert(name).second)
+      throw InputError(fmt::format("{}: '{}' is given twice", option_text(option, text),
+                                   printable(name, kQuotedValueBytes)));
+  return names;
 }
-
-namespace {
-
-int parse_int(std::string_view option, std::string_view whole, std::string_view digits, int lo,
-              int hi) {
-  int value = 0;
-  const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-  if (digits.empty() || error != std::errc() || end != digits.data() + digits.size() ||
-      value < lo || value > hi)
-    throw InputError(
-        fmt::format("{} = '{}': '{}' must be an integer in {}..{}", option, whole, digits, lo, hi));
-  return value;
-}
-
-}  // namespace
 
 std::vector<Sampling> parse_grid_list(std::string_view option, std::string_view text) {
   std::vector<Sampling> out;
-  for (const std::string& item : split_list(text)) {
+  for (const std::string& item : parse_list(option, text)) {
     const std::size_t x = item.find('x');
     Sampling s;
     s.mode = SamplingMode::grid;
@@ -66,13 +119,15 @@ std::vector<Sampling> parse_grid_list(std::string_view option, std::string_view 
     out.push_back(s);
   }
   if (out.empty())
-    throw InputError(fmt::format("{} = '{}': give at least one grid such as 64x64", option, text));
+    throw InputError(
+        fmt::format("{}: give at least one grid such as 64x64", option_text(option, text)));
+  refuse_repeats(option, text, out);
   return out;
 }
 
 std::vector<Sampling> parse_span_list(std::string_view option, std::string_view text) {
   std::vector<Sampling> out;
-  for (const std::string& item : split_list(text)) {
+  for (const std::string& item : parse_list(option, text)) {
     Sampling s;
     s.mode = SamplingMode::span_grid;
     s.span_steps = parse_int(option, item, item, 1, kMaxSpanSteps);
@@ -80,20 +135,22 @@ std::vector<Sampling> parse_span_list(std::string_view option, std::string_view 
   }
   if (out.empty())
     throw InputError(
-        fmt::format("{} = '{}': give at least one step count such as 4", option, text));
+        fmt::format("{}: give at least one step count such as 4", option_text(option, text)));
+  refuse_repeats(option, text, out);
   return out;
 }
 
 Precision parse_precision(std::string_view text) {
   if (text == "f32") return Precision::f32;
   if (text == "f64") return Precision::f64;
-  throw InputError(fmt::format("--precision = '{}': must be f32 or f64", text));
+  throw InputError(fmt::format("{}: must be f32 or f64", option_text("--precision", text)));
 }
 
 ReferencePrecision parse_reference(std::string_view text) {
   ReferencePrecision precision;
   if (!parse_reference_precision(text, precision))
-    throw InputError(fmt::format("--reference = '{}': must be long-double or float128{}", text,
+    throw InputError(fmt::format("{}: must be long-double or float128{}",
+                                 option_text("--reference", text),
                                  NURBSBENCH_HAS_FLOAT128 ? "" : " (this build has no __float128)"));
   return precision;
 }
@@ -104,9 +161,12 @@ std::map<std::string, std::string> backend_extra(const std::string& gl, const st
   for (const std::string& option : strategy_options) {
     const std::size_t eq = option.find('=');
     if (eq == std::string::npos || eq == 0)
-      throw InputError(fmt::format(
-          "--strategy-option = '{}': must be KEY=VALUE (e.g. vk-mode=adaptive)", option));
-    extra[option.substr(0, eq)] = option.substr(eq + 1);
+      throw InputError(fmt::format("{}: must be KEY=VALUE (e.g. vk-mode=adaptive)",
+                                   option_text("--strategy-option", option)));
+    // The second value would silently win over the first.
+    if (!extra.emplace(option.substr(0, eq), option.substr(eq + 1)).second)
+      throw InputError(fmt::format("{}: {} is given twice", option_text("--strategy-option", option),
+                                   printable(option.substr(0, eq), kQuotedValueBytes)));
   }
   if (!gl.empty()) extra["gl"] = gl;
   if (!device.empty()) {
