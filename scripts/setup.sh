@@ -10,6 +10,8 @@ packages=(
   # libraries the core uses
   nlohmann-json3-dev libcli11-dev libfmt-dev libgmp-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev
+  # fuzzing (scripts/fuzz.sh): clang 14, its libFuzzer/sanitizer runtimes, its OpenMP
+  clang libclang-rt-14-dev libomp-14-dev
   # OpenGL strategies: OSMesa, EGL (Mesa llvmpipe), GLU's NURBS tessellator
   libosmesa6-dev libegl-dev libgl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libglu1-mesa-dev
   # Vulkan strategies: loader, lavapipe, glslang, spirv-val, validation layers

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The test command: installs what is needed, builds, runs every test (CTest labels unit,
 # accuracy, gpu-sw, slow, plus the accuracy gates of results/gates.json), then builds the CPU
-# parts with ASan+UBSan and runs their unit and accuracy tests. Exit status 0 only if all pass.
+# parts with ASan+UBSan and runs their unit and accuracy tests, then fuzzes every input parser for
+# NURBSBENCH_FUZZ_SECONDS (default 30) each. Exit status 0 only if all pass.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -18,3 +19,7 @@ cmake --preset release >/dev/null
 cmake --build --preset release -j "$jobs"
 # On the project's machines every strategy must be available (DESIGN.md).
 NURBSBENCH_REQUIRE_ALL_STRATEGIES=1 ctest --preset release
+
+# Last: a finding here should not hide a failure above. The clang build holds only the parsers.
+echo "== fuzzing (libFuzzer + ASan + UBSan, every input parser)"
+bash scripts/fuzz.sh "${NURBSBENCH_FUZZ_SECONDS:-30}"
