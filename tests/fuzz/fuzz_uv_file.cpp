@@ -1,4 +1,4 @@
-// The --uv reader (harness/uv_file.h) against a fixed two-surface scene: what it accepts is a
+// The --uv reader (harness/uv_file.h) against uv_test_scene.h's two surfaces: what it accepts is a
 // non-empty explicit list whose every (u, v) lies in its surface's domain (never -0) and which
 // sample_parameters takes; anything else it refuses with InputError.
 #include <bit>
@@ -9,36 +9,12 @@
 
 #include "fuzz_check.h"
 #include "harness/uv_file.h"
+#include "uv_test_scene.h"
 
 namespace nurbs::fuzz {
 namespace {
 
 constexpr std::string_view kOrigin = "fuzz-uv.csv";
-
-// Bilinear patches; the second has a domain other than [0, 1]^2 and a name that reads as an
-// index, so name-before-index lookup and the range checks are both reachable.
-Surface bilinear(std::string name, double u0, double u1, double v0, double v1) {
-  Surface s;
-  s.name = std::move(name);
-  s.degree_u = s.degree_v = 1;
-  s.count_u = s.count_v = 2;
-  s.knots_u = {u0, u0, u1, u1};
-  s.knots_v = {v0, v0, v1, v1};
-  s.points = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 1}};
-  s.weights = {1, 1, 1, 1};
-  return s;
-}
-
-const Scene& scene() {
-  static const Scene s = [] {
-    Scene scene;
-    scene.name = "uv-fuzz";
-    scene.surfaces = {bilinear("patch", 0, 1, 0, 1), bilinear("1", -2, 3.5, 1e-3, 2e-3)};
-    validate_scene(scene, "uv fuzz scene");
-    return scene;
-  }();
-  return s;
-}
 
 }  // namespace
 }  // namespace nurbs::fuzz
@@ -46,7 +22,7 @@ const Scene& scene() {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace nurbs;
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
-  const Scene& scene = fuzz::scene();
+  const Scene& scene = fuzz::uv_test_scene();
   Sampling sampling;
   try {
     sampling = read_uv_stream(in, fuzz::kOrigin, scene);

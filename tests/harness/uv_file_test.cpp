@@ -12,30 +12,12 @@
 #include <string>
 
 #include "reference/validation.h"
+#include "tests/fuzz/uv_test_scene.h"
 
 namespace nurbs {
 namespace {
 
-Surface bilinear(std::string name, double u0, double u1, double v0, double v1) {
-  Surface s;
-  s.name = std::move(name);
-  s.degree_u = s.degree_v = 1;
-  s.count_u = s.count_v = 2;
-  s.knots_u = {u0, u0, u1, u1};
-  s.knots_v = {v0, v0, v1, v1};
-  s.points = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 1}};
-  s.weights = {1, 1, 1, 1};
-  return s;
-}
-
-// Surface 0 "patch" on [0,1]^2, surface 1 named "0" (a name that reads as the other's index) on
-// [-2, 3.5] x [1, 2].
-Scene two_surfaces() {
-  Scene scene;
-  scene.surfaces = {bilinear("patch", 0, 1, 0, 1), bilinear("0", -2, 3.5, 1, 2)};
-  validate_scene(scene, "test");
-  return scene;
-}
+const Scene& two_surfaces() { return fuzz::uv_test_scene(); }
 
 Sampling read(const std::string& text) {
   std::istringstream in(text);
