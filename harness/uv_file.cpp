@@ -21,8 +21,8 @@ using cli::trim_blanks;
 class UvReader {
  public:
   UvReader(std::istream& in, std::string_view origin, const Scene& scene)
-      : in_(*in.rdbuf()), origin_(origin), scene_(scene) {
-    // First name wins, as the error for an index names the index range.
+      : in_(*in.rdbuf()), origin_(printable(origin)), scene_(scene) {
+    // A name two surfaces share means the first (emplace keeps it); the index reaches either.
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
       by_name_.emplace(scene.surfaces[i].name, i);
   }
@@ -126,7 +126,7 @@ class UvReader {
   }
 
   std::streambuf& in_;
-  std::string_view origin_;
+  std::string origin_;  // a path may hold control bytes too
   const Scene& scene_;
   std::unordered_map<std::string, std::size_t> by_name_;
   std::string line_;
@@ -142,9 +142,9 @@ Sampling read_uv_stream(std::istream& in, std::string_view origin, const Scene& 
 Sampling read_uv_file(const std::string& path, const Scene& scene) {
   std::error_code ignored;
   if (std::filesystem::is_directory(path, ignored))
-    throw InputError(fmt::format("{}: is a directory, not a (u,v) file", path));
+    throw InputError(fmt::format("{}: is a directory, not a (u,v) file", printable(path)));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open (u,v) file", path));
+  if (!in) throw InputError(fmt::format("{}: cannot open (u,v) file", printable(path)));
   return read_uv_stream(in, path, scene);
 }
 

@@ -190,6 +190,16 @@ TEST(UvFile, LineNumbersCountPastAMillionLines) {
   }
 }
 
+TEST(UvFile, ControlBytesOfThePathAreEscapedToo) {
+  std::istringstream in("patch,2,0\n");
+  try {
+    read_uv_stream(in, "evil\nname.csv", two_surfaces());
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find("evil\\x0aname.csv: line 1: u = '2'"), 0u) << e.what();
+  }
+}
+
 TEST(UvFile, FileErrorsNameThePath) {
   const Scene scene = two_surfaces();
   for (const auto& [path, expect] :
