@@ -64,6 +64,23 @@ class JsonPathTracker {
     return true;
   }
 
+  // The path of the value being read ("surfaces[0].degree_u"), keys JSON-escaped so a path
+  // stays one line; "(document)" before the first container opens.
+  std::string path_text() const {
+    std::string path;
+    for (const Container& c : open_) {
+      if (c.array) {
+        path += fmt::format("[{}]", c.index);
+      } else {
+        std::string key = nlohmann::json(c.key).dump(-1, ' ', false,
+                                                      nlohmann::json::error_handler_t::replace);
+        key = key.substr(1, key.size() - 2);
+        path += path.empty() ? key : "." + key;
+      }
+    }
+    return path.empty() ? "(document)" : path;
+  }
+
  private:
   struct Container {
     bool array;
@@ -76,35 +93,26 @@ class JsonPathTracker {
     if (!open_.empty() && open_.back().array) ++open_.back().index;
   }
 
-  // The path of the value being read, JSON-escaped keys so a path stays one line.
-  std::string path_text() const {
-    std::string path;
-    for (const Container& c : open_) {
-      if (c.array) {
-        path += fmt::format("[{}]", c.index);
-      } else {
-        std::string key = nlohmann::json(c.key).dump();
-        key = key.substr(1, key.size() - 2);
-        path += path.empty() ? key : "." + key;
-      }
-    }
-    return path.empty() ? "(document)" : path;
-  }
-
   std::string_view origin_;
   std::vector<Container> open_;
 };
 
 }  // namespace detail
 
-// Throws InputError "<origin>: not valid JSON: ..." for malformed text (and numbers out of
-// double's range), "<origin>: <path>: nesting deeper than N levels", "<origin>: <path>: duplicate
-// key".
+// Throws InputError "<origin>: not valid JSON at <path>: ..." for malformed text (and numbers
+// out of double's range), "<origin>: <path>: nesting deeper than N levels", "<origin>: <path>:
+// duplicate key".
 inline nlohmann::json parse_json_strictly(std::string_view text, std::string_view origin) {
+  detail::JsonPathTracker tracker(origin);
   try {
-    return nlohmann::json::parse(text.begin(), text.end(), detail::JsonPathTracker(origin));
+    return nlohmann::json::parse(text.begin(), text.end(),
+                                 [&tracker](int depth, nlohmann::json::parse_event_t event,
+                                            nlohmann::json& parsed) {
+                                   return tracker(depth, event, parsed);
+                                 });
   } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
-    throw InputError(fmt::format("{}: not valid JSON: {}", origin, json_error_text(e)));
+    throw InputError(fmt::format("{}: not valid JSON at {}: {}", origin, tracker.path_text(),
+                                 json_error_text(e)));
   }
 }
 

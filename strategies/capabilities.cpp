@@ -47,7 +47,7 @@ class PrecisionRange {
         const long double product = static_cast<long double>(w) * points[k][c];
         if (!(std::fabs(product) <= kMax))
           return refuse(field, index, format_number(points[k][c]),
-                        fmt::format("times its weight {} is {}, beyond {}'s largest number {}",
+                        fmt::format("times its weight {} is {:g}, beyond {}'s largest number {}",
                                     format_number(w), product, kName, format_number(kMax)));
       }
     }
