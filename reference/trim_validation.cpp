@@ -8,7 +8,9 @@
 
 namespace nurbs {
 
-std::string trim_loop_path(std::size_t loop) { return fmt::format("trim.loops[{}]", loop); }
+std::string trim_loop_path(std::size_t loop) {
+  return fmt::format("trim.loops[{}]", loop);
+}
 
 std::string trim_curve_path(std::size_t loop, std::size_t curve) {
   return fmt::format("trim.loops[{}].curves[{}]", loop, curve);
@@ -76,12 +78,12 @@ void check_curve(const Surface& s, const TrimCurve& c, const std::string& path,
     const Point2& p = c.points[k];
     if (p[0] < s.u_min() - tolerance || p[0] > s.u_max() + tolerance ||
         p[1] < s.v_min() - tolerance || p[1] > s.v_max() + tolerance)
-      check.fail(path + ".points", std::to_string(k), point_text(p),
-                 fmt::format("control point outside the surface's domain [{}, {}] x [{}, {}] by "
-                             "more than the tolerance {}",
-                             format_number(s.u_min()), format_number(s.u_max()),
-                             format_number(s.v_min()), format_number(s.v_max()),
-                             format_number(tolerance)));
+      check.fail(
+          path + ".points", std::to_string(k), point_text(p),
+          fmt::format("control point outside the surface's domain [{}, {}] x [{}, {}] by "
+                      "more than the tolerance {}",
+                      format_number(s.u_min()), format_number(s.u_max()), format_number(s.v_min()),
+                      format_number(s.v_max()), format_number(tolerance)));
   }
 }
 
@@ -95,11 +97,11 @@ void check_closed(const TrimLoop& loop, std::size_t l, double tolerance,
     const Point2 start = curve_start(loop.curves[next]);
     const double gap = std::hypot(end[0] - start[0], end[1] - start[1]);
     if (!(gap <= tolerance))
-      check.fail(trim_curve_path(l, c) + ".end", "", point_text(end),
-                 fmt::format("loop not closed: the start of curve {} is {}, a gap of {} > the "
-                             "tolerance {}",
-                             next, point_text(start), format_number(gap),
-                             format_number(tolerance)));
+      check.fail(
+          trim_curve_path(l, c) + ".end", "", point_text(end),
+          fmt::format("loop not closed: the start of curve {} is {}, a gap of {} > the "
+                      "tolerance {}",
+                      next, point_text(start), format_number(gap), format_number(tolerance)));
   }
 }
 
@@ -119,7 +121,8 @@ void validate_trim(const Surface& s, int surface_index, std::string_view origin)
   for (std::size_t l = 0; l < trim.loops.size(); ++l) {
     const TrimLoop& loop = trim.loops[l];
     const std::string curves = trim_loop_path(l) + ".curves";
-    if (loop.curves.empty()) check.fail(curves, kLengthIndex, "0", "a loop needs at least one curve");
+    if (loop.curves.empty())
+      check.fail(curves, kLengthIndex, "0", "a loop needs at least one curve");
     check.check_at_most(curves, loop.curves.size(), kMaxTrimCurvesPerLoop, "curves per loop");
     for (std::size_t c = 0; c < loop.curves.size(); ++c)
       check_curve(s, loop.curves[c], trim_curve_path(l, c), check);

@@ -72,8 +72,8 @@ void SurfaceChecker::check_knots(const std::string& field, const std::vector<dou
     const std::size_t allowed = static_cast<std::size_t>(degree) + (at_end ? 1 : 0);
     if (multiplicity > allowed)
       fail(field, std::to_string(start), format_number(knots[start]),
-           fmt::format("multiplicity {} exceeds {} ({} knots allow at most degree{})",
-                       multiplicity, allowed, at_end ? "end" : "interior", at_end ? "+1" : ""));
+           fmt::format("multiplicity {} exceeds {} ({} knots allow at most degree{})", multiplicity,
+                       allowed, at_end ? "end" : "interior", at_end ? "+1" : ""));
     start = end + 1;
   }
   if (!(knots[degree] < knots[count]))

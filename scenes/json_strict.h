@@ -48,8 +48,8 @@ class JsonPathTracker {
         Container& object = open_.back();
         object.key = parsed.get<std::string>();
         if (!object.keys.insert(object.key).second)
-          throw InputError(fmt::format("{}: {}: duplicate key (each key may appear once)",
-                                       origin_, path_text()));
+          throw InputError(fmt::format("{}: {}: duplicate key (each key may appear once)", origin_,
+                                       path_text()));
         break;
       }
       case Event::object_end:
@@ -64,17 +64,19 @@ class JsonPathTracker {
     return true;
   }
 
-  // The path of the value being read ("surfaces[0].degree_u"), keys JSON-escaped so a path
-  // stays one line; "(document)" before the first container opens.
+  // The path of the value being read ("surfaces[0].degree_u"), keys JSON-escaped (ASCII) so a path
+  // stays one line and cut short so it stays readable; "(document)" before the first container
+  // opens.
   std::string path_text() const {
     std::string path;
     for (const Container& c : open_) {
       if (c.array) {
         path += fmt::format("[{}]", c.index);
       } else {
-        std::string key = nlohmann::json(c.key).dump(-1, ' ', false,
-                                                      nlohmann::json::error_handler_t::replace);
+        std::string key =
+            nlohmann::json(c.key).dump(-1, ' ', true, nlohmann::json::error_handler_t::replace);
         key = key.substr(1, key.size() - 2);
+        if (key.size() > kMaxKeyShown) key = key.substr(0, kMaxKeyShown - 3) + "...";
         path += path.empty() ? key : "." + key;
       }
     }
@@ -82,6 +84,8 @@ class JsonPathTracker {
   }
 
  private:
+  static constexpr std::size_t kMaxKeyShown = 40;
+
   struct Container {
     bool array;
     std::size_t index;  // arrays: the element being read
@@ -105,11 +109,11 @@ class JsonPathTracker {
 inline nlohmann::json parse_json_strictly(std::string_view text, std::string_view origin) {
   detail::JsonPathTracker tracker(origin);
   try {
-    return nlohmann::json::parse(text.begin(), text.end(),
-                                 [&tracker](int depth, nlohmann::json::parse_event_t event,
-                                            nlohmann::json& parsed) {
-                                   return tracker(depth, event, parsed);
-                                 });
+    return nlohmann::json::parse(
+        text.begin(), text.end(),
+        [&tracker](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+          return tracker(depth, event, parsed);
+        });
   } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
     throw InputError(fmt::format("{}: not valid JSON at {}: {}", origin, tracker.path_text(),
                                  json_error_text(e)));

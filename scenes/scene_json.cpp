@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <initializer_list>
 #include <nlohmann/json.hpp>
+#include <span>
 
 #include "reference/surface_checker.h"
 #include "reference/validation.h"
@@ -24,7 +24,9 @@ std::string describe(const json& value) {
   return text;
 }
 
-bool is_real(const json& v) { return v.is_number() && !v.is_boolean(); }
+bool is_real(const json& v) {
+  return v.is_number() && !v.is_boolean();
+}
 
 // The fields of one JSON object of a surface (the surface itself, its trim, a loop, a curve),
 // each error naming the field by its path from the surface ("trim.loops[0].curves[2].knots").
@@ -35,9 +37,8 @@ class ObjectReader {
       : object_(object), path_(std::move(path)), check_(check) {}
 
   // Element `index` of the array at `array_path`, which must be an object.
-  static ObjectReader element(const json& array, const std::string& array_path,
-                              std::size_t index, const SurfaceChecker& check,
-                              std::string_view rule) {
+  static ObjectReader element(const json& array, const std::string& array_path, std::size_t index,
+                              const SurfaceChecker& check, std::string_view rule) {
     const json& object = array[index];
     if (!object.is_object())
       check.fail(array_path, std::to_string(index), describe(object), std::string(rule));
@@ -53,10 +54,11 @@ class ObjectReader {
     check_.fail(field(key), index, value, rule);
   }
 
-  void refuse_unknown_keys(std::initializer_list<std::string_view> known) const {
+  void refuse_unknown_keys(std::span<const std::string_view> known) const {
     for (const auto& [key, value] : object_.items())
       if (std::find(known.begin(), known.end(), key) == known.end())
-        fail(key, "", describe(value), fmt::format("unknown key (expected {})", fmt::join(known, ", ")));
+        fail(key, "", describe(value),
+             fmt::format("unknown key (expected {})", fmt::join(known, ", ")));
   }
 
   const json* optional(const char* key) const {
@@ -94,7 +96,8 @@ class ObjectReader {
   // An array of at most `max` entries (checked before anything is allocated for it).
   const json& array(const char* key, std::string_view what, std::size_t max) const {
     const json& value = required(key);
-    if (!value.is_array()) fail(key, "", describe(value), fmt::format("must be an array of {}", what));
+    if (!value.is_array())
+      fail(key, "", describe(value), fmt::format("must be an array of {}", what));
     check_.check_at_most(field(key), value.size(), max, what);
     return value;
   }
@@ -130,17 +133,19 @@ class ObjectReader {
   const SurfaceChecker& check_;
 };
 
-// No array of a surface can be longer than the largest control net's knot vector or net.
+// The longest knot vectors a valid surface direction or trim curve can have: a longer array is
+// refused before it is copied.
 constexpr std::size_t kMaxKnots = kMaxCountPerDirection + kMaxDegree + 1;
 constexpr std::size_t kMaxTrimKnots = kMaxTrimPointsPerCurve + kMaxDegree + 1;
 
 TrimCurve read_trim_curve(const ObjectReader& r) {
-  r.refuse_unknown_keys({"degree", "knots", "points", "weights"});
+  static constexpr std::string_view kKeys[] = {"degree", "knots", "points", "weights"};
+  r.refuse_unknown_keys(kKeys);
   TrimCurve curve;
   curve.degree = r.integer("degree");
   curve.knots = r.numbers("knots", kMaxTrimKnots);
-  curve.points = r.tuples<2>("points", r.array("points", "[u, v] control points",
-                                               kMaxTrimPointsPerCurve), "[u, v]");
+  curve.points = r.tuples<2>(
+      "points", r.array("points", "[u, v] control points", kMaxTrimPointsPerCurve), "[u, v]");
   if (r.optional("weights"))
     curve.weights = r.numbers("weights", kMaxTrimPointsPerCurve);
   else
@@ -150,9 +155,11 @@ TrimCurve read_trim_curve(const ObjectReader& r) {
 
 Trim read_trim(const json& value, const SurfaceChecker& check) {
   if (!value.is_object())
-    check.fail("trim", "", describe(value), "must be an object {\"rule\", \"tolerance\", \"loops\"}");
+    check.fail("trim", "", describe(value),
+               "must be an object {\"rule\", \"tolerance\", \"loops\"}");
   const ObjectReader r(value, "trim", check);
-  r.refuse_unknown_keys({"rule", "tolerance", "loops"});
+  static constexpr std::string_view kKeys[] = {"rule", "tolerance", "loops"};
+  r.refuse_unknown_keys(kKeys);
   Trim trim;
   if (r.optional("rule")) trim.rule = r.string("rule");
   if (r.optional("tolerance")) trim.tolerance = r.number("tolerance");
@@ -161,7 +168,8 @@ Trim read_trim(const json& value, const SurfaceChecker& check) {
   for (std::size_t l = 0; l < loops.size(); ++l) {
     const ObjectReader loop = ObjectReader::element(loops, r.field("loops"), l, check,
                                                     "a loop must be an object {\"curves\": [...]}");
-    loop.refuse_unknown_keys({"curves"});
+    static constexpr std::string_view kLoopKeys[] = {"curves"};
+    loop.refuse_unknown_keys(kLoopKeys);
     const json& curves = loop.array("curves", "curves", kMaxTrimCurvesPerLoop);
     TrimLoop& out = trim.loops.emplace_back();
     out.curves.reserve(curves.size());
@@ -193,15 +201,14 @@ class SurfaceReader {
       surface_.name = fmt::format("surface{}", index_);
     for (const char* key : {"trim", "orientation"})
       if (!version2_ && r.optional(key))
-        r.fail(key, "", describe(*r.optional(key)),
-               fmt::format("needs \"format\": \"{}\" (this file is {})", kSceneFormat2,
-                           kSceneFormat));
-    if (version2_)
-      r.refuse_unknown_keys({"name", "degree_u", "degree_v", "count_u", "count_v", "knots_u",
-                             "knots_v", "points", "weights", "trim", "orientation"});
-    else
-      r.refuse_unknown_keys({"name", "degree_u", "degree_v", "count_u", "count_v", "knots_u",
-                             "knots_v", "points", "weights"});
+        r.fail(
+            key, "", describe(*r.optional(key)),
+            fmt::format("needs \"format\": \"{}\" (this file is {})", kSceneFormat2, kSceneFormat));
+    // nurbs-scene/2 adds the last two.
+    static constexpr std::string_view kKeys[] = {"name",    "degree_u", "degree_v",   "count_u",
+                                                 "count_v", "knots_u",  "knots_v",    "points",
+                                                 "weights", "trim",     "orientation"};
+    r.refuse_unknown_keys(version2_ ? std::span(kKeys) : std::span(kKeys).first(9));
 
     surface_.degree_u = r.integer("degree_u");
     surface_.degree_v = r.integer("degree_v");
@@ -298,9 +305,10 @@ Scene load_scene_file(const std::filesystem::path& path) {
   if (error)
     throw InputError(fmt::format("{}: cannot read scene file: {}", path.string(), error.message()));
   if (size > kMaxSceneFileBytes)
-    throw InputError(fmt::format("{}: file size {} bytes exceeds the limit of {} bytes for a scene "
-                                 "file",
-                                 path.string(), size, kMaxSceneFileBytes));
+    throw InputError(
+        fmt::format("{}: file size {} bytes exceeds the limit of {} bytes for a scene "
+                    "file",
+                    path.string(), size, kMaxSceneFileBytes));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot open scene file", path.string()));
   std::string text(static_cast<std::size_t>(size), '\0');
@@ -350,7 +358,8 @@ std::string trim_json(const Trim& trim) {
     for (std::size_t c = 0; c < curves.size(); ++c) {
       const TrimCurve& curve = curves[c];
       out += fmt::format(
-          "{}\n              {{\n                \"degree\": {},\n                \"knots\": [{}],\n"
+          "{}\n              {{\n                \"degree\": {},\n                \"knots\": "
+          "[{}],\n"
           "                \"points\": [{}\n                ]",
           c ? "," : "", curve.degree, join_numbers(curve.knots),
           point_lines(curve.points, "                  "));

@@ -41,14 +41,15 @@ class PrecisionRange {
                                   kName, format_number(kMin)));
       if (!(w <= kMax)) return too_large(weights_field, std::to_string(k), w);
       for (std::size_t c = 0; c < points[k].size(); ++c) {
+        const double x = points[k][c];
+        // An overflow to infinity in double fails the comparison as well.
+        if (std::fabs(x) <= kMax && std::fabs(w * x) <= kMax) continue;
         const std::string index = fmt::format("{}][{}", k, c);
-        if (!(std::fabs(points[k][c]) <= kMax)) return too_large(field, index, points[k][c]);
-        // In long double, so the product of two doubles cannot itself overflow.
-        const long double product = static_cast<long double>(w) * points[k][c];
-        if (!(std::fabs(product) <= kMax))
-          return refuse(field, index, format_number(points[k][c]),
-                        fmt::format("times its weight {} is {:g}, beyond {}'s largest number {}",
-                                    format_number(w), product, kName, format_number(kMax)));
+        if (!(std::fabs(x) <= kMax)) return too_large(field, index, x);
+        return refuse(field, index, format_number(x),
+                      fmt::format("times its weight {} is {:g}, beyond {}'s largest number {}",
+                                  format_number(w), static_cast<long double>(w) * x, kName,
+                                  format_number(kMax)));
       }
     }
     return std::nullopt;

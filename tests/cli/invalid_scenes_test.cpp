@@ -88,8 +88,16 @@ void expect_verb_refuses(Verb verb, const std::string& file,
       break;
     case Verb::run:
       out = tmp / "r";
-      args = {"run",           "--scenes", "patch144," + file, "--strategies", "cpu-coxdeboor",
-              "--samples",     "4x4",      "--repetitions",    "1",            "--out",
+      args = {"run",
+              "--scenes",
+              "patch144," + file,
+              "--strategies",
+              "cpu-coxdeboor",
+              "--samples",
+              "4x4",
+              "--repetitions",
+              "1",
+              "--out",
               out};
       break;
     case Verb::scene:
@@ -226,9 +234,14 @@ struct RangeCase {
 // them by name, `eval` with exit 2, `run` as a `refused` record; --precision f64 evaluates them.
 TEST(PrecisionRange, F32RefusesWhatFloatCannotHold) {
   const std::vector<RangeCase> cases = {
-      {"coordinate", [](Surface& s) { s.points[3][1] = 1e39; }, {"points[3][1] = 1e+39",
-                                                                  "beyond float32's largest"}},
-      {"knot", [](Surface& s) { s.knots_u = {0, 0, 1e39, 1e39}; }, {"knots_u[2] = 1e+39"}},
+      {"coordinate",
+       [](Surface& s) { s.points[3][1] = 1e39; },
+       {"points[3][1] = 1e+39", "beyond float32's largest"}},
+      {"knot",
+       [](Surface& s) {
+         s.knots_u = {0, 0, 1e39, 1e39};
+       },
+       {"knots_u[2] = 1e+39"}},
       {"weight-subnormal",
        [](Surface& s) { s.weights[2] = 1e-320; },
        {"weights[2] = 1e-320", "below float32's smallest normal number"},
@@ -252,20 +265,19 @@ TEST(PrecisionRange, F32RefusesWhatFloatCannotHold) {
     const std::string file = tmp / (c.name + ".json");
     write_text(file, scene_to_json(scene));
     files.push_back(file);
-    const CliResult f32 = run_cli({"eval", "--scene", file, "--strategy", "cpu-coxdeboor",
-                                   "--samples", "4x4", "--precision", "f32", "--out",
-                                   tmp / "f32.csv"});
+    const CliResult f32 =
+        run_cli({"eval", "--scene", file, "--strategy", "cpu-coxdeboor", "--samples", "4x4",
+                 "--precision", "f32", "--out", tmp / "f32.csv"});
     EXPECT_EQ(f32.exit_code, 2) << f32.err;
     EXPECT_TRUE(is_one_error_line(f32.err)) << f32.err;
-    EXPECT_NE(f32.err.find("refuses scene " + c.name + ": surface 'p' (#1): "),
-              std::string::npos)
+    EXPECT_NE(f32.err.find("refuses scene " + c.name + ": surface 'p' (#1): "), std::string::npos)
         << f32.err;
     for (const std::string& s : c.reason)
       EXPECT_NE(f32.err.find(s), std::string::npos) << "missing '" << s << "' in: " << f32.err;
     EXPECT_FALSE(fs::exists(tmp / "f32.csv"));
-    const CliResult f64 = run_cli({"eval", "--scene", file, "--strategy", "cpu-coxdeboor",
-                                   "--samples", "4x4", "--precision", "f64", "--out",
-                                   tmp / "f64.csv"});
+    const CliResult f64 =
+        run_cli({"eval", "--scene", file, "--strategy", "cpu-coxdeboor", "--samples", "4x4",
+                 "--precision", "f64", "--out", tmp / "f64.csv"});
     EXPECT_EQ(f64.exit_code, c.f64_too ? 2 : 0) << f64.err;
     if (c.f64_too) {
       EXPECT_NE(f64.err.find("below float64's smallest normal number"), std::string::npos)
@@ -303,8 +315,8 @@ TEST(PrecisionRange, F32RefusesTrimPointsBeyondFloat) {
   TempDir tmp;
   const std::string file = tmp / "trim.json";
   write_text(file, scene_to_json(Scene{"trim", "", {face}}));
-  const CliResult r = run_cli({"eval", "--scene", file, "--strategy", "cpu-coxdeboor",
-                               "--samples", "4x4", "--out", tmp / "o.csv"});
+  const CliResult r = run_cli({"eval", "--scene", file, "--strategy", "cpu-coxdeboor", "--samples",
+                               "4x4", "--out", tmp / "o.csv"});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(is_one_error_line(r.err)) << r.err;
   EXPECT_NE(r.err.find("surface 'face' (#0): trim.loops[0].curves[0].points[1][0] = 1e+39: "

@@ -58,7 +58,7 @@ void expect_identical(const Scene& a, const Scene& b) {
     ASSERT_EQ(s.trim->loops.size(), t.trim->loops.size());
     for (std::size_t l = 0; l < s.trim->loops.size(); ++l) {
       const std::vector<TrimCurve>&a_curves = s.trim->loops[l].curves,
-                               &b_curves = t.trim->loops[l].curves;
+            &b_curves = t.trim->loops[l].curves;
       ASSERT_EQ(a_curves.size(), b_curves.size());
       for (std::size_t c = 0; c < a_curves.size(); ++c) {
         SCOPED_TRACE(testing::Message() << "loop " << l << " curve " << c);
@@ -202,7 +202,9 @@ Surface plane(std::string name, double u_max) {
   return s;
 }
 
-TrimCurve segment(Point2 a, Point2 b) { return TrimCurve{1, {0, 0, 1, 1}, {a, b}, {1, 1}}; }
+TrimCurve segment(Point2 a, Point2 b) {
+  return TrimCurve{1, {0, 0, 1, 1}, {a, b}, {1, 1}};
+}
 
 TrimLoop polygon(const std::vector<Point2>& corners) {
   TrimLoop loop;
@@ -331,8 +333,8 @@ TEST(SceneJsonV2, TrimErrorsNameTheFieldPath) {
   for (int k = 0; k < 3; ++k) scene.surfaces.push_back(plane(fmt::format("face-{}", k), 1));
   Surface face = plane("face-3", 1);
   TrimLoop loop = polygon({{0.25, 0.25}, {0.75, 0.25}, {0.5, 0.75}});
-  loop.curves[2] = TrimCurve{2, {0, 0, 0, 0.5, 0.3, 1}, {{0.5, 0.75}, {0.4, 0.5}, {0.25, 0.25}},
-                             {1, 1, 1}};
+  loop.curves[2] =
+      TrimCurve{2, {0, 0, 0, 0.5, 0.3, 1}, {{0.5, 0.75}, {0.4, 0.5}, {0.25, 0.25}}, {1, 1, 1}};
   face.trim = Trim{"even-odd", 1e-9, {loop}};
   scene.surfaces.push_back(face);
   const std::optional<ValidationError> e = validation_error(scene);
@@ -351,8 +353,10 @@ TEST(SceneJsonV2, TrimKnotsFollowTheSurfaceRules) {
   Surface face = plane("face", 1);
   TrimLoop loop = polygon({{0.25, 0.25}, {0.75, 0.25}, {0.5, 0.75}});
   // Degree 1 with an interior double knot: the curve would jump there.
-  loop.curves[0] = TrimCurve{1, {0, 0, 0.5, 0.5, 1, 1}, {{0.25, 0.25}, {0.5, 0.25}, {0.6, 0.25},
-                                                         {0.75, 0.25}}, {1, 1, 1, 1}};
+  loop.curves[0] = TrimCurve{1,
+                             {0, 0, 0.5, 0.5, 1, 1},
+                             {{0.25, 0.25}, {0.5, 0.25}, {0.6, 0.25}, {0.75, 0.25}},
+                             {1, 1, 1, 1}};
   face.trim = Trim{"even-odd", 1e-9, {loop}};
   const std::optional<ValidationError> e = validation_error(Scene{"s", "", {face}});
   ASSERT_TRUE(e.has_value());
@@ -365,8 +369,8 @@ TEST(SceneJsonV2, TrimKnotsFollowTheSurfaceRules) {
 // The end of an unclamped curve is evaluated: the midpoints of its control polygon's legs.
 TEST(SceneJsonV2, UnclampedCurveEndsAreEvaluatedForClosure) {
   Surface face = plane("face", 1);
-  face.trim = Trim{"even-odd", 1e-9, {TrimLoop{{unclamped_arch(), segment({0.625, 0.5},
-                                                                           {0.375, 0.5})}}}};
+  face.trim =
+      Trim{"even-odd", 1e-9, {TrimLoop{{unclamped_arch(), segment({0.625, 0.5}, {0.375, 0.5})}}}};
   EXPECT_NO_THROW(validate_surface(face, 0, "arch"));
 
   // Closing from the last control point instead of the curve's end leaves a gap there.
@@ -427,15 +431,16 @@ TEST(SceneJsonInput, DuplicateKeysAreRefusedWithTheirPath) {
       "knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1],
       "points": [[0, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0]]})";
   // The same keys in sibling objects are no duplicates.
-  const std::string two = R"({"format": "nurbs-scene/1", "surfaces": [)" + surface + ", " +
-                          surface + "]}";
+  const std::string two =
+      R"({"format": "nurbs-scene/1", "surfaces": [)" + surface + ", " + surface + "]}";
   EXPECT_EQ(parse_scene_json(two, "two.json").surfaces.size(), 2u);
 
   EXPECT_EQ(input_error(R"({"format": "nurbs-scene/1", "format": "nurbs-scene/1"})"),
             "in.json: format: duplicate key (each key may appear once)");
   std::string bad = two;
   bad.replace(bad.rfind("\"count_v\": 2"), 12, "\"count_v\": 2, \"count_v\": 3");
-  EXPECT_EQ(input_error(bad), "in.json: surfaces[1].count_v: duplicate key (each key may appear once)");
+  EXPECT_EQ(input_error(bad),
+            "in.json: surfaces[1].count_v: duplicate key (each key may appear once)");
 
   const std::string trimmed = scene_to_json(trimmed_scene());
   bad = trimmed;
@@ -445,6 +450,10 @@ TEST(SceneJsonInput, DuplicateKeysAreRefusedWithTheirPath) {
   EXPECT_EQ(input_error(bad),
             "in.json: surfaces[1].trim.loops[1].curves[0].degree: duplicate key (each key may "
             "appear once)");
+  // A key is shown cut to 40 characters, so a megabyte of key makes no megabyte of message.
+  const std::string long_key(1 << 20, 'k');
+  EXPECT_EQ(input_error("{\"" + long_key + "\": 1, \"" + long_key + "\": 2}"),
+            "in.json: " + std::string(37, 'k') + "...: duplicate key (each key may appear once)");
   bad = trimmed;
   bad.insert(bad.find("\"tolerance\""), "\"rule\": \"even-odd\", ");
   EXPECT_EQ(input_error(bad),
@@ -477,8 +486,9 @@ TEST(SceneJsonInput, SyntaxErrorsNameWhereTheyAre) {
   ASSERT_NE(text.find(point), std::string::npos);
   text.replace(text.find(point), point.size(), "[0.875, 1e999]");
   const std::string error = input_error(text);
-  EXPECT_TRUE(error.starts_with("in.json: not valid JSON at surfaces[1].trim.loops[1].curves[2]"
-                                ".points[1][1]: number overflow parsing '1e999'"))
+  EXPECT_TRUE(
+      error.starts_with("in.json: not valid JSON at surfaces[1].trim.loops[1].curves[2]"
+                        ".points[1][1]: number overflow parsing '1e999'"))
       << error;
 }
 
