@@ -11,6 +11,9 @@
 
 namespace nurbs {
 
+// A byte that must not reach an error line raw (C0 controls and DEL).
+inline constexpr bool is_control_byte(unsigned char c) { return c < 0x20 || c == 0x7f; }
+
 // At most `max_bytes` of `text` (cut back to a UTF-8 character boundary, "..." appended).
 inline std::string printable(std::string_view text,
                              std::size_t max_bytes = std::string_view::npos) {
@@ -20,7 +23,7 @@ inline std::string printable(std::string_view text,
   std::string out;
   out.reserve(keep);
   for (const unsigned char c : text.substr(0, keep))
-    if (c < 0x20 || c == 0x7f)
+    if (is_control_byte(c))
       out += fmt::format("\\x{:02x}", c);
     else
       out += static_cast<char>(c);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "reference/error_text.h"
 #include "run_cli.h"
 
 namespace nurbs::test {
@@ -18,7 +19,7 @@ void expect_refused(const CliResult& r, const std::vector<std::string>& substrin
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_TRUE(is_one_error_line(r.err)) << "stderr:\n" << r.err;
   for (const unsigned char c : r.err.substr(0, r.err.size() - 1))
-    EXPECT_TRUE(c >= 0x20 && c != 0x7f) << "control byte in: " << r.err;
+    EXPECT_FALSE(is_control_byte(c)) << "control byte in: " << r.err;
   for (const std::string& s : substrings)
     EXPECT_NE(r.err.find(s), std::string::npos) << "missing '" << s << "' in: " << r.err;
 }

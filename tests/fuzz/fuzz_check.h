@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "reference/error_text.h"
 #include "reference/validation.h"
 
 namespace nurbs::fuzz {
@@ -38,7 +39,7 @@ inline void check_error_line(const InputError& e, std::string_view origin) {
   check(message.starts_with(origin), "error does not start with its origin", message);
   if (control_bytes_known()) return;
   for (const unsigned char c : message)
-    check(c >= 0x20 && c != 0x7f, "error message holds a control byte (not one clean line)",
+    check(!is_control_byte(c), "error message holds a control byte (not one clean line)",
           message);
 }
 
