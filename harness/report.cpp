@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "harness/summary_table.h"
 #include "reference/validation.h"
 #include "scenes/json_error.h"
 
@@ -794,6 +795,11 @@ ReportSection measurements_section(const std::vector<ResultSet>& sets) {
   table.header = {
       "scene",    "samples",        "precision", "strategy", "device", "evaluate (median)",
       "points/s", "of store limit", "max_ulp",   "status"};
+  // Trimmed scenes add a column: the strategy's misclassification, or "untrimmed".
+  bool trims = false;
+  for (const ResultSet& set : sets)
+    for (const Record& r : set.results.records) trims = trims || !r.trimming.empty();
+  if (trims) table.header.insert(table.header.end() - 1, "trim");
   if (sets.size() > 1) table.header.insert(table.header.begin(), "set");
   bool any_limit = false;
   for (const ResultSet& set : sets)
@@ -817,11 +823,20 @@ ReportSection measurements_section(const std::vector<ResultSet>& sets) {
           ok && limit && r.role != "limit"
               ? fmt::format("{:.1f}%", 100 * r.throughput_pts_per_s / *limit)
               : "-",
-          ok && r.accuracy ? report_number(r.accuracy->max_ulp) : "-",
+          ok && r.accuracy ? (no_inside_samples(*r.accuracy) ? "- (0 inside)"
+                                                             : report_number(r.accuracy->max_ulp))
+                           : "-",
           ok ? "ok" : fmt::format("{}: {}", to_string(r.status), r.reason)};
+      if (trims) cells.insert(cells.end() - 1, r.trimming.empty() ? "-" : trim_text(r));
       if (sets.size() > 1) cells.insert(cells.begin(), set.tag);
       table.rows.push_back(std::move(cells));
     }
+  if (trims)
+    s.notes.push_back(
+        "trim (trimmed scenes): errors are over the samples the reference classifies inside the "
+        "faces; a strategy that trims is scored for classification outside the boundary band "
+        "(misclassified count and rate over those samples; boundary = samples within the band, "
+        "not scored); untrimmed = the strategy evaluated the whole surfaces.");
   if (!any_limit)
     s.notes.push_back(
         "No limit-store-bandwidth rows in these results (run with --strategies all, or add "

@@ -156,7 +156,8 @@ TEST(Record, CsvHasTheIssueColumnsAndQuotes) {
   EXPECT_EQ(header,
             "scene,strategy,device,precision,sampling,samples,points,setup_s,upload_median_s,"
             "evaluate_min_s,evaluate_median_s,evaluate_max_s,readback_median_s,end_to_end_median_s,"
-            "throughput_pts_per_s,max_abs,rms_abs,max_rel,max_ulp,status,reason");
+            "throughput_pts_per_s,max_abs,rms_abs,max_rel,max_ulp,status,reason,trimming,trim_band,"
+            "trim_inside_samples,trim_boundary_samples,trim_misclassified,trim_misclassified_rate");
   const std::string row = csv_row(sample_record());
   EXPECT_NE(row.find("\"a, \"\"quoted\"\" reason\""), std::string::npos) << row;
   EXPECT_NE(row.find(",ok,"), std::string::npos);
