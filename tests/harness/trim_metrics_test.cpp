@@ -1,13 +1,17 @@
 // Trimmed scenes through the harness: errors over the inside samples only, the boundary band,
-// misclassification counts, reversed faces, records, gates, tables and error maps. The scene is a
-// plate S(u, v) = (u, v, 0) over [0, 1]^2 with a square hole [0.3, 0.7]^2; every sample's
-// classification and distance to the trim boundary are known in closed form (hand_inside,
-// hand_distance), so the fake references below are built without the classifier.
+// misclassification counts, reversed faces, records, gates, tables and error maps, on the plate
+// of trimmed_plate.h. Every sample's classification and distance to the trim boundary are known
+// in closed form there, so the references below are built by hand, without the classifier.
 #include <gtest/gtest.h>
 
 #include <cfloat>
 #include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
+
+#ifdef NURBSBENCH_TEST_OIIO
+#include <OpenImageIO/imageio.h>
+#endif
 
 #include "harness/error_image.h"
 #include "harness/gates.h"
@@ -23,11 +27,16 @@ using test::hand_distance;
 using test::hand_inside;
 using test::trimmed_plate;
 
-// The 9x9 grid u, v = k/8: no sample lies on the hole's edges (0.3, 0.7), 32 lie on the domain's
-// edges (distance 0), 9 in the hole ((3..5)/8 in both directions), so 81 - 9 = 72 are inside
-// (the domain's edges belong to the face).
+// The 9x9 grid u, v = k/8: the 32 samples on the domain's edges lie outside the outer loop
+// (1/16 from it), 9 in the hole ((3..5)/8 in both directions), so 81 - 32 - 9 = 40 are inside.
+// The samples nearest the boundary are the 12 beside a side of the hole (u or v = 0.25 or 0.75,
+// the other in 3/8..5/8), 0.05 from it; next come the samples 1/16 from the outer loop (0.0625)
+// and the 4 diagonal neighbours of the hole's corners (0.0707).
 constexpr int kGrid = 9;
-constexpr std::size_t kSamples = kGrid * kGrid, kHole = 9, kInside = kSamples - kHole, kEdge = 32;
+constexpr std::size_t kSamples = kGrid * kGrid, kEdge = 32, kHole = 9,
+                      kInside = kSamples - kEdge - kHole, kBesideHole = 12;
+// 0.04 x sqrt(2) = 0.0566: the band that holds exactly the 12 samples beside the hole.
+constexpr double kBand = 0.04;
 
 SurfaceSamples grid_samples(int nu, int nv) {
   SurfaceSamples s;
@@ -70,16 +79,20 @@ TEST(TrimMetrics, HandReferenceCountsAreTheHandCounts) {
   // The closed forms against the counts stated above, so the later tests rest on checked inputs.
   const SurfaceSamples samples = grid_samples(kGrid, kGrid);
   const auto ref = hand_reference(trimmed_plate(), samples)[0];
-  std::size_t inside = 0, on_edge = 0;
+  std::size_t inside = 0, in_band = 0;
   for (std::size_t k = 0; k < samples.count(); ++k) {
     inside += ref.inside[k];
-    on_edge += ref.trim_distance[k] == 0;
+    in_band += ref.trim_distance[k] < kBand * std::sqrt(2.0);
   }
   EXPECT_EQ(inside, kInside);
-  EXPECT_EQ(on_edge, kEdge);
-  EXPECT_DOUBLE_EQ(hand_distance(0.5, 0.5), 0.2);      // hole centre to its edges
-  EXPECT_DOUBLE_EQ(hand_distance(0.125, 0.5), 0.125);  // nearer the domain edge than the hole
+  EXPECT_EQ(in_band, kBesideHole);
+  EXPECT_DOUBLE_EQ(hand_distance(0.5, 0.5), 0.2);       // hole centre to its sides
+  EXPECT_DOUBLE_EQ(hand_distance(0.125, 0.5), 0.0625);  // nearer the outer loop than the hole
   EXPECT_DOUBLE_EQ(hand_distance(0.25, 0.25), std::hypot(0.05, 0.05));  // hole corner
+  EXPECT_DOUBLE_EQ(hand_distance(0, 0), std::hypot(0.0625, 0.0625));    // outer corner, outside
+  EXPECT_FALSE(hand_inside(0, 0.5));
+  EXPECT_FALSE(hand_inside(0.5, 0.5));
+  EXPECT_TRUE(hand_inside(0.125, 0.5));
 }
 
 TEST(TrimMetrics, ErrorsAreOverTheInsideSamplesOnly) {
@@ -87,11 +100,16 @@ TEST(TrimMetrics, ErrorsAreOverTheInsideSamplesOnly) {
   const SurfaceSamples samples = grid_samples(kGrid, kGrid);
   const auto reference = hand_reference(scene, samples);
   EvalResult result = exact_result(samples);
-  PointArray& p = result.surfaces[0].positions;
-  // Wildly wrong in the hole (one not even finite): none of it may count.
+  PointArray& p = result.surfaces[0].positions;  // Wildly wrong in the hole and on the domain's
+                                                 // edges (some not even finite): none may count.
   for (int a = 3; a <= 5; ++a)
     for (int b = 3; b <= 5; ++b) p.set(index_of(samples, a, b), Point3{1e3, -1e3, 1e3});
+  for (int k = 0; k < kGrid; ++k) {
+    p.set(index_of(samples, 0, k), Point3{-1e6, 0, 0});
+    p.set(index_of(samples, k, kGrid - 1), Point3{0, 0, 5e5});
+  }
   p.set(index_of(samples, 4, 4), Point3{NAN, 0, 0});
+  p.set(index_of(samples, 8, 0), Point3{INFINITY, 0, 0});
   // One inside sample off by 1e-3 in z: the only error that counts.
   p.set(index_of(samples, 1, 4), Point3{0.125, 0.5, 1e-3});
 
@@ -103,7 +121,7 @@ TEST(TrimMetrics, ErrorsAreOverTheInsideSamplesOnly) {
   EXPECT_EQ(acc.non_finite, 0u) << "the NaN lies outside the face";
   ASSERT_TRUE(acc.trim);
   EXPECT_EQ(acc.trim->inside, kInside);
-  EXPECT_EQ(acc.trim->boundary, kEdge);  // default band 1e-7: only the distance-0 samples
+  EXPECT_EQ(acc.trim->boundary, 0u) << "default band 1e-7: no sample that near";
   EXPECT_FALSE(acc.trim->misclassified) << "not scored for a strategy that does not trim";
   EXPECT_FALSE(no_inside_samples(acc));
 }
@@ -116,8 +134,9 @@ TEST(TrimMetrics, NormalsAreOverTheInsideSamplesOnly) {
   PointArray& n = result.surfaces[0].normals;
   n = PointArray(Precision::f64, samples.count());
   for (std::size_t k = 0; k < samples.count(); ++k) n.set(k, Point3{0, 0, 1});
-  n.set(index_of(samples, 4, 4), Point3{1, 0, 0});  // 90 degrees off, in the hole
-  n.set(index_of(samples, 0, 0), Point3{0, std::sin(0.01), std::cos(0.01)});
+  n.set(index_of(samples, 4, 4), Point3{1, 0, 0});   // 90 degrees off, in the hole
+  n.set(index_of(samples, 0, 3), Point3{0, 0, -1});  // reversed, outside the outer loop
+  n.set(index_of(samples, 1, 1), Point3{0, std::sin(0.01), std::cos(0.01)});
   const Accuracy acc = measure_accuracy(scene, result, reference);
   ASSERT_TRUE(acc.max_normal_angle_deg);
   EXPECT_NEAR(*acc.max_normal_angle_deg, 0.01 * 180 / M_PI, 1e-12);
@@ -130,38 +149,26 @@ TEST(TrimMetrics, MisclassifiedCountsOnlyOutsideTheBand) {
   EvalResult result = exact_result(samples);
   std::vector<std::uint8_t>& mask = result.surfaces[0].inside;
   mask = reference[0].inside;
-  EXPECT_EQ(
-      measure_accuracy(scene, result, reference, {kDefaultTrimBand, true}).trim->misclassified, 0u);
-  // Three flips away from the boundary (two inside samples called outside, the hole's centre
-  // called inside) and one on the domain's edge (distance 0: in the band, not counted).
-  for (const auto& [a, b] : {std::pair{1, 1}, std::pair{6, 2}, std::pair{4, 4}, std::pair{0, 5}})
+  EXPECT_EQ(*measure_accuracy(scene, result, reference, {kBand, true}).trim->misclassified, 0u);
+  // Three flips away from the boundary -- an inside sample called outside, the hole's centre and
+  // a sample beyond the outer loop called inside -- and one 0.05 beside the hole, in the band.
+  for (const auto& [a, b] : {std::pair{1, 1}, std::pair{4, 4}, std::pair{0, 5}, std::pair{2, 4}})
     mask[index_of(samples, a, b)] ^= 1;
-  const Accuracy acc = measure_accuracy(scene, result, reference, {kDefaultTrimBand, true});
+  const Accuracy acc = measure_accuracy(scene, result, reference, {kBand, true});
   ASSERT_TRUE(acc.trim && acc.trim->misclassified && acc.trim->misclassified_rate);
   EXPECT_EQ(*acc.trim->misclassified, 3u);
-  EXPECT_EQ(acc.trim->boundary, kEdge);
-  EXPECT_DOUBLE_EQ(*acc.trim->misclassified_rate, 3.0 / (kSamples - kEdge));
-  EXPECT_EQ(acc.trim->band, kDefaultTrimBand);
+  EXPECT_EQ(acc.trim->boundary, kBesideHole);
+  EXPECT_DOUBLE_EQ(*acc.trim->misclassified_rate, 3.0 / (kSamples - kBesideHole));
+  EXPECT_EQ(acc.trim->band, kBand);
   EXPECT_EQ(acc.trim->inside, kInside) << "the reference's classification decides what is scored";
-}
-
-TEST(TrimMetrics, BandIsAFractionOfTheDomainDiagonal) {
-  const Scene scene = trimmed_plate();
-  const SurfaceSamples samples = grid_samples(kGrid, kGrid);
-  const auto reference = hand_reference(scene, samples);
-  EvalResult result = exact_result(samples);
-  result.surfaces[0].inside = reference[0].inside;
-  // Band 0.04 x sqrt(2) = 0.0566: besides the 32 edge samples, the 12 samples 0.05 from a side of
-  // the hole (u or v = 0.25 or 0.75 with the other in 3/8..5/8) are boundary samples; the four
-  // diagonal neighbours of the hole's corners are 0.0707 away and are not.
-  const Accuracy acc = measure_accuracy(scene, result, reference, {0.04, true});
-  EXPECT_EQ(acc.trim->boundary, kEdge + 12);
-  EXPECT_EQ(acc.trim->band, 0.04);
-  // A misclassification inside that band is not counted; one just outside it is.
-  result.surfaces[0].inside[index_of(samples, 2, 4)] ^= 1;  // (0.25, 0.5): 0.05 away
-  EXPECT_EQ(*measure_accuracy(scene, result, reference, {0.04, true}).trim->misclassified, 0u);
-  result.surfaces[0].inside[index_of(samples, 2, 2)] ^= 1;  // (0.25, 0.25): 0.0707 away
-  EXPECT_EQ(*measure_accuracy(scene, result, reference, {0.04, true}).trim->misclassified, 1u);
+  // The band is a fraction of the domain diagonal (sqrt 2 here): at 0.035 (0.0495) the sample
+  // 0.05 beside the hole is outside it and counts, as at the default band.
+  const Accuracy narrower = measure_accuracy(scene, result, reference, {0.035, true});
+  EXPECT_EQ(narrower.trim->boundary, 0u);
+  EXPECT_EQ(*narrower.trim->misclassified, 4u);
+  const Accuracy fine = measure_accuracy(scene, result, reference, {kDefaultTrimBand, true});
+  EXPECT_EQ(*fine.trim->misclassified, 4u);
+  EXPECT_DOUBLE_EQ(*fine.trim->misclassified_rate, 4.0 / kSamples);
 }
 
 TEST(TrimMetrics, TrimmingStrategyWithoutAMaskFails) {
@@ -269,10 +276,10 @@ Record trimmed_record(std::string trimming) {
   TrimAccuracy t;
   t.band = 2.5e-7;
   t.inside = kInside;
-  t.boundary = kEdge;
+  t.boundary = kBesideHole;
   if (trimming == "classified") {
     t.misclassified = 3;
-    t.misclassified_rate = 3.0 / 49;
+    t.misclassified_rate = 3.0 / 69;
   }
   r.accuracy->trim = t;
   return r;
@@ -289,7 +296,7 @@ TEST(TrimRecord, JsonRoundTrip) {
     const TrimAccuracy& t = *back.accuracy->trim;
     EXPECT_EQ(t.band, 2.5e-7);
     EXPECT_EQ(t.inside, kInside);
-    EXPECT_EQ(t.boundary, kEdge);
+    EXPECT_EQ(t.boundary, kBesideHole);
     EXPECT_EQ(t.misclassified, r.accuracy->trim->misclassified);
     EXPECT_EQ(t.misclassified_rate, r.accuracy->trim->misclassified_rate);
   }
@@ -311,9 +318,9 @@ TEST(TrimRecord, CsvTrimColumnsComeLast) {
       << header;
   Record r = trimmed_record("classified");
   r.status = Status::ok;
-  EXPECT_TRUE(csv_row(r).ends_with(",ok,,classified,2.5e-07,72,32,3,0.061224489795918366"))
+  EXPECT_TRUE(csv_row(r).ends_with(",ok,,classified,2.5e-07,40,12,3,0.043478260869565216"))
       << csv_row(r);
-  EXPECT_TRUE(csv_row(trimmed_record("untrimmed")).ends_with(",ok,,untrimmed,2.5e-07,72,32,,"))
+  EXPECT_TRUE(csv_row(trimmed_record("untrimmed")).ends_with(",ok,,untrimmed,2.5e-07,40,12,,"))
       << csv_row(trimmed_record("untrimmed"));
   Record plain = trimmed_record("");
   plain.accuracy->trim.reset();
@@ -326,19 +333,19 @@ TEST(TrimRecord, CsvTrimColumnsComeLast) {
 }
 
 TEST(TrimGates, MisclassificationGatesApplyOnlyWhereTheStrategyClassified) {
-  const Record classified = trimmed_record("classified");  // rate 3/49 = 0.061
+  const Record classified = trimmed_record("classified");  // rate 3/69 = 0.0435
   const Record untrimmed = trimmed_record("untrimmed");
   Record plain_scene = trimmed_record("");
   plain_scene.scene = "patch144";
   plain_scene.accuracy->trim.reset();
   const std::vector<Record> records = {classified, untrimmed, plain_scene};
 
-  EXPECT_TRUE(check_gates({{"*", "*", "trim_misclassified_rate", 0.07}}, records).empty())
+  EXPECT_TRUE(check_gates({{"*", "*", "trim_misclassified_rate", 0.05}}, records).empty())
       << "the untrimmed and untrimmed-scene records are not applicable, not violations";
-  const auto over = check_gates({{"*", "*", "trim_misclassified_rate", 0.05}}, records);
+  const auto over = check_gates({{"*", "*", "trim_misclassified_rate", 0.04}}, records);
   ASSERT_EQ(over.size(), 1u);
   EXPECT_NE(over[0].find("cpu-coxdeboor on trimmed-plate"), std::string::npos) << over[0];
-  EXPECT_NE(over[0].find("0.0612245"), std::string::npos) << over[0];
+  EXPECT_NE(over[0].find("0.0434783"), std::string::npos) << over[0];
   EXPECT_EQ(check_gates({{"*", "*", "trim_misclassified", 2}}, records).size(), 1u);
   EXPECT_TRUE(check_gates({{"*", "*", "trim_misclassified", 3}}, records).empty());
   // A gate that only meets records without a classification has measured nothing.
@@ -362,7 +369,7 @@ TEST(TrimTables, SummaryShowsATrimColumnOnlyForTrimmedScenes) {
   const std::string table =
       summary_table({plain, trimmed_record("classified"), trimmed_record("untrimmed")});
   EXPECT_NE(table.find("  trim  "), std::string::npos) << table;
-  EXPECT_NE(table.find("3 misclassified (0.0612), 32 boundary"), std::string::npos) << table;
+  EXPECT_NE(table.find("3 misclassified (0.0435), 12 boundary"), std::string::npos) << table;
   EXPECT_NE(table.find("untrimmed"), std::string::npos) << table;
   Record failed = trimmed_record("untrimmed");
   failed.status = Status::failed;
@@ -389,6 +396,60 @@ TEST(TrimErrorImage, GridCarriesTheReferenceClassificationInPixelOrder) {
   plain_reference[0].inside.clear();
   EXPECT_TRUE(error_grids(untrimmed, result, plain_reference)[0].inside.empty());
 }
+
+#ifdef NURBSBENCH_TEST_OIIO
+// The files as written: the EXR's second channel and the PNG's grey, read back with OpenImageIO.
+TEST(TrimErrorImage, ExrHasAnInsideChannelAndPngGreysTheOutside) {
+  const Scene scene = trimmed_plate();
+  const SurfaceSamples samples = grid_samples(kGrid, kGrid);
+  const auto reference = hand_reference(scene, samples);
+  EvalResult result = exact_result(samples);
+  for (std::size_t k = 0; k < samples.count(); ++k)  // 1e-3 off everywhere, inside or not
+    result.surfaces[0].positions.set(k, Point3{samples.u_of(k), samples.v_of(k), 1e-3});
+  const auto grids = error_grids(scene, result, reference);
+  const auto dir = std::filesystem::temp_directory_path() / "nurbsbench_trim_image_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+
+  write_error_images(dir / "e.exr", grids, "trim test");
+  auto exr = OIIO::ImageInput::open((dir / "e.exr").string());
+  ASSERT_TRUE(exr) << OIIO::geterror();
+  ASSERT_EQ(exr->spec().nchannels, 2);
+  EXPECT_EQ(exr->spec().channelnames[0], "error");
+  EXPECT_EQ(exr->spec().channelnames[1], "inside");
+  std::vector<float> pixels(2 * kSamples);
+  ASSERT_TRUE(exr->read_image(0, 0, 0, 2, OIIO::TypeDesc::FLOAT, pixels.data()));
+  exr->close();
+  for (int x = 0; x < kGrid; ++x)
+    for (int y = 0; y < kGrid; ++y) {
+      const std::size_t pixel = static_cast<std::size_t>(y) * kGrid + x;
+      EXPECT_FLOAT_EQ(pixels[2 * pixel], 1e-3f) << "the error channel keeps every sample's error";
+      EXPECT_EQ(pixels[2 * pixel + 1], hand_inside(samples.u[x], samples.v[y]) ? 1.0f : 0.0f)
+          << x << "," << y;
+    }
+
+  write_error_images(dir / "e.png", grids, "trim test");
+  auto png = OIIO::ImageInput::open((dir / "e.png").string());
+  ASSERT_TRUE(png) << OIIO::geterror();
+  const int w = png->spec().width, h = png->spec().height, scale = 256 / kGrid;
+  std::vector<unsigned char> rgb(static_cast<std::size_t>(w) * h * 3);
+  ASSERT_TRUE(png->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, rgb.data()));
+  png->close();
+  auto grey = [&](int px, int py) {
+    const unsigned char* c = &rgb[(static_cast<std::size_t>(py) * w + px) * 3];
+    return c[0] == 153 && c[1] == 153 && c[2] == 153;  // 0.6 x 255
+  };
+  // Sample (a, b) is drawn around x = a * scale + scale / 2, v upwards.
+  auto centre_grey = [&](int a, int b) {
+    return grey(a * scale + scale / 2, kGrid * scale - 1 - (b * scale + scale / 2));
+  };
+  for (int a = 0; a < kGrid; ++a)
+    for (int b = 0; b < kGrid; ++b)
+      EXPECT_EQ(centre_grey(a, b), !hand_inside(samples.u[a], samples.v[b])) << a << "," << b;
+  EXPECT_TRUE(grey(kGrid * scale + 10 + 8, h - 8)) << "the legend's outside swatch";
+  std::filesystem::remove_all(dir);
+}
+#endif
 
 }  // namespace
 }  // namespace nurbs

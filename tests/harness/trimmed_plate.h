@@ -1,8 +1,9 @@
 // The harness tests' trimmed scene: a bilinear plate S(u, v) = (u, v, 0) over [0, 1]^2 whose face
-// is the domain minus the square hole [0.3, 0.7]^2. Outer loop: the domain's boundary; inner loop:
-// the hole; each edge one degree-1 trim curve. Which samples are inside, and how far each lies
-// from the trim boundary, is known in closed form (hand_inside, hand_distance), so the tests check
-// the harness -- and the classifier it runs -- against values computed without it.
+// is the square [1/16, 15/16]^2 (outer loop) minus the square hole [0.3, 0.7]^2 (inner loop), each
+// side one degree-1 trim curve. No sample of the tests' grids (u, v = k/8) lies on a trim curve,
+// so every sample's classification is unambiguous, and it and the distance to the trim boundary
+// are known in closed form (hand_inside, hand_distance): the tests check the harness -- and the
+// classifier it runs -- against values computed without either.
 #pragma once
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 
 namespace nurbs::test {
 
+inline constexpr double kOuterLo = 1.0 / 16, kOuterHi = 15.0 / 16;
 inline constexpr double kHoleLo = 0.3, kHoleHi = 0.7;
 
 inline TrimCurve trim_line(Point2 from, Point2 to) {
@@ -33,29 +35,30 @@ inline Scene trimmed_plate() {
   s.points = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}};
   s.weights = {1, 1, 1, 1};
   Trim trim;
-  trim.loops = {square_loop(0, 1), square_loop(kHoleLo, kHoleHi)};
+  trim.loops = {square_loop(kOuterLo, kOuterHi), square_loop(kHoleLo, kHoleHi)};
   s.trim = trim;
-  return Scene{"trimmed-test-plate", "a unit plate with a square hole", {s}};
+  return Scene{"trimmed-test-plate", "a unit plate trimmed to a square frame", {s}};
 }
 
-// Inside the face: in the (closed) domain and not strictly inside the hole.
+inline bool in_square(double u, double v, double lo, double hi) {
+  return u > lo && u < hi && v > lo && v < hi;
+}
+
 inline bool hand_inside(double u, double v) {
-  const bool in_domain = u >= 0 && u <= 1 && v >= 0 && v <= 1;
-  const bool in_hole = u > kHoleLo && u < kHoleHi && v > kHoleLo && v < kHoleHi;
-  return in_domain && !in_hole;
+  return in_square(u, v, kOuterLo, kOuterHi) && !in_square(u, v, kHoleLo, kHoleHi);
 }
 
-// Distance in (u, v) to the nearest trim curve, for a (u, v) in the domain: to the domain's
-// sides, or to the hole's boundary (from outside: to the nearest point of the square; from
-// inside: to its nearest side).
+// Distance from (u, v) to the boundary of the square [lo, hi]^2: to its nearest point from
+// outside, to its nearest side from inside.
+inline double square_distance(double u, double v, double lo, double hi) {
+  const double du = std::max({lo - u, 0.0, u - hi}), dv = std::max({lo - v, 0.0, v - hi});
+  if (du > 0 || dv > 0) return std::hypot(du, dv);
+  return std::min({u - lo, hi - u, v - lo, hi - v});
+}
+
 inline double hand_distance(double u, double v) {
-  const double to_domain = std::min({u, 1 - u, v, 1 - v});
-  const double du = std::max({kHoleLo - u, 0.0, u - kHoleHi});
-  const double dv = std::max({kHoleLo - v, 0.0, v - kHoleHi});
-  const double to_hole = du > 0 || dv > 0
-                             ? std::hypot(du, dv)
-                             : std::min({u - kHoleLo, kHoleHi - u, v - kHoleLo, kHoleHi - v});
-  return std::min(to_domain, to_hole);
+  return std::min(square_distance(u, v, kOuterLo, kOuterHi),
+                  square_distance(u, v, kHoleLo, kHoleHi));
 }
 
 }  // namespace nurbs::test
