@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,7 +39,7 @@ struct EvalOptions {
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
   std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
   std::string error_image;                    // --error-image F.exr|F.png (harness/error_image.h)
-  std::string trim_band;                      // --trim-band FRACTION (empty: kDefaultTrimBand)
+  std::optional<std::string> trim_band;       // --trim-band FRACTION (absent: kDefaultTrimBand)
 };
 int eval_command(const EvalOptions& options);
 
@@ -58,7 +59,7 @@ struct RunOptions {
   std::string gl;      // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
   std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
-  std::string trim_band;                      // --trim-band FRACTION (empty: kDefaultTrimBand)
+  std::optional<std::string> trim_band;       // --trim-band FRACTION (absent: kDefaultTrimBand)
 };
 int run_command(const RunOptions& options);
 
@@ -114,8 +115,8 @@ std::vector<Sampling> parse_span_list(std::string_view option, std::string_view 
 Precision parse_precision(std::string_view text);
 ReferencePrecision parse_reference(std::string_view text);
 // --trim-band: a fraction of each trimmed surface's (u, v) domain diagonal, finite, in [0, 1);
-// empty = kDefaultTrimBand (harness/metrics.h).
-double parse_trim_band(const std::string& text);
+// absent = kDefaultTrimBand (harness/metrics.h).
+double parse_trim_band(const std::optional<std::string>& text);
 std::vector<std::string> split_list(std::string_view text);
 // --scenes: "default" = every listed built-in scene except those whose default grids exceed the
 // per-request sample limit (many-4096); "all" = every listed built-in scene; else a comma list.

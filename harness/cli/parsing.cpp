@@ -100,15 +100,16 @@ ReferencePrecision parse_reference(std::string_view text) {
   return precision;
 }
 
-double parse_trim_band(const std::string& text) {
-  if (text.empty()) return kDefaultTrimBand;
+double parse_trim_band(const std::optional<std::string>& text) {
+  if (!text) return kDefaultTrimBand;
   char* end = nullptr;
-  const double band = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size() || !std::isfinite(band) || band < 0 || band >= 1)
+  const double band = std::strtod(text->c_str(), &end);
+  if (text->empty() || end != text->c_str() + text->size() || !std::isfinite(band) || band < 0 ||
+      band >= 1)
     throw InputError(fmt::format(
         "--trim-band = '{}': must be a number in [0, 1) (a fraction of each trimmed surface's "
         "(u, v) domain diagonal; default {:g})",
-        text, kDefaultTrimBand));
+        *text, kDefaultTrimBand));
   return band;
 }
 

@@ -3,25 +3,15 @@
 // trimmed-plate's face (a rounded rectangle minus a circle), not against the classifier.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 
-#include "scenes/trimmed_plate.h"
 #include "strategies/registry.h"
+#include "tests/scenes/trimmed_plate_closed_form.h"
 
 namespace nurbs {
 namespace {
 
-// Signed distance to the face's boundary, negative inside: the rounded rectangle's (the usual
-// rounded-box formula) against the hole's circle.
-double signed_distance(const TrimmedPlateShape& s, double u, double v) {
-  const double centre = (s.low + s.high) / 2, half = (s.high - s.low) / 2 - s.corner_radius;
-  const double qu = std::abs(u - centre) - half, qv = std::abs(v - centre) - half;
-  const double box = std::hypot(std::max(qu, 0.0), std::max(qv, 0.0)) +
-                     std::min(std::max(qu, qv), 0.0) - s.corner_radius;
-  const double hole = s.hole_radius - std::hypot(u - s.hole_center_u, v - s.hole_center_v);
-  return std::max(box, hole);
-}
+using test::trimmed_plate_signed_distance;
 
 std::unique_ptr<Strategy> coxdeboor() {
   return find_strategy("cpu-coxdeboor")->create({});
@@ -48,7 +38,7 @@ TEST(CpuCoxDeBoorTrim, MaskIsTheFacesClosedForm) {
     EXPECT_TRUE(result.surfaces[1].inside.empty());
     std::size_t inside = 0, checked = 0;
     for (std::size_t k = 0; k < r.samples.count(); ++k) {
-      const double d = signed_distance(shape, r.samples.u_of(k), r.samples.v_of(k));
+      const double d = trimmed_plate_signed_distance(shape, r.samples.u_of(k), r.samples.v_of(k));
       if (std::abs(d) < 1e-9) continue;  // on the boundary: either answer is exact enough
       ++checked;
       inside += r.inside[k];
@@ -76,7 +66,8 @@ TEST(CpuCoxDeBoorTrim, ExplicitSamplesAreClassifiedToo) {
   strategy->classify();
   EXPECT_EQ(strategy->read_back().surfaces[0].inside, (std::vector<std::uint8_t>{0, 1, 0, 1}));
   for (const auto& [u, v] : list.explicit_uv[0])
-    EXPECT_GT(std::abs(signed_distance(shape, u, v)), 1e-3) << "well away from the boundary";
+    EXPECT_GT(std::abs(trimmed_plate_signed_distance(shape, u, v)), 1e-3)
+        << "well away from the boundary";
 }
 
 }  // namespace
