@@ -4,6 +4,7 @@
 // in closed form there, so the references below are built by hand, without the classifier.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <filesystem>
@@ -17,6 +18,7 @@
 #include "harness/gates.h"
 #include "harness/metrics.h"
 #include "harness/record.h"
+#include "harness/report.h"
 #include "harness/summary_table.h"
 #include "tests/harness/trimmed_plate.h"
 
@@ -374,6 +376,41 @@ TEST(TrimTables, SummaryShowsATrimColumnOnlyForTrimmedScenes) {
   Record failed = trimmed_record("untrimmed");
   failed.status = Status::failed;
   EXPECT_EQ(trim_text(failed), "untrimmed") << "a label, whatever the status";
+}
+
+TEST(TrimTables, ReportShowsTrimFiguresAndStacksClassify) {
+  ResultSet set;
+  set.tag = "trim";
+  set.results.machine = set.results.settings = nlohmann::json::object();
+  Record classified = trimmed_record("classified");
+  classified.evaluate = classified.upload = classified.read_back = {1e-3, 1e-3, 1e-3};
+  classified.extra_phases["classify"] = {2e-4, 2e-4, 2e-4};
+  classified.end_to_end = {3.2e-3, 3.2e-3, 3.2e-3};
+  Record untrimmed = trimmed_record("untrimmed");
+  untrimmed.evaluate = untrimmed.upload = untrimmed.read_back = {1e-3, 1e-3, 1e-3};
+  untrimmed.end_to_end = {3e-3, 3e-3, 3e-3};
+  set.results.records = {classified, untrimmed};
+  const Report report = build_report({set});
+
+  const auto measurements =
+      std::find_if(report.sections.begin(), report.sections.end(),
+                   [](const ReportSection& s) { return s.id == "measurements"; });
+  ASSERT_NE(measurements, report.sections.end());
+  const ReportTable& table = measurements->tables.at(0);
+  const auto column = std::find(table.header.begin(), table.header.end(), "trim");
+  ASSERT_NE(column, table.header.end());
+  const std::size_t c = column - table.header.begin();
+  ASSERT_EQ(table.rows.size(), 2u);
+  EXPECT_EQ(table.rows[0][c], "3 misclassified (0.0435), 12 boundary");
+  EXPECT_EQ(table.rows[1][c], "untrimmed");
+
+  const auto chart = std::find_if(report.charts["charts"].begin(), report.charts["charts"].end(),
+                                  [](const nlohmann::json& j) { return j["id"] == "phases"; });
+  ASSERT_NE(chart, report.charts["charts"].end());
+  std::vector<std::string> stacks;
+  for (const auto& stack : (*chart)["stacks"]) stacks.push_back(stack["label"]);
+  EXPECT_EQ(stacks, (std::vector<std::string>{"upload", "evaluate", "classify", "read_back"}));
+  EXPECT_EQ((*chart)["stacks"][2]["values"], nlohmann::json::parse("[0.0002, 0.0]"));
 }
 
 TEST(TrimErrorImage, GridCarriesTheReferenceClassificationInPixelOrder) {
