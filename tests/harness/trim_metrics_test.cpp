@@ -1,6 +1,6 @@
 // Trimmed scenes through the harness: errors over the inside samples only, the boundary band,
-// misclassification counts, reversed faces, records, gates, tables and error maps, on the plate
-// of trimmed_plate.h. Every sample's classification and distance to the trim boundary are known
+// misclassification counts, reversed faces, records, gates, tables and error maps, on the trimmed
+// plate of plates.h. Every sample's classification and distance to the trim boundary are known
 // in closed form there, so the references below are built by hand, without the classifier.
 #include <gtest/gtest.h>
 
@@ -20,7 +20,7 @@
 #include "harness/record.h"
 #include "harness/report.h"
 #include "harness/summary_table.h"
-#include "tests/harness/trimmed_plate.h"
+#include "tests/harness/plates.h"
 
 namespace nurbs {
 namespace {

@@ -1,12 +1,12 @@
 // Trimmed scenes through the runner, with the reference's exact classifier: the classify phase,
 // the record's trimming, scoring over the inside, a strategy that trims without a mask, reversed
-// faces. The scene is trimmed_plate.h's, whose classification is known by hand.
+// faces. The scene is the trimmed plate of plates.h, whose classification is known by hand.
 #include <gtest/gtest.h>
 
 #include <functional>
 
 #include "harness/runner.h"
-#include "tests/harness/trimmed_plate.h"
+#include "tests/harness/plates.h"
 
 namespace nurbs {
 namespace {
