@@ -14,7 +14,9 @@
 #include "reference/sampling.h"
 #include "run_cli.h"
 #include "scenes/builtin_scenes.h"
+#include "scenes/scene_json.h"
 #include "strategies/registry.h"
+#include "tests/harness/plates.h"
 #include "tests/scenes/trimmed_plate_closed_form.h"
 
 namespace nurbs::test {
@@ -635,6 +637,49 @@ TEST(CliTrim, RunScoresTrimmedScenesWithTheGivenBand) {
   EXPECT_EQ(first[25], "0");
   EXPECT_NE(r.out.find("untrimmed"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("0 misclassified (0)"), std::string::npos) << r.out;
+}
+
+// A scene file (nurbs-scene/2) with a trimmed, reversed face: the hand-classified plate of
+// tests/harness/plates.h, so every expected value here is known without the classifier.
+TEST(CliTrim, SceneFileWithAReversedTrimmedFace) {
+  TempDir tmp;
+  Scene scene = trimmed_plate();
+  scene.surfaces[0].reversed = true;
+  const std::string file = tmp / "plate.json", csv = tmp / "p.csv";
+  write_text(file, scene_to_json(scene));
+
+  const CliResult eval = run_cli({"eval", "--scene", file, "--strategy", "cpu-coxdeboor",
+                                  "--samples", "9x9", "--normals", "--out", csv});
+  ASSERT_EQ(eval.exit_code, 0) << eval.err;
+  const auto rows = eval_rows(read_text(csv), "surface,u,v,x,y,z,nx,ny,nz,inside");
+  ASSERT_EQ(rows.size(), 81u);
+  for (const auto& row : rows) {
+    ASSERT_EQ(row.size(), 10u);
+    EXPECT_EQ(row[9], hand_inside(parse_exact(row[1]), parse_exact(row[2])) ? "1" : "0");
+    // S_u x S_v = +z on the plate; the reversed face's normal, as written, is -z.
+    EXPECT_EQ(parse_exact(row[8]), -1.0) << row[1] << "," << row[2];
+  }
+  EXPECT_NE(eval.err.find("errors over the 40 samples inside the faces"), std::string::npos)
+      << eval.err;
+  EXPECT_NE(eval.err.find("normals within 0 deg"), std::string::npos) << eval.err;
+
+  // 0.04 x sqrt(2): exactly the 12 samples 0.05 beside the hole are boundary samples.
+  const std::string out = tmp / "r";
+  const CliResult run =
+      run_cli({"run", "--scenes", file, "--strategies", "cpu-coxdeboor,cpu-tensor", "--samples",
+               "9x9", "--repetitions", "1", "--normals", "--trim-band", "0.04", "--out", out});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json results = json::parse(read_text(fs::path(out) / "results.json"));
+  ASSERT_EQ(results["records"].size(), 2u);
+  for (const json& rec : results["records"]) {
+    SCOPED_TRACE(rec.dump());
+    ASSERT_EQ(rec["status"], "ok");
+    EXPECT_EQ(rec["accuracy"]["trim"]["inside_samples"], 40);
+    EXPECT_EQ(rec["accuracy"]["trim"]["boundary_samples"], 12);
+    EXPECT_LT(rec["accuracy"]["max_normal_angle_deg"].get<double>(), 1e-3);
+  }
+  EXPECT_EQ(results["records"][0]["accuracy"]["trim"]["misclassified"], 0);
+  EXPECT_EQ(results["records"][1]["trimming"], "untrimmed");
 }
 
 TEST(CliTrim, BadTrimBandIsExitTwoAndWritesNothing) {
