@@ -141,8 +141,9 @@ std::vector<std::string> check_gates(const std::vector<Gate>& gates,
       if (*value <= g.max) continue;
       if (is_trim_metric(g.metric))
         violations.push_back(fmt::format(
-            "{}: {} = {:.6g} exceeds {} ({} of the samples outside the {:g} boundary band)", where,
-            g.metric, *value, g.max, *accuracy.trim->misclassified, accuracy.trim->band));
+            "{}: {} = {:.6g} exceeds {} ({} samples misclassified outside the boundary band of "
+            "{:g} x the domain diagonal)",
+            where, g.metric, *value, g.max, *accuracy.trim->misclassified, accuracy.trim->band));
       else
         violations.push_back(fmt::format(
             "{}: {} = {:.6g} exceeds {} (worst sample: surface {}, u = {:.17g}, v = {:.17g})",

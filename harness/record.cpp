@@ -201,7 +201,7 @@ std::string csv_row(const Record& r) {
   std::array<std::string, 5> trim{};  // the trim columns after `trimming`, in csv_header's order
   if (r.accuracy && r.accuracy->trim) {
     const TrimAccuracy& t = *r.accuracy->trim;
-    auto count = [&](std::size_t n) { return number(static_cast<double>(n)); };
+    auto count = [&](std::size_t n) { return measured ? fmt::format("{}", n) : std::string(); };
     trim = {number(t.band), count(t.inside), count(t.boundary),
             t.misclassified ? count(*t.misclassified) : "",
             t.misclassified_rate ? number(*t.misclassified_rate) : ""};
