@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,7 @@ struct EvalOptions {
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
   std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
   std::string error_image;                    // --error-image F.exr|F.png (harness/error_image.h)
+  std::optional<std::string> trim_band;       // --trim-band FRACTION (absent: kDefaultTrimBand)
 };
 int eval_command(const EvalOptions& options);
 
@@ -58,6 +60,7 @@ struct RunOptions {
   std::string gl;      // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
   std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
+  std::optional<std::string> trim_band;       // --trim-band FRACTION (absent: kDefaultTrimBand)
 };
 int run_command(const RunOptions& options);
 

@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdlib>
 #include <set>
 #include <string>
 #include <thread>
 
+#include "harness/metrics.h"
 #include "reference/error_text.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
@@ -153,6 +155,20 @@ ReferencePrecision parse_reference(std::string_view text) {
                                  option_text("--reference", text),
                                  NURBSBENCH_HAS_FLOAT128 ? "" : " (this build has no __float128)"));
   return precision;
+}
+
+double parse_trim_band(const std::optional<std::string>& text) {
+  if (!text) return kDefaultTrimBand;
+  // from_chars, not strtod: no locale, no hex floats, no blanks around the number.
+  double band = 0;
+  const auto [end, error] = std::from_chars(text->data(), text->data() + text->size(), band);
+  if (text->empty() || error != std::errc() || end != text->data() + text->size() ||
+      !std::isfinite(band) || band < 0 || band >= 1)
+    throw InputError(fmt::format(
+        "{}: must be a number in [0, 1) (a fraction of each trimmed surface's (u, v) domain "
+        "diagonal; default {:g})",
+        option_text("--trim-band", *text), kDefaultTrimBand));
+  return band + 0.0;  // -0 is 0
 }
 
 std::map<std::string, std::string> backend_extra(const std::string& gl, const std::string& device,

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,6 +28,9 @@ std::vector<Sampling> parse_grid_list(std::string_view option, std::string_view 
 // Span-grid step counts T in 1..kMaxSpanSteps, none given twice.
 std::vector<Sampling> parse_span_list(std::string_view option, std::string_view text);
 Precision parse_precision(std::string_view text);
+// --trim-band: a fraction of each trimmed surface's (u, v) domain diagonal, finite, in [0, 1);
+// absent = kDefaultTrimBand (harness/metrics.h).
+double parse_trim_band(const std::optional<std::string>& text);
 ReferencePrecision parse_reference(std::string_view text);
 // The lenient split --strategies uses: empty items dropped.
 std::vector<std::string> split_list(std::string_view text);

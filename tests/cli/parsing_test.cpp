@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "harness/metrics.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
 
@@ -106,6 +108,19 @@ TEST(ParseValues, ControlBytesAreEscapedAndLongValuesCut) {
   EXPECT_NE(e.find("--samples = '8x8\\x0a\\x1b[31m'"), std::string::npos) << e;
   const std::string longer = error_of([] { parse_precision(std::string(5000, 'f')); });
   EXPECT_EQ(longer, "--precision = '" + std::string(64, 'f') + "...': must be f32 or f64");
+}
+
+TEST(ParseTrimBand, DecimalsInZeroToOneOnly) {
+  EXPECT_EQ(parse_trim_band(std::nullopt), kDefaultTrimBand);
+  EXPECT_EQ(parse_trim_band("0.25"), 0.25);
+  EXPECT_EQ(parse_trim_band("1e-7"), 1e-7);
+  EXPECT_FALSE(std::signbit(parse_trim_band("-0")));
+  for (const std::string bad : {"0x1p-3", " 0.1", "0.1 ", "+0.1", "1", "-0.1", "nan", "1e-400", ""}) {
+    SCOPED_TRACE(bad);
+    EXPECT_NE(error_of([&] { parse_trim_band(bad); })
+                  .find("--trim-band = '" + bad + "': must be a number in [0, 1)"),
+              std::string::npos);
+  }
 }
 
 TEST(SceneList, RefusesRepeatsAndEmptyItems) {

@@ -1,7 +1,8 @@
-// The CLI's value parsers (harness/cli/parsing.h). The first byte picks the parser, the rest is the
+// The CLI's value parsers (harness/cli/parsing.h). The first byte picks the parser (mod 7), the rest is the
 // option's text. What a parser accepts is checked against its contract (bounds, no repeats, no
 // empty items, labels that parse back to the same samplings); what it refuses must be InputError
 // with one line naming the option.
+#include <cmath>
 #include <cstdint>
 #include <set>
 #include <string>
@@ -67,8 +68,10 @@ std::vector<std::string> lines_of(std::string_view text) {
   return lines;
 }
 
+constexpr int kParsers = 7;
+
 void run(std::uint8_t selector, std::string_view text) {
-  switch (selector % 6) {
+  switch (selector % kParsers) {
     case 0:
       check_samplings("--samples", parse_grid_list("--samples", text), SamplingMode::grid);
       break;
@@ -87,6 +90,14 @@ void run(std::uint8_t selector, std::string_view text) {
       parse_reference(text);
       check(text == "long-double" || text == "float128", "unknown reference accepted", text);
       break;
+    case 6: {
+      const double band = parse_trim_band(std::string(text));
+      check(std::isfinite(band) && band >= 0 && band < 1 && !std::signbit(band),
+            "trim band out of [0, 1)", text);
+      check(parse_trim_band(fmt::format("{}", band)) == band, "trim band reads back differently",
+            text);
+      break;
+    }
     case 5: {
       const std::vector<std::string> options = lines_of(text);
       const auto extra = backend_extra("", "", options);
@@ -98,7 +109,8 @@ void run(std::uint8_t selector, std::string_view text) {
 }
 
 constexpr const char* kOptions[] = {"--samples",   "--span-samples", "--scenes",
-                                    "--precision", "--reference",    "--strategy-option"};
+                                    "--precision", "--reference",    "--strategy-option",
+                                    "--trim-band"};
 
 }  // namespace
 }  // namespace nurbs::fuzz
@@ -110,7 +122,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     fuzz::run(data[0], text);
   } catch (const InputError& e) {
-    fuzz::check_error_line(e, fuzz::kOptions[data[0] % 6]);
+    fuzz::check_error_line(e, fuzz::kOptions[data[0] % fuzz::kParsers]);
   }
   return 0;
 }
