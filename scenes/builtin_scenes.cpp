@@ -14,6 +14,7 @@
 #include "reference/validation.h"
 #include "scenes/cad_import/cad_import.h"
 #include "scenes/scene_json.h"
+#include "scenes/trimmed_plate.h"
 
 namespace nurbs {
 namespace embedded {
@@ -274,6 +275,10 @@ const std::vector<std::pair<BuiltinSceneInfo, Generator>>& generators() {
     add("hammer",
         "OpenCASCADE's hammer (IGES): 45 trimmed NURBS faces, rational, seams (nurbsbench import)",
         [] { return embedded_scene("hammer", embedded::hammer_json); });
+    add("trimmed-plate",
+        "bicubic plate trimmed to a rounded rectangle with a circular hole (exact rational "
+        "trim curves, inside area known)",
+        [] { return trimmed_plate_scene(); });
     return g;
   }();
   return list;
