@@ -38,8 +38,8 @@ std::string CadImportReport::summary() const {
       "  surface degrees (u x v): {}\n"
       "  import time {:.3f} s\n",
       file, format, faces_read, faces_converted, faces_skipped(), reasons, loops, curves,
-      largest_closure_gap, largest_domain_excess, largest_surface_deviation, degree_list.empty() ? "none" : degree_list,
-      seconds);
+      largest_closure_gap, largest_domain_excess, largest_surface_deviation,
+      degree_list.empty() ? "none" : degree_list, seconds);
 }
 
 }  // namespace nurbs

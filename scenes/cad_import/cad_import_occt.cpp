@@ -1,4 +1,6 @@
 // The importer with OpenCASCADE: each converted face -> one Surface with its trim, checked.
+#include <fmt/format.h>
+
 #include <BRepTools.hxx>
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Tool.hxx>
@@ -14,8 +16,6 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -94,23 +94,26 @@ struct Domain {
   }
 };
 
-// How far moving the control points outside the domain onto its edge can move the curve from its
-// own retraction onto the domain (which leaves every inside point's even-odd class unchanged:
-// the straight homotopy from a curve to its retraction never crosses the domain's interior):
-// |sum N_i r(P_i) - r(C(t))| <= max |P_i - C(t)| over the poles of t's span, bounded by the span's
-// control-polygon diameter; a pole within `tolerance` of the domain moves by its excess alone.
-// Knot insertion shrinks it.
+// How far moving the control points outside the domain onto its edge (r, the nearest point) can
+// move the curve C from its own retraction r(C) onto the domain, which leaves every inside
+// point's even-odd class unchanged (the straight homotopy from C to r(C) never crosses the
+// domain's interior). Two bounds, the smaller holds: |sum N_i r(P_i) - r(C(t))| <= max |P_i -
+// C(t)| over the poles of t's span (r is 1-Lipschitz), at most the span's control-polygon
+// diameter; and moving each pole by its excess e_i moves C by at most max e_i, while C itself
+// leaves the domain by at most max e_i (convex hull), so 2 max e_i. Knot insertion shrinks both
+// (the poles close in on the curve); a pole within `tolerance` counts only its excess.
 double clamp_change(const Geom2d_BSplineCurve& c, const Domain& domain, double tolerance) {
-  double change = 0;
+  double diameter = 0, excess = 0;
   const int degree = c.Degree();
   for (int i = 1; i <= c.NbPoles(); ++i) {
-    const double excess = domain.excess(c.Pole(i));
-    change = std::max(change, excess);
-    if (excess <= tolerance) continue;
+    const double e = domain.excess(c.Pole(i));
+    excess = std::max(excess, e);
+    diameter = std::max(diameter, e);
+    if (e <= tolerance) continue;
     for (int j = std::max(1, i - degree); j <= std::min(c.NbPoles(), i + degree); ++j)
-      change = std::max(change, c.Pole(i).Distance(c.Pole(j)));
+      diameter = std::max(diameter, c.Pole(i).Distance(c.Pole(j)));
   }
-  return change;
+  return std::min(diameter, 2 * excess);
 }
 
 // The converted face's surface, made non-periodic with its parameters kept, as a Surface; then
@@ -122,19 +125,22 @@ Surface face_surface(const TopoDS_Face& face, double& deviation) {
   const auto bspline = Handle(Geom_BSplineSurface)::DownCast(geometry);
   if (bspline.IsNull())
     throw FaceSkip{"not a B-spline after conversion", geometry->DynamicType()->Name()};
+  double u0, u1, v0, v1;
+  bspline->Bounds(u0, u1, v0, v1);
+  // SetNotPeriodic keeps the parameters but leaves unclamped end knots; Segment over the same
+  // bounds clamps them (knot insertion: the surface and its parameters unchanged).
   const auto flat = Handle(Geom_BSplineSurface)::DownCast(bspline->Copy());
   if (flat->IsUPeriodic()) flat->SetUNotPeriodic();
   if (flat->IsVPeriodic()) flat->SetVNotPeriodic();
+  if (bspline->IsUPeriodic() || bspline->IsVPeriodic()) flat->Segment(u0, u1, v0, v1);
   Surface surface = to_surface(*flat);
 
-  double u0, u1, v0, v1;
-  bspline->Bounds(u0, u1, v0, v1);
   if (surface.u_min() != u0 || surface.u_max() != u1 || surface.v_min() != v0 ||
       surface.v_max() != v1)
-    throw FaceSkip{"parameters changed by the conversion",
-                   fmt::format("domain [{}, {}] x [{}, {}] became [{}, {}] x [{}, {}]", u0, u1, v0,
-                               v1, surface.u_min(), surface.u_max(), surface.v_min(),
-                               surface.v_max())};
+    throw FaceSkip{
+        "parameters changed by the conversion",
+        fmt::format("domain [{}, {}] x [{}, {}] became [{}, {}] x [{}, {}]", u0, u1, v0, v1,
+                    surface.u_min(), surface.u_max(), surface.v_min(), surface.v_max())};
   SurfaceSamples samples;
   samples.u = grid_parameters(u0, u1, kCheckGrid);
   samples.v = grid_parameters(v0, v1, kCheckGrid);
@@ -180,9 +186,9 @@ struct FaceTrimFigures {
 // The p-curve of `edge` on `face` as a non-periodic 2D B-spline running in the wire's direction.
 // A curve inside the domain can have control points outside it (a circle's square of points):
 // knot insertion, which leaves the curve unchanged, pulls them onto the curve first.
-Handle(Geom2d_BSplineCurve) edge_curve(const TopoDS_Edge& edge, const TopoDS_Face& face,
-                                       const Domain& domain, double tolerance, double repair,
-                                       int loop, int index) {
+Handle(Geom2d_BSplineCurve)
+    edge_curve(const TopoDS_Edge& edge, const TopoDS_Face& face, const Domain& domain,
+               double tolerance, double repair, int loop, int index) {
   double first = 0, last = 0;
   const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(edge, face, first, last);
   if (pcurve.IsNull())
@@ -191,12 +197,20 @@ Handle(Geom2d_BSplineCurve) edge_curve(const TopoDS_Edge& edge, const TopoDS_Fac
       Geom2dConvert::CurveToBSplineCurve(new Geom2d_TrimmedCurve(pcurve, first, last));
   if (curve->IsPeriodic()) curve->SetNotPeriodic();
   if (edge.Orientation() == TopAbs_REVERSED) curve->Reverse();
-  for (int round = 0; round < kMaxRefinements && clamp_change(*curve, domain, tolerance) > repair &&
-                      curve->NbPoles() < kMaxRefinedPoles;
+  // Refined while that pays: until the bound is within the tolerance, or stops shrinking (the
+  // curve itself runs outside), or the curve grows too long.
+  double change = clamp_change(*curve, domain, tolerance);
+  for (int round = 0;
+       round < kMaxRefinements && change > tolerance && curve->NbPoles() < kMaxRefinedPoles;
        ++round) {
-    const TColStd_Array1OfReal knots = curve->Knots();
+    const auto refined = Handle(Geom2d_BSplineCurve)::DownCast(curve->Copy());
+    const TColStd_Array1OfReal knots = refined->Knots();
     for (int k = knots.Lower(); k < knots.Upper(); ++k)
-      curve->InsertKnot(0.5 * (knots(k) + knots(k + 1)));
+      refined->InsertKnot(0.5 * (knots(k) + knots(k + 1)));
+    const double refined_change = clamp_change(*refined, domain, tolerance);
+    if (refined_change > 0.75 * change && change <= repair) break;
+    curve = refined;
+    change = refined_change;
   }
   return curve;
 }
@@ -211,14 +225,14 @@ Handle(Geom2d_BSplineCurve) edge_curve(const TopoDS_Edge& edge, const TopoDS_Fac
 // points outside the domain (after refinement: the curve itself runs outside, as OpenCASCADE
 // allows) are moved onto its edge when that changes the curve by at most kMaxUvRepair beyond its
 // retraction onto the domain (clamp_change; the curve refined first until it is within that), so
-// the trimmed region changes at most that close to where the curve leaves the domain. Trim::tolerance is the face's (u, v) uncertainty:
-// the largest of OpenCASCADE's parameter resolution of the 3D tolerance, the gaps closed and the
-// distances moved.
+// the trimmed region changes at most that close to where the curve leaves the domain.
+// Trim::tolerance is the face's (u, v) uncertainty: the largest of OpenCASCADE's parameter
+// resolution of the 3D tolerance, the gaps closed and the distances moved.
 FaceTrimFigures face_trim(const TopoDS_Face& face, Surface& surface) {
   const double tolerance_3d = face_tolerance_3d(face);
   const GeomAdaptor_Surface adaptor(BRep_Tool::Surface(face));
-  const double resolution = std::max(
-      {adaptor.UResolution(tolerance_3d), adaptor.VResolution(tolerance_3d), 1e-12});
+  const double resolution =
+      std::max({adaptor.UResolution(tolerance_3d), adaptor.VResolution(tolerance_3d), 1e-12});
   const double repair = kMaxUvRepair * domain_diagonal(surface);
   const Domain domain{surface.u_min(), surface.u_max(), surface.v_min(), surface.v_max()};
   std::vector<TopoDS_Wire> wires;
@@ -255,7 +269,8 @@ FaceTrimFigures face_trim(const TopoDS_Face& face, Surface& surface) {
       Point2& end = out.curves[c].points.back();
       const Point2& start = out.curves[(c + 1) % out.curves.size()].points.front();
       const double gap = std::hypot(end[0] - start[0], end[1] - start[1]);
-      const double gap_3d = adaptor.Value(end[0], end[1]).Distance(adaptor.Value(start[0], start[1]));
+      const double gap_3d =
+          adaptor.Value(end[0], end[1]).Distance(adaptor.Value(start[0], start[1]));
       if (!(gap <= repair && gap_3d <= 2 * tolerance_3d))
         throw FaceSkip{"loop not closed",
                        fmt::format("loop {} gap after curve {}: {:.3g} (u,v), {:.3g} in 3D > "
@@ -334,10 +349,9 @@ CadImport import_cad_model(const std::filesystem::path& path, const CadImportOpt
   if (result.scene.surfaces.empty())
     throw InputError(fmt::format("{}: every one of its {} faces was skipped (first: {})",
                                  report.file, report.faces_read, report.warnings.front()));
-  result.scene.description =
-      fmt::format("imported from {} ({}): {} of {} faces as trimmed NURBS surfaces",
-                  path.filename().string(), report.format, report.faces_converted,
-                  report.faces_read);
+  result.scene.description = fmt::format(
+      "imported from {} ({}): {} of {} faces as trimmed NURBS surfaces", path.filename().string(),
+      report.format, report.faces_converted, report.faces_read);
   validate_scene(result.scene, report.file);
   return result;
 }

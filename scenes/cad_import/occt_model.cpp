@@ -1,5 +1,7 @@
 #include "scenes/cad_import/occt_model.h"
 
+#include <fmt/format.h>
+
 #include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
@@ -14,8 +16,6 @@
 #include <Standard_Failure.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
-#include <fmt/format.h>
-
 #include <iostream>
 #include <mutex>
 #include <sstream>
@@ -67,8 +67,8 @@ std::string run_guarded(const std::function<void()>& body) {
     body();
   } catch (const Standard_Failure& failure) {
     const char* message = failure.GetMessageString();
-    return fmt::format("{}{}{}", failure.DynamicType()->Name(),
-                       message && *message ? ": " : "", message ? message : "");
+    return fmt::format("{}{}{}", failure.DynamicType()->Name(), message && *message ? ": " : "",
+                       message ? message : "");
   }
   return {};
 }
@@ -97,8 +97,8 @@ TopoDS_Shape read_model(const std::filesystem::path& path) {
     }
   });
   if (!failure.empty())
-    throw InputError(fmt::format("{}: OpenCASCADE cannot read it as {}: {}", path.string(), format,
-                                 failure));
+    throw InputError(
+        fmt::format("{}: OpenCASCADE cannot read it as {}: {}", path.string(), format, failure));
   if (shape.IsNull() || model_faces(shape).empty())
     throw InputError(fmt::format("{}: no faces in the model", path.string()));
   return shape;
@@ -118,13 +118,17 @@ ConvertedFaces convert_faces(const TopoDS_Shape& shape) {
   const std::string whole = run_guarded([&] {
     BRepBuilderAPI_NurbsConvert convert(shape, Standard_True);
     for (std::size_t k = 0; k < faces.size(); ++k)
-      out.faces[k] = TopoDS::Face(convert.ModifiedShape(faces[k]));
+      // The modification is kept per face (TShape), not per occurrence: the occurrence's
+      // orientation is the face's, as read.
+      out.faces[k] = TopoDS::Face(convert.ModifiedShape(faces[k]).Oriented(faces[k].Orientation()));
   });
   if (whole.empty()) return out;
   for (std::size_t k = 0; k < faces.size(); ++k) {
     out.faces[k].Nullify();
     out.errors[k] = run_guarded([&] {
-      out.faces[k] = TopoDS::Face(BRepBuilderAPI_NurbsConvert(faces[k], Standard_True).Shape());
+      out.faces[k] = TopoDS::Face(BRepBuilderAPI_NurbsConvert(faces[k], Standard_True)
+                                      .Shape()
+                                      .Oriented(faces[k].Orientation()));
     });
     if (!out.errors[k].empty()) out.faces[k].Nullify();
   }
