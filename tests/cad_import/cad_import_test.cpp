@@ -3,12 +3,19 @@
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepLib.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRepPrimAPI_MakeTorus.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
+#include <Geom2d_Circle.hxx>
+#include <Geom_BSplineSurface.hxx>
 #include <STEPControl_Writer.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
@@ -145,6 +152,55 @@ TEST(CadImport, BadModelFilesAreRefused) {
     // The same file where a scene is expected.
     EXPECT_EQ(run_cli({"eval", "--scene", bad, "--strategy", "cpu-coxdeboor"}).exit_code, 2);
   }
+}
+
+// A bilinear patch on [0,1]^2 trimmed by a circle of radius 0.8 about its middle: the p-curve runs
+// 0.3 past the domain, far more than the importer moves a curve, so that face is skipped.
+TEST(CadImport, FaceThatFailsIsSkippedAndStrictRefusesIt) {
+  TempDir dir;
+  TColgp_Array2OfPnt poles(1, 2, 1, 2);
+  poles(1, 1) = gp_Pnt(0, 0, 0), poles(2, 1) = gp_Pnt(1, 0, 0);
+  poles(1, 2) = gp_Pnt(0, 1, 0), poles(2, 2) = gp_Pnt(1, 1, 0);
+  TColStd_Array1OfReal knots(1, 2);
+  knots(1) = 0, knots(2) = 1;
+  TColStd_Array1OfInteger mults(1, 2);
+  mults.Init(2);
+  const Handle(Geom_BSplineSurface) patch =
+      new Geom_BSplineSurface(poles, knots, knots, mults, mults, 1, 1);
+  const Handle(Geom2d_Circle) circle =
+      new Geom2d_Circle(gp_Ax2d(gp_Pnt2d(0.5, 0.5), gp_Dir2d(1, 0)), 0.8);
+  TopoDS_Edge edge = BRepBuilderAPI_MakeEdge(circle, patch).Edge();
+  BRepLib::BuildCurves3d(edge);
+  const TopoDS_Face trimmed =
+      BRepBuilderAPI_MakeFace(patch, BRepBuilderAPI_MakeWire(edge).Wire()).Face();
+  BRep_Builder builder;
+  TopoDS_Compound compound;
+  builder.MakeCompound(compound);
+  builder.Add(compound, BRepPrimAPI_MakeSphere(1.0).Shape());
+  builder.Add(compound, trimmed);
+  const std::string path = dir / "one-bad-face.brep";
+  ASSERT_TRUE(BRepTools::Write(compound, path.c_str()));
+
+  const CliResult loose = run_cli({"import", path, "--out", dir / "scene.json"});
+  EXPECT_EQ(loose.exit_code, 0) << loose.err;
+  const std::vector<std::string> warnings = split_lines(loose.err);
+  ASSERT_EQ(warnings.size(), 1u) << loose.err;
+  EXPECT_TRUE(warnings[0].starts_with("nurbsbench: warning: " + path +
+                                      ": face-1: skipped p-curve "
+                                      "outside the surface's domain"))
+      << warnings[0];
+  EXPECT_NE(loose.out.find("faces read 2, converted 1, skipped 1 (p-curve outside the surface's "
+                           "domain: 1)"),
+            std::string::npos)
+      << loose.out;
+
+  const std::string strict_out = dir / "strict.json";
+  const CliResult strict = run_cli({"import", path, "--strict", "--out", strict_out});
+  EXPECT_EQ(strict.exit_code, 2);
+  EXPECT_TRUE(
+      split_lines(strict.err).back().starts_with("nurbsbench: error: " + path + ": --strict"))
+      << strict.err;
+  EXPECT_FALSE(std::filesystem::exists(strict_out));
 }
 
 TEST(CadImport, ModelPathsRunWhereScenesDo) {
