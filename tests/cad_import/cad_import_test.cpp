@@ -23,6 +23,8 @@
 
 #include "../cli/run_cli.h"
 #include "occt_peer_check.h"
+#include "scenes/builtin_scenes.h"
+#include "scenes/scene_json.h"
 
 namespace nurbs::test {
 namespace {
@@ -52,6 +54,20 @@ TEST(CadImport, HammerMatchesOpenCascade) {
   EXPECT_EQ(imported.report.faces_read, 45);
   EXPECT_EQ(imported.scene.surfaces.size(), std::size_t(imported.report.faces_converted));
   expect_agreement(check_against_occt(path, imported, 32), "hammer");
+  // Written as nurbs-scene/2 and read back unchanged, trims and orientation included; the
+  // committed built-in hammer is this import (regenerate it when the importer changes).
+  const std::string json = scene_to_json(imported.scene);
+  EXPECT_NE(json.find("\"format\": \"nurbs-scene/2\""), std::string::npos);
+  const Scene back = parse_scene_json(json, "hammer.json");
+  ASSERT_EQ(back.surfaces.size(), imported.scene.surfaces.size());
+  for (std::size_t k = 0; k < back.surfaces.size(); ++k) {
+    ASSERT_TRUE(back.surfaces[k].trim);
+    EXPECT_EQ(back.surfaces[k].trim->loops.size(), imported.scene.surfaces[k].trim->loops.size());
+    EXPECT_EQ(back.surfaces[k].reversed, imported.scene.surfaces[k].reversed);
+  }
+  EXPECT_EQ(scene_to_json(back), json);
+  EXPECT_EQ(scene_to_json(*make_builtin_scene("hammer")), json)
+      << "scenes/data/hammer.json is not the current import of " << path;
 }
 
 // A cylinder (periodic in u, seam), a sphere (seam, degenerated pole edges), a torus (periodic
