@@ -99,9 +99,11 @@ struct Domain {
 // point's even-odd class unchanged (the straight homotopy from C to r(C) never crosses the
 // domain's interior). Two bounds, the smaller holds: |sum N_i r(P_i) - r(C(t))| <= max |P_i -
 // C(t)| over the poles of t's span (r is 1-Lipschitz), at most the span's control-polygon
-// diameter; and moving each pole by its excess e_i moves C by at most max e_i, while C itself
-// leaves the domain by at most max e_i (convex hull), so 2 max e_i. Knot insertion shrinks both
-// (the poles close in on the curve); a pole within `tolerance` counts only its excess.
+// diameter, itself at most twice the largest distance from one of its poles (an outside one, or
+// the span does not move) to the others; and moving each pole by its excess e_i moves C by at
+// most max e_i, while C itself leaves the domain by at most max e_i (convex hull), so 2 max e_i.
+// Knot insertion shrinks both (the poles close in on the curve); a pole within `tolerance`
+// counts only its excess.
 double clamp_change(const Geom2d_BSplineCurve& c, const Domain& domain, double tolerance) {
   double diameter = 0, excess = 0;
   const int degree = c.Degree();
@@ -111,7 +113,7 @@ double clamp_change(const Geom2d_BSplineCurve& c, const Domain& domain, double t
     diameter = std::max(diameter, e);
     if (e <= tolerance) continue;
     for (int j = std::max(1, i - degree); j <= std::min(c.NbPoles(), i + degree); ++j)
-      diameter = std::max(diameter, c.Pole(i).Distance(c.Pole(j)));
+      diameter = std::max(diameter, 2 * c.Pole(i).Distance(c.Pole(j)));
   }
   return std::min(diameter, 2 * excess);
 }
