@@ -28,8 +28,12 @@ class ReferenceCache {
   std::map<std::string, std::vector<ReferenceSurface>> cache_;
 };
 
+// On a trimmed scene, a strategy that trims has its classify() timed after each evaluate() as
+// extra phase "classify" (part of end_to_end, and of each frame of measure_deforming), and its
+// classification scored with the boundary band `trim_band` (metrics.h TrimScoring).
 Record measure(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
-               const EvalRequest& request, int repetitions, ReferenceCache& references);
+               const EvalRequest& request, int repetitions, ReferenceCache& references,
+               double trim_band = kDefaultTrimBand);
 
 // The deforming-surface benchmark (003 §2): setup prepares frame 0 of deformed_scene(scene, f)
 // (scenes/deforming.h); then for f = 1..frames the scene is deformed (not timed: the application
@@ -41,6 +45,7 @@ Record measure(const StrategyEntry& entry, const StrategyOptions& options, const
 // scene (not cached: every frame is a new scene).
 Record measure_deforming(const StrategyEntry& entry, const StrategyOptions& options,
                          const Scene& scene, const EvalRequest& request, int frames,
-                         ReferencePrecision reference_precision);
+                         ReferencePrecision reference_precision,
+                         double trim_band = kDefaultTrimBand);
 
 }  // namespace nurbs

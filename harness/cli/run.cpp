@@ -67,6 +67,7 @@ int run_command(const RunOptions& options) {
                           : parse_span_list("--span-samples", options.span_samples);
   const Precision precision = parse_precision(options.precision);
   const ReferencePrecision reference_precision = parse_reference(options.reference);
+  const double trim_band = parse_trim_band(options.trim_band);
   for (const Scene& scene : scenes)
     for (const Sampling& sampling : samplings) sample_parameters(scene, sampling);
 
@@ -80,7 +81,8 @@ int run_command(const RunOptions& options) {
                              {"threads", threads},
                              {"gl", options.gl.empty() ? "egl" : options.gl},
                              {"strategy_options", options.strategy_options},
-                             {"reference", std::string(to_string(reference_precision))}};
+                             {"reference", std::string(to_string(reference_precision))},
+                             {"trim_band", trim_band}};
   for (const Scene& s : scenes) settings["scenes"].push_back(s.name);
   for (const StrategyEntry* e : strategies) settings["strategies"].push_back(e->name);
   if (selection.store_limit) settings["strategies"].push_back(kStoreLimitName);
@@ -107,10 +109,11 @@ int run_command(const RunOptions& options) {
         EvalRequest request{sampling, precision, options.normals};
         const StrategyOptions strategy_options{
             threads, backend_extra(options.gl, options.device, options.strategy_options)};
-        writer.append(deforming ? measure_deforming(*entry, strategy_options, scene, request,
-                                                    options.deforming, reference_precision)
-                                : measure(*entry, strategy_options, scene, request,
-                                          options.repetitions, references));
+        writer.append(deforming
+                          ? measure_deforming(*entry, strategy_options, scene, request,
+                                              options.deforming, reference_precision, trim_band)
+                          : measure(*entry, strategy_options, scene, request, options.repetitions,
+                                    references, trim_band));
       }
     }
   if (progress) std::cerr << "\r\x1b[K";
