@@ -7,10 +7,12 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <iostream>
 #include <map>
 #include <random>
 
 #include "reference/validation.h"
+#include "scenes/cad_import/cad_import.h"
 #include "scenes/scene_json.h"
 #include "scenes/trimmed_plate.h"
 
@@ -18,6 +20,7 @@ namespace nurbs {
 namespace embedded {
 extern const std::string_view teapot_json;
 extern const std::string_view duck_json;
+extern const std::string_view hammer_json;
 }  // namespace embedded
 
 namespace {
@@ -269,6 +272,9 @@ const std::vector<std::pair<BuiltinSceneInfo, Generator>>& generators() {
         [] { return embedded_scene("teapot", embedded::teapot_json); });
     add("duck", "the classic three-surface NURBS duck (real data: rational, seams, poles)",
         [] { return embedded_scene("duck", embedded::duck_json); });
+    add("hammer",
+        "OpenCASCADE's hammer (IGES): 45 trimmed NURBS faces, rational, seams (nurbsbench import)",
+        [] { return embedded_scene("hammer", embedded::hammer_json); });
     add("trimmed-plate",
         "bicubic plate trimmed to a rounded rectangle with a circular hole (exact rational "
         "trim curves, inside area known)",
@@ -348,6 +354,13 @@ Scene workload_scene(int degree, int count_u, int count_v, int surfaces) {
 Scene load_scene(std::string_view name_or_path) {
   if (auto scene = make_builtin_scene(name_or_path)) return std::move(*scene);
   const std::filesystem::path path(name_or_path);
+  // A model file is imported here, once per load; its skipped faces are warned about.
+  if (is_cad_model_path(path))
+    return import_cad_model(path, {.strict = false,
+                                   .warn = [](const std::string& warning) {
+                                     std::cerr << "nurbsbench: warning: " << warning << "\n";
+                                   }})
+        .scene;
   std::error_code error;
   if (std::filesystem::is_regular_file(path, error)) return load_scene_file(path);
   std::vector<std::string> names;

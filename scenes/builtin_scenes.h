@@ -28,8 +28,9 @@ std::optional<Scene> make_builtin_scene(std::string_view name);
 // uniform clamped knots. Throws InputError for parameters a scene cannot have.
 Scene workload_scene(int degree, int count_u, int count_v, int surfaces);
 
-// A built-in name or a path to a nurbs-scene/1 or /2 file. Throws InputError naming the valid names
-// when it is neither.
+// A built-in name, a path to a nurbs-scene/1 or /2 file or a CAD model (STEP, IGES, BREP:
+// imported, scenes/cad_import/cad_import.h). Throws InputError naming the valid names when it is
+// neither.
 Scene load_scene(std::string_view name_or_path);
 
 }  // namespace nurbs

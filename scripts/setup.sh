@@ -22,6 +22,8 @@ packages=(
   libopenimageio-dev fonts-dejavu-core python3-matplotlib python3-numpy
   # peers (never the reference)
   libsisl-dev libocct-modeling-data-dev libocct-foundation-dev
+  # CAD import (STEP, IGES, BREP) and the real models its tests read
+  libocct-data-exchange-dev libocct-modeling-algorithms-dev occt-misc
 )
 
 missing=()

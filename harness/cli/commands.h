@@ -25,6 +25,13 @@ struct SceneOptions {
 };
 int scene_command(const SceneOptions& options);
 
+struct ImportOptions {
+  std::string model;  // .stp/.step, .igs/.iges, .brep
+  std::string out;    // default: stdout
+  bool strict = false;
+};
+int import_command(const ImportOptions& options);
+
 struct EvalOptions {
   std::string scene, strategy;
   std::string samples = "64x64";

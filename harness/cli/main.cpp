@@ -37,6 +37,15 @@ int main(int argc, char** argv) {
   scene_cmd->add_option("name", scene.scene, "built-in scene name or scene file")->required();
   scene_cmd->add_option("--out", scene.out, "output file (default: stdout)");
 
+  ImportOptions import;
+  auto* import_cmd = app.add_subcommand(
+      "import",
+      "read a CAD model (STEP, IGES, BREP) into a scene of trimmed NURBS surfaces, one per face");
+  import_cmd->add_option("model", import.model, "model file: .stp/.step, .igs/.iges or .brep")
+      ->required();
+  import_cmd->add_option("--out", import.out, "scene file to write (default: stdout)");
+  import_cmd->add_flag("--strict", import.strict, "a skipped face is an error (exit 2)");
+
   EvalOptions eval;
   auto* eval_cmd =
       app.add_subcommand("eval", "evaluate one scene with one strategy, write points as CSV");
@@ -207,6 +216,7 @@ int main(int argc, char** argv) {
   try {
     if (*list_cmd) return list_command(list);
     if (*scene_cmd) return scene_command(scene);
+    if (*import_cmd) return import_command(import);
     if (*eval_cmd) return eval_command(eval);
     if (*run_cmd) return run_command(run);
     if (*lod_cmd) return lod_command(lod);
