@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "reference/error_text.h"
 #include "reference/surface_checker.h"
 
 namespace nurbs {
@@ -12,12 +13,14 @@ namespace nurbs {
 ValidationError::ValidationError(std::string origin, std::string surface, int surface_index,
                                  std::string field, std::string index, std::string value,
                                  std::string rule)
-    : InputError(fmt::format("{}: surface '{}' (#{}): {}{} = {}: {}", origin, surface,
-                             surface_index, field,
+    // Every part may come from the file (a name, a key): escaped, so the message stays one line.
+    : InputError(fmt::format("{}: surface '{}' (#{}): {}{} = {}: {}", printable(origin),
+                             printable(surface, kQuotedValueBytes), surface_index,
+                             printable(field, kQuotedValueBytes),
                              index.empty()           ? ""
                              : index == kLengthIndex ? " length"
-                                                     : "[" + index + "]",
-                             value, rule)),
+                                                     : fmt::format("[{}]", printable(index)),
+                             printable(value, kQuotedValueBytes), printable(rule))),
       origin_(std::move(origin)),
       surface_(std::move(surface)),
       surface_index_(surface_index),

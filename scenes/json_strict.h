@@ -40,7 +40,7 @@ class JsonPathTracker {
       case Event::array_start:
         // `depth` counts the containers already open, so this one is level depth + 1.
         if (depth + 1 > kMaxJsonDepth)
-          throw InputError(fmt::format("{}: {}: nesting deeper than {} levels", origin_,
+          throw InputError(fmt::format("{}: {}: nesting deeper than {} levels", printable(origin_),
                                        path_text(), kMaxJsonDepth));
         open_.push_back(Container{event == Event::array_start, 0, {}, {}});
         break;
@@ -48,7 +48,7 @@ class JsonPathTracker {
         Container& object = open_.back();
         object.key = parsed.get<std::string>();
         if (!object.keys.insert(object.key).second)
-          throw InputError(fmt::format("{}: {}: duplicate key (each key may appear once)", origin_,
+          throw InputError(fmt::format("{}: {}: duplicate key (each key may appear once)", printable(origin_),
                                        path_text()));
         break;
       }
@@ -115,7 +115,7 @@ inline nlohmann::json parse_json_strictly(std::string_view text, std::string_vie
           return tracker(depth, event, parsed);
         });
   } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
-    throw InputError(fmt::format("{}: not valid JSON at {}: {}", origin, tracker.path_text(),
+    throw InputError(fmt::format("{}: not valid JSON at {}: {}", printable(origin), tracker.path_text(),
                                  json_error_text(e)));
   }
 }

@@ -10,6 +10,7 @@
 #include <span>
 
 #include "reference/surface_checker.h"
+#include "reference/error_text.h"
 #include "reference/validation.h"
 #include "scenes/json_strict.h"
 
@@ -254,7 +255,8 @@ class SurfaceReader {
 
 [[noreturn]] void fail_scene(std::string_view origin, const std::string& field,
                              const std::string& value, const std::string& rule) {
-  throw InputError(fmt::format("{}: {} = {}: {}", origin, field, value, rule));
+  throw InputError(fmt::format("{}: {} = {}: {}", printable(origin),
+                               printable(field, kQuotedValueBytes), printable(value), rule));
 }
 
 }  // namespace
@@ -303,14 +305,16 @@ Scene load_scene_file(const std::filesystem::path& path) {
   std::error_code error;
   const std::uintmax_t size = std::filesystem::file_size(path, error);
   if (error)
-    throw InputError(fmt::format("{}: cannot read scene file: {}", path.string(), error.message()));
+    throw InputError(
+        fmt::format("{}: cannot read scene file: {}", printable(path.string()), error.message()));
   if (size > kMaxSceneFileBytes)
     throw InputError(
         fmt::format("{}: file size {} bytes exceeds the limit of {} bytes for a scene "
                     "file",
-                    path.string(), size, kMaxSceneFileBytes));
+                    printable(path.string()), size, kMaxSceneFileBytes));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open scene file", path.string()));
+  if (!in)
+    throw InputError(fmt::format("{}: cannot open scene file", printable(path.string())));
   std::string text(static_cast<std::size_t>(size), '\0');
   in.read(text.data(), static_cast<std::streamsize>(size));
   text.resize(static_cast<std::size_t>(in.gcount()));
