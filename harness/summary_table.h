@@ -10,6 +10,8 @@
 namespace nurbs {
 
 std::string summary_table(const std::vector<Record>& records);
+// One line counting each status present, in the Status order: "statuses: 5 ok, 1 crashed".
+std::string status_counts(const std::vector<Record>& records);
 // The deforming benchmark's view (records with extra phase "frame"): median frame time and its
 // parts, and whether the strategy updated its control points or was prepared again.
 std::string deforming_table(const std::vector<Record>& records);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/isolation.h"
 #include "reference/reference_evaluator.h"
 #include "reference/sampling.h"
 #include "reference/scalar.h"
@@ -41,6 +42,14 @@ struct EvalOptions {
 };
 int eval_command(const EvalOptions& options);
 
+// --isolation, --timeout, --device-timeout: how `run` and `recommend` survive their strategies
+// (harness/isolation.h).
+struct IsolationOptions {
+  std::string isolation = "process";
+  double timeout_s = 600;
+  double device_timeout_s = 60;
+};
+
 struct RunOptions {
   std::string scenes = "default";
   std::string strategies = "all";
@@ -57,6 +66,7 @@ struct RunOptions {
   std::string gl;      // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
   std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
+  IsolationOptions isolation;
 };
 int run_command(const RunOptions& options);
 
@@ -97,6 +107,7 @@ struct RecommendOptions {
   int degree = -1, surfaces = -1;  // -1: not given
   bool deforming = false, json = false;
   int repetitions = 3, threads = 0;
+  IsolationOptions isolation;
 };
 int recommend_command(const RecommendOptions& options);
 
@@ -120,6 +131,12 @@ std::vector<std::string> scene_list(const std::string& text);
 std::map<std::string, std::string> backend_extra(
     const std::string& gl, const std::string& device,
     const std::vector<std::string>& strategy_options = {});
+// The measure-child verb: one isolated measurement (harness/isolation.h); not for users.
+int measure_child_command(const std::string& directory);
+
+// Checks the isolation options and applies --device-timeout (process-wide, before any strategy).
+IsolationSettings isolation_settings(const IsolationOptions& options);
+
 // The thread setting shared by OpenMP, llvmpipe/lavapipe and PoCL; returns the count in force.
 int apply_thread_setting(int threads);
 

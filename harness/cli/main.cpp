@@ -12,6 +12,23 @@
 #include "harness/cli/commands.h"
 #include "reference/validation.h"
 
+namespace {
+
+void add_isolation_options(CLI::App* verb, nurbs::cli::IsolationOptions& options) {
+  verb->add_option("--isolation", options.isolation,
+                   "process (default: each measurement in its own process, so a crash or hang "
+                   "costs only its record) or none (in this process, for debugging)")
+      ->check(CLI::IsMember({"process", "none"}));
+  verb->add_option("--timeout", options.timeout_s,
+                   "seconds one measurement may take (setup, warm-up, repetitions) before its "
+                   "process group is killed and it is recorded timed_out (default 600)");
+  verb->add_option("--device-timeout", options.device_timeout_s,
+                   "seconds any single wait on a GL/Vulkan/OpenCL device may take before the "
+                   "strategy reports timed_out in that phase (default 60)");
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace nurbs::cli;
   CLI::App app{
@@ -91,6 +108,7 @@ int main(int argc, char** argv) {
                       "KEY=VALUE for the strategies that read KEY (repeatable), e.g. "
                       "vk-mode=adaptive, vk-eye=x,y,z, vk-center=x,y,z, vk-mu=4 (vk-ksquad)");
   run_cmd->add_option("--out", run.out, "output directory (default results/latest)");
+  add_isolation_options(run_cmd, run.isolation);
 
   LodOptions lod;
   auto* lod_cmd = app.add_subcommand(
@@ -162,6 +180,12 @@ int main(int argc, char** argv) {
                             "repetitions of the quick run (default 3)");
   recommend_cmd->add_option("--threads", recommend.threads, "threads of the quick run (0: all)");
   recommend_cmd->add_flag("--json", recommend.json, "machine-readable output");
+  add_isolation_options(recommend_cmd, recommend.isolation);
+
+  // Hidden (no group): the child process of one isolated measurement, started by run/recommend.
+  std::string measure_child_dir;
+  auto* measure_child_cmd = app.add_subcommand("measure-child", "")->group("");
+  measure_child_cmd->add_option("directory", measure_child_dir)->required();
 
   GbenchOptions gbench;
   auto* gbench_cmd = app.add_subcommand(
@@ -180,7 +204,8 @@ int main(int argc, char** argv) {
     const std::string first = argc > 1 ? argv[1] : "";
     // The verbs are the subcommands registered above: one list, never restated by hand.
     std::vector<std::string> verbs;
-    for (const CLI::App* verb : app.get_subcommands({})) verbs.push_back(verb->get_name());
+    for (const CLI::App* verb : app.get_subcommands({}))
+      if (!verb->get_group().empty()) verbs.push_back(verb->get_name());
     const bool known_verb = std::find(verbs.begin(), verbs.end(), first) != verbs.end();
     if (!first.empty() && first[0] != '-' && !known_verb) {
       std::cerr << "nurbsbench: error: unknown verb '" << argv[1]
@@ -205,6 +230,7 @@ int main(int argc, char** argv) {
     if (*report_cmd) return report_command(report);
     if (*recommend_cmd) return recommend_command(recommend);
     if (*gbench_cmd) return gbench_command(gbench);
+    if (*measure_child_cmd) return measure_child_command(measure_child_dir);
   } catch (const std::exception& e) {
     std::string message = e.what();
     std::replace(message.begin(), message.end(), '\n', ' ');

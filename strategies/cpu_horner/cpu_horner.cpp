@@ -104,7 +104,7 @@ class CpuHorner final : public Strategy {
     EvalResult out;
     out.surfaces.resize(samples_.size());
     for (std::size_t i = 0; i < samples_.size(); ++i)
-      out.surfaces[i] = {samples_[i], positions_[i], normals_[i]};
+      out.surfaces[i] = {samples_[i], positions_[i], normals_[i], {}};
     return out;
   }
 
