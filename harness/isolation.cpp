@@ -3,12 +3,16 @@
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <poll.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/socket.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
+#include <optional>
 #include <chrono>
 #include <csignal>
 #include <cstring>
@@ -154,7 +158,7 @@ json spec_to_json(const MeasurementSpec& spec) {
 MeasurementSpec spec_from_json(const json& j) {
   MeasurementSpec spec;
   spec.entry = find_strategy(j.at("strategy").get<std::string>());
-  if (!spec.entry) throw std::runtime_error("measure-child: unknown strategy in spec");
+  if (!spec.entry) throw std::runtime_error("measurement spec: unknown strategy");
   spec.options.threads = j.at("threads");
   spec.options.extra = j.at("extra").get<std::map<std::string, std::string>>();
   spec.request.sampling = sampling_from_json(j.at("sampling"));
@@ -197,6 +201,9 @@ class SpecDirectory {
   fs::path path_;
 };
 
+// The server's end of the socket, in the server process.
+constexpr int kServerFd = 3;
+
 // "SIGSEGV (Segmentation fault)".
 std::string signal_text(int sig) {
   const char* abbrev = ::sigabbrev_np(sig);
@@ -207,7 +214,8 @@ std::string signal_text(int sig) {
 
 struct ChildEnd {
   bool timed_out = false;
-  int status = 0;  // waitpid's, when not timed out
+  bool server_lost = false;  // the server died or stopped answering (not the measurement's doing)
+  int status = 0;            // waitpid's, when the child ended in time
 };
 
 // Waits for the child until the deadline; past it, kills the child's process group (the child and
@@ -217,7 +225,7 @@ ChildEnd wait_for(pid_t pid, double timeout_s) {
   const auto deadline = clock::now() + std::chrono::duration_cast<clock::duration>(
                                            std::chrono::duration<double>(timeout_s));
   // pidfd: sleeping in poll() until the child ends or the deadline passes, with no SIGCHLD handler
-  // (which would be process-wide state) and no polling latency added to every measurement.
+  // and no polling latency added to every measurement.
   const int pidfd = static_cast<int>(::syscall(SYS_pidfd_open, pid, 0));
   ChildEnd end;
   for (;;) {
@@ -232,7 +240,7 @@ ChildEnd wait_for(pid_t pid, double timeout_s) {
       if (ready > 0) break;
       if (ready < 0 && errno != EINTR) throw std::runtime_error("poll on the measurement failed");
     } else {
-      // Kernels before 5.3: no pidfd; a short sleep between looks.
+      // Kernels before 5.3 have no pidfd: a short sleep between looks.
       siginfo_t info{};
       if (::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
           info.si_pid == pid)
@@ -248,36 +256,131 @@ ChildEnd wait_for(pid_t pid, double timeout_s) {
   return end;
 }
 
+// One line from fd (without '\n'); nullopt at end of file or error.
+std::optional<std::string> read_line(int fd) {
+  std::string line;
+  char c = 0;
+  for (;;) {
+    const ssize_t n = ::read(fd, &c, 1);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return std::nullopt;
+    if (c == '\n') return line;
+    line += c;
+  }
+}
+
+bool write_all(int fd, std::string_view text) {
+  while (!text.empty()) {
+    const ssize_t n = ::write(fd, text.data(), text.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    text.remove_prefix(static_cast<std::size_t>(n));
+  }
+  return true;
+}
+
+// The measurement server. Why a server and not one fork + exec per measurement: starting this
+// binary costs about 0.1 s of CPU (it links some 270 shared libraries: OpenCASCADE, OpenImageIO,
+// the GPU drivers' loaders), wall seconds on a loaded machine, which would dominate a 16x16
+// measurement. Why not a bare fork of the run itself: its OpenMP pool (the reference) and any
+// driver threads do not exist in a forked child, whose next parallel region or driver call can
+// hang. So the run fork + execs this binary once (`measure-server`), before the server has run a
+// parallel region or touched a driver, and the server forks one child per measurement from that
+// clean, single-threaded state (Android's zygote, Python's forkserver). The watchdog runs in the
+// server; the run waits for the server's one-line answer, with a margin, in case the server
+// itself is lost.
+class MeasurementServer {
+ public:
+  ~MeasurementServer() { stop(); }
+
+  ChildEnd measure(const fs::path& executable, const fs::path& directory, double timeout_s) {
+    if (pid_ <= 0) start(executable);
+    ChildEnd end;
+    if (!write_all(socket_, fmt::format("{}\t{}\n", directory.string(), timeout_s))) {
+      stop();
+      end.server_lost = true;
+      return end;
+    }
+    pollfd p{socket_, POLLIN, 0};
+    const double margin_s = 30;
+    const int ready = ::poll(&p, 1, static_cast<int>(std::min(timeout_s + margin_s, 2e6) * 1000));
+    const auto answer = ready > 0 ? read_line(socket_) : std::nullopt;
+    if (!answer) {
+      stop();
+      end.server_lost = true;
+    } else if (*answer == "timed_out") {
+      end.timed_out = true;
+    } else {
+      end.status = std::stoi(*answer);
+    }
+    return end;
+  }
+
+ private:
+  void start(const fs::path& executable) {
+    int pair[2];
+    if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, pair) != 0)
+      throw std::runtime_error(fmt::format("socketpair: {}", std::strerror(errno)));
+    const std::string path = executable.string();
+    const std::string fd_text = std::to_string(kServerFd);
+    std::vector<char*> argv = {const_cast<char*>("nurbsbench"),
+                               const_cast<char*>("measure-server"),
+                               const_cast<char*>(fd_text.c_str()), nullptr};
+    const pid_t pid = ::fork();
+    if (pid < 0) throw std::runtime_error(fmt::format("fork: {}", std::strerror(errno)));
+    if (pid == 0) {
+      // Only async-signal-safe calls between fork and exec. The server dies with the run; its
+      // stdout goes to stderr so a verb's own output (recommend --json) stays clean.
+      // Its own process group, so stop() can kill it like a measurement.
+      ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+      ::setpgid(0, 0);
+      // dup2 clears close-on-exec on the copy; when the end already is kServerFd, fcntl does.
+      if (pair[1] == kServerFd)
+        ::fcntl(kServerFd, F_SETFD, 0);
+      else
+        ::dup2(pair[1], kServerFd);
+      ::dup2(STDERR_FILENO, STDOUT_FILENO);
+      ::execv(path.c_str(), argv.data());
+      ::_exit(127);
+    }
+    ::close(pair[1]);
+    socket_ = pair[0];
+    pid_ = pid;
+  }
+
+  void stop() {
+    if (socket_ >= 0) ::close(socket_);  // the server reads end of file and exits
+    socket_ = -1;
+    // A server that read end of file exits on its own; one that does not is killed.
+    if (pid_ > 0) wait_for(pid_, 5);
+    pid_ = -1;
+  }
+
+  int socket_ = -1;
+  pid_t pid_ = -1;
+};
+
+// One per process: the run's measurements share it.
+MeasurementServer& measurement_server() {
+  static MeasurementServer server;
+  return server;
+}
+
 Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpec& spec,
                         const Scene& scene, ReferenceCache& references) {
   Record r = spec_record(spec, scene);
   SpecDirectory dir;
   write_file_atomically(dir.path() / "scene.json", scene_to_json(scene));
   write_file_atomically(dir.path() / "spec.json", spec_to_json(spec).dump());
-
-  const std::string executable = isolation.executable.string();
-  const std::string directory = dir.path().string();
-  std::vector<char*> argv = {const_cast<char*>("nurbsbench"), const_cast<char*>("measure-child"),
-                             const_cast<char*>(directory.c_str()), nullptr};
-  const pid_t pid = ::fork();
-  if (pid < 0) throw std::runtime_error(fmt::format("fork: {}", std::strerror(errno)));
-  if (pid == 0) {
-    // Only async-signal-safe calls between fork and exec. Its own process group, so the watchdog
-    // kills the drivers' helpers with it; no core files from the crashes a benchmark of drivers
-    // expects (--isolation none reproduces one under a debugger); stdout to stderr, so a verb's
-    // own output (recommend --json) stays clean.
-    ::setpgid(0, 0);
-    const rlimit no_core{0, 0};
-    ::setrlimit(RLIMIT_CORE, &no_core);
-    ::dup2(STDERR_FILENO, STDOUT_FILENO);
-    ::execv(executable.c_str(), argv.data());
-    ::_exit(127);
-  }
-  // Both sides set the group: whichever runs first, the watchdog's kill(-pid) finds it.
-  ::setpgid(pid, pid);
-  const ChildEnd end = wait_for(pid, isolation.timeout_s);
+  const ChildEnd end =
+      measurement_server().measure(isolation.executable, dir.path(), isolation.timeout_s);
   const std::string phase = read_phase_board(dir.path() / "phase");
   const std::string in_phase = phase.empty() ? "before any phase" : "in " + phase;
+  if (end.server_lost) {
+    r.status = Status::failed;
+    r.reason = fmt::format("the measurement server was lost {}", in_phase);
+    return r;
+  }
   if (end.timed_out) {
     r.status = Status::timed_out;
     r.reason = fmt::format("no answer within {:g} s (--timeout) {}", isolation.timeout_s, in_phase);
@@ -306,6 +409,27 @@ Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpe
       score_measurement(*spec.entry, scene, spec.request, result, references, r);
   }
   return r;
+}
+
+// In a fresh fork of the server: one measurement, then _exit (the server's own state, copied,
+// is not this process's to tear down; the record is already on disk).
+[[noreturn]] void run_measurement_child(int socket, const std::string& directory) {
+  ::close(socket);
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+  // Its own process group, so the watchdog kills the drivers' helpers with it; no core files from
+  // the crashes a benchmark of drivers expects (--isolation none reproduces one in a debugger).
+  ::setpgid(0, 0);
+  const rlimit no_core{0, 0};
+  ::setrlimit(RLIMIT_CORE, &no_core);
+  int code = 0;
+  try {
+    code = measure_child(directory);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "nurbsbench: measurement: %s\n", e.what());
+    code = 2;
+  }
+  std::fflush(nullptr);
+  ::_exit(code);
 }
 
 }  // namespace
@@ -351,6 +475,26 @@ Record measure_with(const IsolationSettings& isolation, const MeasurementSpec& s
                                  spec.deforming_frames, references.precision())
              : measure(*spec.entry, spec.options, scene, spec.request, spec.repetitions,
                        references);
+}
+
+int measure_server(int socket) {
+  for (;;) {
+    const auto request = read_line(socket);
+    if (!request) return 0;
+    const std::size_t tab = request->find('\t');
+    if (tab == std::string::npos) return 2;
+    const std::string directory = request->substr(0, tab);
+    const double timeout_s = std::stod(request->substr(tab + 1));
+    const pid_t pid = ::fork();
+    if (pid < 0) return 2;
+    if (pid == 0) run_measurement_child(socket, directory);
+    // Both sides set the group: whichever runs first, the watchdog's kill(-pid) finds it.
+    ::setpgid(pid, pid);
+    const ChildEnd end = wait_for(pid, timeout_s);
+    if (!write_all(socket, end.timed_out ? std::string("timed_out\n")
+                                         : fmt::format("{}\n", end.status)))
+      return 0;
+  }
 }
 
 int measure_child(const fs::path& directory) {

@@ -3,12 +3,9 @@
 // repetitions -- runs in a child process under a watchdog, so a strategy that crashes or hangs
 // costs only its own record. The parent keeps the results files, the reference cache and the
 // progress display; the child runs the strategy's half of the runner (time_measurement) and hands
-// back its record and raw result, which the parent scores (score_measurement).
-//
-// Why fork + exec of the same binary (the hidden `measure-child DIR` verb) and not a bare fork: the
-// parent has run OpenMP regions (the reference) and may have loaded GL/Vulkan/OpenCL drivers, and
-// neither libgomp's thread pool nor a driver's threads exist in a forked child -- its next parallel
-// region or driver call can hang. A fresh image has none of that state.
+// back its record and raw result through a private directory, which the parent scores
+// (score_measurement). The children are forked by a measurement server, this binary exec'd once
+// per run (isolation.cpp says why).
 #pragma once
 
 #include <filesystem>
@@ -29,7 +26,7 @@ struct IsolationSettings {
   // The watchdog: the whole measurement (setup, warm-up, repetitions, read back) must end within
   // this; then its process group is killed and the record is timed_out.
   double timeout_s = 600;
-  // The binary that understands `measure-child` (this one: /proc/self/exe).
+  // The binary that understands the hidden `measure-server` verb (this one: /proc/self/exe).
   std::filesystem::path executable = "/proc/self/exe";
 };
 
@@ -48,7 +45,12 @@ struct MeasurementSpec {
 Record measure_with(const IsolationSettings& isolation, const MeasurementSpec& spec,
                     const Scene& scene, ReferenceCache& references);
 
-// The child's side (the `measure-child DIR` verb): reads DIR/spec.json and DIR/scene.json, runs
+// The server (the hidden `measure-server FD` verb): per request line "DIR\tTIMEOUT" on FD, forks a
+// child that runs measure_child(DIR), waits at most TIMEOUT seconds (then kills its process
+// group), answers "timed_out" or the child's wait status. Returns at end of file.
+int measure_server(int socket);
+
+// The child's side: reads DIR/spec.json and DIR/scene.json, runs
 // the strategy's half, writes DIR/record.json and, when there is something to score,
 // DIR/result.bin. Exit code 0 whenever the record was written, whatever its status.
 int measure_child(const std::filesystem::path& directory);

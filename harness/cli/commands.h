@@ -131,9 +131,6 @@ std::vector<std::string> scene_list(const std::string& text);
 std::map<std::string, std::string> backend_extra(
     const std::string& gl, const std::string& device,
     const std::vector<std::string>& strategy_options = {});
-// The measure-child verb: one isolated measurement (harness/isolation.h); not for users.
-int measure_child_command(const std::string& directory);
-
 // Checks the isolation options and applies --device-timeout (process-wide, before any strategy).
 IsolationSettings isolation_settings(const IsolationOptions& options);
 

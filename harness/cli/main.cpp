@@ -182,10 +182,10 @@ int main(int argc, char** argv) {
   recommend_cmd->add_flag("--json", recommend.json, "machine-readable output");
   add_isolation_options(recommend_cmd, recommend.isolation);
 
-  // Hidden (no group): the child process of one isolated measurement, started by run/recommend.
-  std::string measure_child_dir;
-  auto* measure_child_cmd = app.add_subcommand("measure-child", "")->group("");
-  measure_child_cmd->add_option("directory", measure_child_dir)->required();
+  // Hidden (no group): the process that forks isolated measurements, started by run/recommend.
+  int measure_server_fd = -1;
+  auto* measure_server_cmd = app.add_subcommand("measure-server", "")->group("");
+  measure_server_cmd->add_option("fd", measure_server_fd)->required();
 
   GbenchOptions gbench;
   auto* gbench_cmd = app.add_subcommand(
@@ -230,7 +230,7 @@ int main(int argc, char** argv) {
     if (*report_cmd) return report_command(report);
     if (*recommend_cmd) return recommend_command(recommend);
     if (*gbench_cmd) return gbench_command(gbench);
-    if (*measure_child_cmd) return measure_child_command(measure_child_dir);
+    if (*measure_server_cmd) return nurbs::measure_server(measure_server_fd);
   } catch (const std::exception& e) {
     std::string message = e.what();
     std::replace(message.begin(), message.end(), '\n', ' ');

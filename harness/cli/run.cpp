@@ -66,10 +66,6 @@ IsolationSettings isolation_settings(const IsolationOptions& options) {
   return settings;
 }
 
-int measure_child_command(const std::string& directory) {
-  return measure_child(directory);
-}
-
 int run_command(const RunOptions& options) {
   // Everything the run needs is checked before the output directory is touched.
   const IsolationSettings isolation = isolation_settings(options.isolation);
