@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -25,6 +26,12 @@ class DeviceTimeout : public std::runtime_error {
 inline double& device_wait_limit_s() {
   static double seconds = 60;
   return seconds;
+}
+
+// The limit as the nanosecond timeouts of vkWaitForFences and glClientWaitSync take it.
+inline std::uint64_t device_wait_limit_ns() {
+  const double ns = device_wait_limit_s() * 1e9;
+  return ns >= 1.8e19 ? UINT64_MAX : static_cast<std::uint64_t>(ns);
 }
 
 inline std::chrono::steady_clock::time_point device_wait_deadline() {
