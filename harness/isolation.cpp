@@ -11,13 +11,13 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstdio>
-#include <optional>
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -183,8 +183,7 @@ class SpecDirectory {
  public:
   SpecDirectory() {
     const char* base = std::getenv("TMPDIR");
-    std::string pattern =
-        std::string(base && *base ? base : "/tmp") + "/nurbsbench-measure-XXXXXX";
+    std::string pattern = std::string(base && *base ? base : "/tmp") + "/nurbsbench-measure-XXXXXX";
     if (!::mkdtemp(pattern.data()))
       throw std::runtime_error(fmt::format("{}: cannot create: {}", pattern, std::strerror(errno)));
     path_ = pattern;
@@ -229,7 +228,8 @@ ChildEnd wait_for(pid_t pid, double timeout_s) {
   const int pidfd = static_cast<int>(::syscall(SYS_pidfd_open, pid, 0));
   ChildEnd end;
   for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - clock::now());
     if (left.count() <= 0) {
       end.timed_out = true;
       break;
@@ -323,8 +323,7 @@ class MeasurementServer {
       throw std::runtime_error(fmt::format("socketpair: {}", std::strerror(errno)));
     const std::string path = executable.string();
     const std::string fd_text = std::to_string(kServerFd);
-    std::vector<char*> argv = {const_cast<char*>("nurbsbench"),
-                               const_cast<char*>("measure-server"),
+    std::vector<char*> argv = {const_cast<char*>("nurbsbench"), const_cast<char*>("measure-server"),
                                const_cast<char*>(fd_text.c_str()), nullptr};
     const pid_t pid = ::fork();
     if (pid < 0) throw std::runtime_error(fmt::format("fork: {}", std::strerror(errno)));
@@ -394,8 +393,8 @@ Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpe
   const fs::path record_file = dir.path() / "record.json";
   if (WEXITSTATUS(end.status) != 0 || !fs::exists(record_file)) {
     r.status = Status::failed;
-    r.reason = fmt::format("measurement process exited with status {} {}",
-                           WEXITSTATUS(end.status), in_phase);
+    r.reason = fmt::format("measurement process exited with status {} {}", WEXITSTATUS(end.status),
+                           in_phase);
     return r;
   }
   r = record_from_json(json::parse(read_file(record_file)));
@@ -491,8 +490,8 @@ int measure_server(int socket) {
     // Both sides set the group: whichever runs first, the watchdog's kill(-pid) finds it.
     ::setpgid(pid, pid);
     const ChildEnd end = wait_for(pid, timeout_s);
-    if (!write_all(socket, end.timed_out ? std::string("timed_out\n")
-                                         : fmt::format("{}\n", end.status)))
+    if (!write_all(socket,
+                   end.timed_out ? std::string("timed_out\n") : fmt::format("{}\n", end.status)))
       return 0;
   }
 }

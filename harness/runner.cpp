@@ -181,9 +181,9 @@ Record measure_deforming(const StrategyEntry& entry, const StrategyOptions& opti
   return r;
 }
 
-std::optional<EvalResult> time_deforming(const StrategyEntry& entry,
-                                         const StrategyOptions& options, const Scene& scene,
-                                         const EvalRequest& request, int frames, Record& r) {
+std::optional<EvalResult> time_deforming(const StrategyEntry& entry, const StrategyOptions& options,
+                                         const Scene& scene, const EvalRequest& request, int frames,
+                                         Record& r) {
   announce_phase("probe");
   if (!runnable(entry, scene, request, r)) return std::nullopt;
   std::optional<EvalResult> last;
@@ -231,8 +231,8 @@ void score_deforming(const StrategyEntry& entry, const Scene& scene, const EvalR
                      Record& r) {
   guarded(r, [&] {
     // The reference of the last frame's control points, computed here.
-    score(entry, deformed_scene(scene, frames), request,
-          sample_parameters(scene, request.sampling), result, nullptr, reference_precision, r);
+    score(entry, deformed_scene(scene, frames), request, sample_parameters(scene, request.sampling),
+          result, nullptr, reference_precision, r);
   });
 }
 

@@ -56,9 +56,9 @@ Record measurement_record(const StrategyEntry& entry, const Scene& scene,
 std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
                                            const StrategyOptions& options, const Scene& scene,
                                            const EvalRequest& request, int repetitions, Record& r);
-std::optional<EvalResult> time_deforming(const StrategyEntry& entry,
-                                         const StrategyOptions& options, const Scene& scene,
-                                         const EvalRequest& request, int frames, Record& r);
+std::optional<EvalResult> time_deforming(const StrategyEntry& entry, const StrategyOptions& options,
+                                         const Scene& scene, const EvalRequest& request, int frames,
+                                         Record& r);
 // The harness's half: accuracy against the reference, throughput, status.
 void score_measurement(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
                        const EvalResult& result, ReferenceCache& references, Record& r);

@@ -32,10 +32,10 @@ constexpr std::array<std::string_view, 4> kFaultKinds = {"crash", "hang", "throw
 std::optional<InjectedFault> parse_fault(std::string_view text) {
   if (text.empty()) return std::nullopt;
   auto fail = [&](std::string_view rule) {
-    throw InputError(fmt::format("{}={}: {} (expected <strategy>:<phase>:<kind>, phase one of {}, "
-                                 "kind one of {})",
-                                 kFaultVariable, text, rule, fmt::join(kFaultPhases, "|"),
-                                 fmt::join(kFaultKinds, "|")));
+    throw InputError(fmt::format(
+        "{}={}: {} (expected <strategy>:<phase>:<kind>, phase one of {}, "
+        "kind one of {})",
+        kFaultVariable, text, rule, fmt::join(kFaultPhases, "|"), fmt::join(kFaultKinds, "|")));
   };
   const std::size_t first = text.find(':');
   const std::size_t second = first == std::string_view::npos ? first : text.find(':', first + 1);

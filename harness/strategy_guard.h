@@ -38,6 +38,7 @@ const std::optional<InjectedFault>& injected_fault();
 
 // entry.create(options) behind the wrapper; announces "setup" first (the factory builds contexts
 // and compiles shaders).
-std::unique_ptr<Strategy> create_guarded(const StrategyEntry& entry, const StrategyOptions& options);
+std::unique_ptr<Strategy> create_guarded(const StrategyEntry& entry,
+                                         const StrategyOptions& options);
 
 }  // namespace nurbs

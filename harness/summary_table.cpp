@@ -48,7 +48,8 @@ std::string status_counts(const std::vector<Record>& records) {
                                  [status](const Record& r) { return r.status == status; });
     if (n > 0) parts.push_back(fmt::format("{} {}", n, to_string(status)));
   }
-  return fmt::format("statuses: {}\n", parts.empty() ? "none" : fmt::format("{}", fmt::join(parts, ", ")));
+  return fmt::format("statuses: {}\n",
+                     parts.empty() ? "none" : fmt::format("{}", fmt::join(parts, ", ")));
 }
 
 std::string deforming_table(const std::vector<Record>& records) {

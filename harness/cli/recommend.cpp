@@ -63,11 +63,10 @@ std::vector<Record> measure_workload(const RecommendOptions& o, const Scene& sce
   for (const StrategyEntry& entry : strategy_registry()) {
     std::cerr << fmt::format("measuring {} on {} ({})...\n", entry.name, scene.name,
                              sampling.label());
-    records.push_back(measure_with(
-        isolation,
-        {&entry, StrategyOptions{threads, {}}, EvalRequest{sampling, precision, false},
-         o.repetitions, 0},
-        scene, references));
+    records.push_back(measure_with(isolation,
+                                   {&entry, StrategyOptions{threads, {}},
+                                    EvalRequest{sampling, precision, false}, o.repetitions, 0},
+                                   scene, references));
   }
   return records;
 }

@@ -129,10 +129,9 @@ int run_command(const RunOptions& options) {
         EvalRequest request{sampling, precision, options.normals};
         const StrategyOptions strategy_options{
             threads, backend_extra(options.gl, options.device, options.strategy_options)};
-        writer.append(measure_with(isolation,
-                                   {entry, strategy_options, request, options.repetitions,
-                                    options.deforming},
-                                   scene, references));
+        writer.append(measure_with(
+            isolation, {entry, strategy_options, request, options.repetitions, options.deforming},
+            scene, references));
       }
     }
   if (progress) std::cerr << "\r\x1b[K";

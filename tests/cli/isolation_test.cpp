@@ -19,10 +19,9 @@ const std::vector<std::string> kStrategies = {"cpu-coxdeboor", "cpu-bezier", "cp
 const std::vector<std::string> kScenes = {"patch144", "tan16"};
 
 std::vector<std::string> issue_run(std::vector<std::string> extra = {}) {
-  std::vector<std::string> args = {"--scenes",      "patch144,tan16", "--strategies",
-                                   "cpu-coxdeboor,cpu-bezier,cpu-tensor",
-                                   "--samples",     "16x16",          "--repetitions",
-                                   "1"};
+  std::vector<std::string> args = {
+      "--scenes",  "patch144,tan16", "--strategies",  "cpu-coxdeboor,cpu-bezier,cpu-tensor",
+      "--samples", "16x16",          "--repetitions", "1"};
   args.insert(args.end(), extra.begin(), extra.end());
   return args;
 }
@@ -39,11 +38,11 @@ TEST(Isolation, CrashCostsOnlyItsOwnRecords) {
 
 TEST(Isolation, HangIsKilledByTheWatchdogAndNamesThePhase) {
   TempDir tmp;
-  const FaultRun run = run_with_fault(
-      "cpu-bezier:read_back:hang",
-      {"--scenes", "patch144", "--strategies", "cpu-coxdeboor,cpu-bezier,cpu-tensor", "--samples",
-       "16x16", "--repetitions", "1", "--timeout", "2"},
-      tmp);
+  const FaultRun run =
+      run_with_fault("cpu-bezier:read_back:hang",
+                     {"--scenes", "patch144", "--strategies", "cpu-coxdeboor,cpu-bezier,cpu-tensor",
+                      "--samples", "16x16", "--repetitions", "1", "--timeout", "2"},
+                     tmp);
   expect_only_faulty(run, kStrategies, {"patch144"}, "cpu-bezier", "timed_out",
                      {"within 2 s", "in read_back"});
   EXPECT_NE(run.cli.out.find("statuses: 2 ok, 1 timed_out\n"), std::string::npos) << run.cli.out;
@@ -87,15 +86,16 @@ TEST(Isolation, NanIsOkWithInfiniteErrorAndFailsItsGate) {
 
 TEST(Isolation, CheckTreatsCrashedAndTimedOutAsViolations) {
   TempDir tmp;
-  const FaultRun run = run_with_fault(
-      "cpu-bezier:evaluate:crash",
-      {"--scenes", "patch144", "--strategies", "cpu-coxdeboor,cpu-bezier", "--samples", "8x8",
-       "--repetitions", "1"},
-      tmp);
+  const FaultRun run =
+      run_with_fault("cpu-bezier:evaluate:crash",
+                     {"--scenes", "patch144", "--strategies", "cpu-coxdeboor,cpu-bezier",
+                      "--samples", "8x8", "--repetitions", "1"},
+                     tmp);
   ASSERT_EQ(run.cli.exit_code, 0) << run.cli.err;
   const std::string gates = tmp / "gates.json";
   const std::string results = (tmp.path() / "results").string();
-  write_text(gates, R"([{"strategy": "cpu-coxdeboor", "scene": "*", "metric": "max_ulp", "max": 64}])");
+  write_text(gates,
+             R"([{"strategy": "cpu-coxdeboor", "scene": "*", "metric": "max_ulp", "max": 64}])");
   EXPECT_EQ(run_cli({"check", "--gates", gates, "--results", results}).exit_code, 0);
   write_text(gates, R"([{"strategy": "cpu-*", "scene": "*", "metric": "max_ulp", "max": 64}])");
   const CliResult check = run_cli({"check", "--gates", gates, "--results", results});
@@ -110,11 +110,10 @@ TEST(Isolation, CheckTreatsCrashedAndTimedOutAsViolations) {
 // The deforming benchmark goes through the same isolation; its update phase is named.
 TEST(Isolation, DeformingRunIsIsolatedToo) {
   TempDir tmp;
-  const FaultRun run = run_with_fault(
-      "cpu-bezier:update:crash",
-      {"--deforming", "2", "--scenes", "patch144", "--strategies", "cpu-bezier,cpu-coxdeboor",
-       "--samples", "8x8"},
-      tmp);
+  const FaultRun run = run_with_fault("cpu-bezier:update:crash",
+                                      {"--deforming", "2", "--scenes", "patch144", "--strategies",
+                                       "cpu-bezier,cpu-coxdeboor", "--samples", "8x8"},
+                                      tmp);
   expect_only_faulty(run, {"cpu-bezier", "cpu-coxdeboor"}, {"patch144"}, "cpu-bezier", "crashed",
                      {"in update"});
   EXPECT_EQ(run.records.at("cpu-coxdeboor patch144")["figures"]["frames"], 2);
@@ -123,9 +122,9 @@ TEST(Isolation, DeformingRunIsIsolatedToo) {
 // --isolation none is today's in-process mode: the same records, statuses and accuracy.
 TEST(Isolation, InProcessModeGivesTheSameMeasurement) {
   TempDir a, b;
-  const std::vector<std::string> args = {"--scenes", "patch144", "--strategies",
-                                         "cpu-coxdeboor,cpu-bezier", "--samples", "8x8",
-                                         "--repetitions", "1"};
+  const std::vector<std::string> args = {
+      "--scenes",  "patch144", "--strategies",  "cpu-coxdeboor,cpu-bezier",
+      "--samples", "8x8",      "--repetitions", "1"};
   std::vector<std::string> none = args;
   none.insert(none.end(), {"--isolation", "none"});
   const FaultRun isolated = run_with_fault("", args, a);

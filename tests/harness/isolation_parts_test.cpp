@@ -4,12 +4,11 @@
 // strategies/device_wait.h).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <cmath>
-#include <filesystem>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -74,12 +73,14 @@ TEST(ResultTransfer, RoundTripIsExact) {
     ASSERT_EQ(a.positions.precision(), b.positions.precision());
     ASSERT_EQ(a.positions.size(), b.positions.size());
     ASSERT_EQ(a.normals.size(), b.normals.size());
-    const std::size_t bytes = a.positions.size() * 3 *
-                              (a.positions.precision() == Precision::f32 ? 4 : 8);
-    const void* pa = a.positions.precision() == Precision::f32 ? static_cast<const void*>(a.positions.f32())
-                                                               : a.positions.f64();
-    const void* pb = b.positions.precision() == Precision::f32 ? static_cast<const void*>(b.positions.f32())
-                                                               : b.positions.f64();
+    const std::size_t bytes =
+        a.positions.size() * 3 * (a.positions.precision() == Precision::f32 ? 4 : 8);
+    const void* pa = a.positions.precision() == Precision::f32
+                         ? static_cast<const void*>(a.positions.f32())
+                         : a.positions.f64();
+    const void* pb = b.positions.precision() == Precision::f32
+                         ? static_cast<const void*>(b.positions.f32())
+                         : b.positions.f64();
     EXPECT_EQ(std::memcmp(pa, pb, bytes), 0) << "surface " << i;
   }
   EXPECT_EQ(out.surfaces[1].normals[1][2], 1.0);
@@ -97,9 +98,7 @@ TEST(ResultTransfer, TruncatedOrForeignFilesAreErrors) {
   const auto size = fs::file_size(file.path());
   fs::resize_file(file.path(), size - 1);
   EXPECT_THROW(read_eval_result(file.path()), std::runtime_error);
-  {
-    std::ofstream(file.path()) << "not a result";
-  }
+  { std::ofstream(file.path()) << "not a result"; }
   EXPECT_THROW(read_eval_result(file.path()), std::runtime_error);
 }
 
@@ -136,8 +135,8 @@ TEST(Status, CommittedResultsStillParse) {
   const ResultsFile file =
       read_results(fs::path(NURBSBENCH_SOURCE_DIR) / "results/amd-epyc-2t/accuracy");
   ASSERT_FALSE(file.records.empty());
-  const nlohmann::json raw = nlohmann::json::parse(std::ifstream(
-      fs::path(NURBSBENCH_SOURCE_DIR) / "results/amd-epyc-2t/accuracy/results.json"));
+  const nlohmann::json raw = nlohmann::json::parse(
+      std::ifstream(fs::path(NURBSBENCH_SOURCE_DIR) / "results/amd-epyc-2t/accuracy/results.json"));
   ASSERT_EQ(raw["records"].size(), file.records.size());
   for (std::size_t k = 0; k < file.records.size(); ++k)
     EXPECT_EQ(to_string(file.records[k].status), raw["records"][k]["status"].get<std::string>());
@@ -146,7 +145,7 @@ TEST(Status, CommittedResultsStillParse) {
 TEST(StatusCounts, EveryStatusPresentInOrder) {
   const std::vector<Record> records = {
       record_of("a", Status::timed_out, ""), record_of("b", Status::ok, ""),
-      record_of("c", Status::crashed, ""),   record_of("d", Status::ok, ""),
+      record_of("c", Status::crashed, ""), record_of("d", Status::ok, ""),
       record_of("e", Status::refused, "")};
   EXPECT_EQ(status_counts(records), "statuses: 2 ok, 1 refused, 1 crashed, 1 timed_out\n");
   EXPECT_EQ(status_counts({}), "statuses: none\n");
@@ -202,7 +201,9 @@ TEST(DeviceWait, ExpiredWaitIsTimedOutInItsPhase) {
   const StrategyEntry entry{"lost-device",
                             "test",
                             "strategy",
-                            [] { return Availability{true, ""}; },
+                            [] {
+                              return Availability{true, ""};
+                            },
                             [] { return Capabilities{}; },
                             [](const StrategyOptions&) -> std::unique_ptr<Strategy> {
                               return std::make_unique<LostDevice>();
