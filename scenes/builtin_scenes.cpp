@@ -12,6 +12,7 @@
 
 #include "reference/validation.h"
 #include "scenes/scene_json.h"
+#include "scenes/trimmed_plate.h"
 
 namespace nurbs {
 namespace embedded {
@@ -268,6 +269,10 @@ const std::vector<std::pair<BuiltinSceneInfo, Generator>>& generators() {
         [] { return embedded_scene("teapot", embedded::teapot_json); });
     add("duck", "the classic three-surface NURBS duck (real data: rational, seams, poles)",
         [] { return embedded_scene("duck", embedded::duck_json); });
+    add("trimmed-plate",
+        "bicubic plate trimmed to a rounded rectangle with a circular hole (exact rational "
+        "trim curves, inside area known)",
+        [] { return trimmed_plate_scene(); });
     return g;
   }();
   return list;

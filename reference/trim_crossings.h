@@ -1,0 +1,251 @@
+// The exact part of trimming: where the trim loops cross the line v = const, computed on the
+// curves themselves. Each trim curve is decomposed into rational Bézier pieces (The NURBS Book A5.6
+// in homogeneous 2D, shared with the surface decomposition); on each piece the roots of
+// g(t) = w(t)·(v(t) − v) = Σ B_i(t)·(w_i·v_i − v·w_i) are isolated by Bernstein subdivision
+// (Descartes' rule of signs holds for Bernstein coefficients: no sign variation, no root; one
+// variation, exactly one root) and refined by bisection in the scalar T. Templated on T so the
+// reference runs it in long double and a double evaluator (cpu-coxdeboor) runs the same code.
+//
+// Counting rule (even-odd with a half-open convention, which makes tangencies and vertices on the
+// line exact): a point of a loop is "above" when g >= 0. Along every loop the above/below state is
+// tracked: at each piece's ends (from its end coefficients), between consecutive roots (from g at
+// the midpoint) and across the junction to the next piece; every change of state is an event at
+// the u where it happens. A sample (u, v) is inside when an odd number of events lie at u' > u.
+// A tangency gives two events at the same u (no parity change); a piece lying on the line is
+// "above" throughout, so the line is crossed once where the loop arrives from below or leaves
+// downwards. Consecutive pieces that do not meet exactly (loops are closed within
+// Trim::tolerance) are joined by the straight segment between their ends: a junction whose two
+// states differ gives one event on that segment, so every loop is exactly closed for counting.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "reference/bezier_decomposition.h"
+#include "reference/nurbs_math.h"
+#include "reference/trim.h"
+
+namespace nurbs {
+
+// One rational Bézier piece of a trim curve: homogeneous points (w·u, w·v, w).
+template <typename T>
+struct TrimPiece {
+  int degree = 0;
+  std::array<std::array<T, 3>, kMaxOrder> h{};
+};
+
+// Every loop of a trim as pieces in loop order; consecutive pieces (and the last with the first)
+// meet within the trim's tolerance.
+template <typename T>
+struct TrimPieces {
+  std::vector<std::vector<TrimPiece<T>>> loops;
+};
+
+namespace trim_detail {
+
+// Bernstein coefficients c[0..n] evaluated at s (de Casteljau; stable for s in [0, 1]).
+template <typename T>
+T bernstein_value(const T* c, int n, T s) {
+  T work[kMaxOrder] = {};
+  for (int i = 0; i <= n && i < kMaxOrder; ++i) work[i] = c[i];
+  for (int r = 1; r <= n; ++r)
+    for (int i = 0; i <= n - r; ++i) work[i] = (T(1) - s) * work[i] + s * work[i + 1];
+  return work[0];
+}
+
+// The coefficients of the halves [0, 1/2] and [1/2, 1]; left[n] == right[0] == value at 1/2.
+template <typename T>
+void bernstein_halves(const T* c, int n, T* left, T* right) {
+  T work[kMaxOrder] = {};
+  for (int i = 0; i <= n && i < kMaxOrder; ++i) work[i] = c[i];
+  left[0] = work[0];
+  right[n] = work[n];
+  for (int r = 1; r <= n; ++r) {
+    for (int i = 0; i <= n - r; ++i) work[i] = (work[i] + work[i + 1]) / T(2);
+    left[r] = work[0];
+    right[n - r] = work[n - r];
+  }
+}
+
+template <typename T>
+int sign_of(T x) {
+  return (x > T(0)) - (x < T(0));
+}
+
+// Sign variations of the non-zero coefficients.
+template <typename T>
+int sign_variations(const T* c, int n) {
+  int variations = 0, last = 0;
+  for (int i = 0; i <= n; ++i) {
+    const int s = sign_of(c[i]);
+    if (s == 0) continue;
+    if (last != 0 && s != last) ++variations;
+    last = s;
+  }
+  return variations;
+}
+
+// The one sign-changing root of c on (0, 1) when sign_variations(c) == 1, by bisection until the
+// interval cannot shrink in T.
+template <typename T>
+T bisect_single_root(const T* c, int n) {
+  int first = 0, last = n;
+  while (c[first] == T(0)) ++first;
+  while (c[last] == T(0)) --last;
+  const int sign_low = sign_of(c[first]);
+  T lo = 0, hi = 1;
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    const T mid = (lo + hi) / T(2);
+    if (!(mid > lo && mid < hi)) break;
+    const int s = sign_of(bernstein_value(c, n, mid));
+    if (s == 0) return mid;
+    (s == sign_low ? lo : hi) = mid;
+  }
+  return (lo + hi) / T(2);
+}
+
+// Subdivision depth at which a cluster of roots (a tangency) is taken as one candidate: 2^-48 of
+// a piece's parameter range.
+inline constexpr int kMaxIsolationDepth = 48;
+
+// Candidate roots of c on the open interval (t0, t1), in increasing order.
+template <typename T>
+void isolate_roots(const T* c, int n, T t0, T t1, int depth, std::vector<T>& roots) {
+  const int variations = sign_variations(c, n);
+  if (variations == 0) return;
+  if (variations == 1) {
+    roots.push_back(t0 + (t1 - t0) * bisect_single_root(c, n));
+    return;
+  }
+  const T mid = (t0 + t1) / T(2);
+  if (depth >= kMaxIsolationDepth) {
+    roots.push_back(mid);
+    return;
+  }
+  T left[kMaxOrder], right[kMaxOrder];
+  bernstein_halves(c, n, left, right);
+  isolate_roots(left, n, t0, mid, depth + 1, roots);
+  if (left[n] == T(0)) roots.push_back(mid);  // a root exactly at the split point
+  isolate_roots(right, n, mid, t1, depth + 1, roots);
+}
+
+template <typename T>
+T piece_u_at(const TrimPiece<T>& piece, T t) {
+  T hu[kMaxOrder], w[kMaxOrder];
+  for (int i = 0; i <= piece.degree; ++i) {
+    hu[i] = piece.h[i][0];
+    w[i] = piece.h[i][2];
+  }
+  return bernstein_value(hu, piece.degree, t) / bernstein_value(w, piece.degree, t);
+}
+
+// g's coefficient i on the line v: w_i·v_i − v·w_i.
+template <typename T>
+T line_coefficient(const TrimPiece<T>& piece, int i, T v) {
+  return piece.h[i][1] - v * piece.h[i][2];
+}
+
+// Appends the u of every change of the above/below state inside one piece (its ends included).
+template <typename T>
+void piece_events(const TrimPiece<T>& piece, T v, std::vector<T>& roots, std::vector<T>& events) {
+  const int n = piece.degree;
+  T c[kMaxOrder];
+  bool any_positive = false, any_negative = false;
+  for (int i = 0; i <= n; ++i) {
+    c[i] = line_coefficient(piece, i, v);
+    any_positive |= c[i] > T(0);
+    any_negative |= c[i] < T(0);
+  }
+  if (!(any_positive && any_negative)) {
+    // No interior sign change; a state change can only happen at an end where g == 0 while the
+    // rest is below (zero counts as above).
+    if (!any_negative) return;  // above (or on the line) throughout
+    if (c[0] == T(0)) events.push_back(piece_u_at(piece, T(0)));
+    if (c[n] == T(0)) events.push_back(piece_u_at(piece, T(1)));
+    return;
+  }
+  roots.clear();
+  isolate_roots(c, n, T(0), T(1), 0, roots);
+  // States: at t = 0, between consecutive candidates (and the ends), at t = 1; the change between
+  // two neighbouring states happens at the point that separates them.
+  bool state = c[0] >= T(0);
+  T previous = 0;
+  for (std::size_t k = 0; k <= roots.size(); ++k) {
+    const T next = k < roots.size() ? roots[k] : T(1);
+    const bool between = bernstein_value(c, n, (previous + next) / T(2)) >= T(0);
+    if (between != state) events.push_back(piece_u_at(piece, previous));
+    state = between;
+    previous = next;
+  }
+  if ((c[n] >= T(0)) != state) events.push_back(piece_u_at(piece, T(1)));
+}
+
+}  // namespace trim_detail
+
+// The trim's curves as rational Bézier pieces in T.
+template <typename T>
+TrimPieces<T> trim_pieces(const Trim& trim) {
+  TrimPieces<T> out;
+  for (const TrimLoop& loop : trim.loops) {
+    std::vector<TrimPiece<T>>& pieces = out.loops.emplace_back();
+    for (const TrimCurve& curve : loop.curves) {
+      const int p = curve.degree, count = static_cast<int>(curve.points.size());
+      std::vector<T> knots(curve.knots.begin(), curve.knots.end());
+      std::vector<Vec4<T>> homogeneous(curve.points.size());
+      for (std::size_t i = 0; i < curve.points.size(); ++i) {
+        const T w = T(curve.weights[i]);
+        homogeneous[i] = {T(curve.points[i][0]) * w, T(curve.points[i][1]) * w, T(0), w};
+      }
+      const std::size_t segments = nonempty_spans(p, count, knots.data()).size();
+      std::vector<Vec4<T>> bezier(segments * static_cast<std::size_t>(p + 1));
+      decompose_curves<T>(p, count, knots.data(), {homogeneous.data(), 1, 1, 1},
+                          {bezier.data(), 1, 1, 1});
+      for (std::size_t g = 0; g < segments; ++g) {
+        TrimPiece<T>& piece = pieces.emplace_back();
+        piece.degree = p;
+        for (int k = 0; k <= p; ++k) {
+          const Vec4<T>& q = bezier[g * (p + 1) + k];
+          piece.h[k] = {q[0], q[1], q[3]};
+        }
+      }
+    }
+  }
+  return out;
+}
+
+// The sorted u of every crossing event of the line v (see the counting rule above). `scratch` is
+// reused between calls.
+template <typename T>
+void crossing_events(const TrimPieces<T>& trim, T v, std::vector<T>& events,
+                     std::vector<T>& scratch) {
+  events.clear();
+  for (const std::vector<TrimPiece<T>>& pieces : trim.loops) {
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const TrimPiece<T>& a = pieces[k];
+      const TrimPiece<T>& b = pieces[(k + 1) % pieces.size()];
+      trim_detail::piece_events(a, v, scratch, events);
+      const T ca = trim_detail::line_coefficient(a, a.degree, v);
+      const T cb = trim_detail::line_coefficient(b, 0, v);
+      if ((ca >= T(0)) == (cb >= T(0))) continue;
+      // The junction's segment from a's end to b's start crosses the line: one event on it.
+      const T ua = a.h[a.degree][0] / a.h[a.degree][2], va = a.h[a.degree][1] / a.h[a.degree][2];
+      const T ub = b.h[0][0] / b.h[0][2], vb = b.h[0][1] / b.h[0][2];
+      T s = vb != va ? (v - va) / (vb - va) : T(0.5);
+      s = std::clamp(s, T(0), T(1));
+      events.push_back(ua + (ub - ua) * s);
+    }
+  }
+  std::sort(events.begin(), events.end());
+}
+
+// Inside by the even-odd rule: an odd number of events to the right of u.
+template <typename T>
+bool inside_by_events(const std::vector<T>& sorted_events, T u) {
+  const auto right = sorted_events.end() -
+                     std::upper_bound(sorted_events.begin(), sorted_events.end(), u);
+  return (right % 2) == 1;
+}
+
+}  // namespace nurbs
