@@ -155,6 +155,15 @@ json spec_to_json(const MeasurementSpec& spec) {
           {"device_wait_s", device_wait_limit_s()}};
 }
 
+// What the scene file must carry beyond nurbs-scene/1, per surface, so the child can tell when it
+// did not (a writer that predates trims would hand the strategy an untrimmed face silently).
+json surface_extras(const Scene& scene) {
+  json extras = json::array();
+  for (const Surface& s : scene.surfaces)
+    extras.push_back({{"trim_loops", s.trim ? s.trim->loops.size() : 0}, {"reversed", s.reversed}});
+  return extras;
+}
+
 MeasurementSpec spec_from_json(const json& j) {
   MeasurementSpec spec;
   spec.entry = find_strategy(j.at("strategy").get<std::string>());
@@ -370,7 +379,9 @@ Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpe
   Record r = spec_record(spec, scene);
   SpecDirectory dir;
   write_file_atomically(dir.path() / "scene.json", scene_to_json(scene));
-  write_file_atomically(dir.path() / "spec.json", spec_to_json(spec).dump());
+  json spec_json = spec_to_json(spec);
+  spec_json["surfaces"] = surface_extras(scene);
+  write_file_atomically(dir.path() / "spec.json", spec_json.dump());
   const ChildEnd end =
       measurement_server().measure(isolation.executable, dir.path(), isolation.timeout_s);
   const std::string phase = read_phase_board(dir.path() / "phase");
@@ -393,20 +404,28 @@ Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpe
   const fs::path record_file = dir.path() / "record.json";
   if (WEXITSTATUS(end.status) != 0 || !fs::exists(record_file)) {
     r.status = Status::failed;
-    r.reason = fmt::format("measurement process exited with status {} {}", WEXITSTATUS(end.status),
-                           in_phase);
+    const fs::path error_file = dir.path() / "error.txt";
+    r.reason =
+        fmt::format("measurement process exited with status {} {}{}", WEXITSTATUS(end.status),
+                    in_phase, fs::exists(error_file) ? ": " + read_file(error_file) : "");
     return r;
   }
-  r = record_from_json(json::parse(read_file(record_file)));
-  const fs::path result_file = dir.path() / "result.bin";
-  if (r.status == Status::ok && fs::exists(result_file)) {
-    const EvalResult result = read_eval_result(result_file);
-    if (spec.deforming_frames > 0)
-      score_deforming(*spec.entry, scene, spec.request, spec.deforming_frames, result,
-                      references.precision(), r);
-    else
-      score_measurement(*spec.entry, scene, spec.request, result, references, r);
+  std::optional<EvalResult> result;
+  try {
+    r = record_from_json(json::parse(read_file(record_file)));
+    const fs::path result_file = dir.path() / "result.bin";
+    if (r.status == Status::ok && fs::exists(result_file)) result = read_eval_result(result_file);
+  } catch (const std::exception& e) {
+    r.status = Status::failed;
+    r.reason = fmt::format("the measurement's record could not be read: {}", e.what());
+    return r;
   }
+  if (!result) return r;
+  if (spec.deforming_frames > 0)
+    score_deforming(*spec.entry, scene, spec.request, spec.deforming_frames, *result,
+                    references.precision(), r);
+  else
+    score_measurement(*spec.entry, scene, spec.request, *result, references, r);
   return r;
 }
 
@@ -424,7 +443,8 @@ Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpe
   try {
     code = measure_child(directory);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "nurbsbench: measurement: %s\n", e.what());
+    // An error of the harness's side (spec, scene), not the strategy's: the parent reports it.
+    std::ofstream(fs::path(directory) / "error.txt") << e.what();
     code = 2;
   }
   std::fflush(nullptr);
@@ -499,8 +519,13 @@ int measure_server(int socket) {
 int measure_child(const fs::path& directory) {
   share_phase_board(directory / "phase");
   injected_fault();
-  const MeasurementSpec spec = spec_from_json(json::parse(read_file(directory / "spec.json")));
+  const json spec_json = json::parse(read_file(directory / "spec.json"));
+  const MeasurementSpec spec = spec_from_json(spec_json);
   const Scene scene = load_scene_file(directory / "scene.json");
+  if (surface_extras(scene) != spec_json.at("surfaces"))
+    throw std::runtime_error(
+        "the scene's trims or face orientation did not survive its transfer as nurbs-scene JSON "
+        "(use --isolation none until the scene writer carries them)");
   Record r = spec_record(spec, scene);
   const std::optional<EvalResult> result =
       spec.deforming_frames > 0
