@@ -142,6 +142,28 @@ TEST(Isolation, InProcessModeGivesTheSameMeasurement) {
             "none");
 }
 
+// recommend's quick run measures through the same isolation: a crashed strategy is excluded with
+// its status, the others are ranked.
+TEST(Isolation, RecommendQuickRunSurvivesACrash) {
+  ::setenv("NURBSBENCH_INJECT_FAULT", "cpu-bezier:evaluate:crash", 1);
+  const CliResult r = run_cli({"recommend", "--scene", "patch144", "--samples", "8x8",
+                               "--tolerance", "8ulp", "--repetitions", "1", "--json"});
+  ::unsetenv("NURBSBENCH_INJECT_FAULT");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = json::parse(r.out);  // stdout is the JSON alone: children write to stderr
+  bool excluded = false;
+  for (const json& e : doc["excluded"])
+    if (e.dump().find("cpu-bezier") != std::string::npos) {
+      excluded = true;
+      EXPECT_NE(e.dump().find("crashed"), std::string::npos) << e.dump();
+    }
+  EXPECT_TRUE(excluded) << doc["excluded"].dump();
+  bool coxdeboor_ranked = false;
+  for (const json& e : doc["ranked"])
+    coxdeboor_ranked = coxdeboor_ranked || e.dump().find("cpu-coxdeboor") != std::string::npos;
+  EXPECT_TRUE(coxdeboor_ranked) << doc["ranked"].dump();
+}
+
 TEST(Isolation, BadOptionsAndFaultSpecsAreUsageErrors) {
   TempDir tmp;
   for (const auto& [fault, args, message] :
