@@ -57,7 +57,12 @@ std::optional<InjectedFault> parse_fault(std::string_view text) {
 void inject(std::string_view strategy, std::string_view phase) {
   const auto& fault = injected_fault();
   if (!fault || fault->strategy != strategy || fault->phase != phase) return;
-  if (fault->kind == "crash") std::raise(SIGSEGV);
+  // A death by signal in every build: a sanitizer's SIGSEGV handler would otherwise turn it into
+  // a report and exit status 1.
+  if (fault->kind == "crash") {
+    std::signal(SIGSEGV, SIG_DFL);
+    std::raise(SIGSEGV);
+  }
   // Sleeps until killed, like a wait on a driver that never signals: the watchdog's SIGKILL of
   // the process group ends it.
   if (fault->kind == "hang")
