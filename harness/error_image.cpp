@@ -57,14 +57,18 @@ std::vector<ErrorGrid> error_grids(const Scene& scene, const EvalResult& result,
     g.height = static_cast<int>(r.samples.v.size());
     g.ulp_scale = ulp_scale;
     g.error.resize(r.samples.count());
+    const std::vector<std::uint8_t>& inside = reference.at(i).inside;
+    if (!inside.empty()) g.inside.resize(r.samples.count());
     for (int a = 0; a < g.width; ++a)
       for (int b = 0; b < g.height; ++b) {
         const std::size_t k = static_cast<std::size_t>(a) * g.height + b;  // SurfaceSamples order
+        const std::size_t pixel = static_cast<std::size_t>(b) * g.width + a;
         const auto p = r.positions[k];
         const Point3& q = reference.at(i).positions.at(k);
         const double e = std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]);
-        g.error[static_cast<std::size_t>(b) * g.width + a] =
+        g.error[pixel] =
             std::isfinite(e) ? static_cast<float>(e) : std::numeric_limits<float>::infinity();
+        if (!inside.empty()) g.inside[pixel] = inside.at(k);
       }
     grids.push_back(std::move(g));
   }
@@ -103,6 +107,10 @@ std::array<float, 3> colour(double t) {
           stops[k][2] + f * (stops[k + 1][2] - stops[k][2])};
 }
 
+// Samples outside a trimmed face: a grey that viridis never produces (its ends are purple and
+// yellow), so it cannot be read as an error level.
+constexpr std::array<float, 3> kOutsideGrey = {0.6f, 0.6f, 0.6f};
+
 void write_atomically(const fs::path& path, const OIIO::ImageBuf& image) {
   const fs::path tmp = path.parent_path() / fmt::format(".{}.tmp{}{}", path.stem().string(),
                                                         ::getpid(), path.extension().string());
@@ -116,8 +124,10 @@ void write_atomically(const fs::path& path, const OIIO::ImageBuf& image) {
 }
 
 OIIO::ImageBuf exr_image(const ErrorGrid& g, const std::string& title) {
-  OIIO::ImageSpec spec(g.width, g.height, 1, OIIO::TypeDesc::FLOAT);
+  const bool trimmed = !g.inside.empty();
+  OIIO::ImageSpec spec(g.width, g.height, trimmed ? 2 : 1, OIIO::TypeDesc::FLOAT);
   spec.channelnames = {"error"};
+  if (trimmed) spec.channelnames.push_back("inside");
   spec.attribute("ImageDescription", title);
   spec.attribute("nurbsbench:surface", g.surface);
   spec.attribute("nurbsbench:units", "model units (distance from the reference)");
@@ -125,6 +135,11 @@ OIIO::ImageBuf exr_image(const ErrorGrid& g, const std::string& title) {
   OIIO::ImageBuf image(spec);
   image.set_pixels(OIIO::ROI(0, g.width, 0, g.height, 0, 1, 0, 1), OIIO::TypeDesc::FLOAT,
                    g.error.data());
+  if (trimmed) {
+    const std::vector<float> inside(g.inside.begin(), g.inside.end());
+    image.set_pixels(OIIO::ROI(0, g.width, 0, g.height, 0, 1, 1, 2), OIIO::TypeDesc::FLOAT,
+                     inside.data());
+  }
   return image;
 }
 
@@ -132,9 +147,11 @@ OIIO::ImageBuf png_image(const ErrorGrid& g, const std::string& title) {
   const auto [w, h] = error_png_size(g.width, g.height);
   const int scale = std::max(1, 256 / std::max(g.width, g.height));
   // Log scale over the decades the errors span, in ulps; zero and below the range = darkest.
+  auto outside = [&](std::size_t pixel) { return !g.inside.empty() && g.inside[pixel] == 0; };
   double lo = std::numeric_limits<double>::infinity(), hi = 0;
-  for (float e : g.error) {
-    const double ulp = e / g.ulp_scale;
+  for (std::size_t pixel = 0; pixel < g.error.size(); ++pixel) {
+    if (outside(pixel)) continue;  // not part of the face: not on the scale
+    const double ulp = g.error[pixel] / g.ulp_scale;
     if (std::isfinite(ulp) && ulp > 0) {
       lo = std::min(lo, ulp);
       hi = std::max(hi, ulp);
@@ -157,8 +174,8 @@ OIIO::ImageBuf png_image(const ErrorGrid& g, const std::string& title) {
   OIIO::ImageBufAlgo::fill(image, white);
   for (int y = 0; y < g.height * scale; ++y)
     for (int x = 0; x < g.width * scale; ++x) {
-      const float e = g.error[static_cast<std::size_t>(y / scale) * g.width + x / scale];
-      const auto c = colour(t_of(e / g.ulp_scale));
+      const std::size_t pixel = static_cast<std::size_t>(y / scale) * g.width + x / scale;
+      const auto c = outside(pixel) ? kOutsideGrey : colour(t_of(g.error[pixel] / g.ulp_scale));
       // Row 0 of the file is the top: v grows upwards as on a plot.
       image.setpixel(x, g.height * scale - 1 - y, c.data());
     }
@@ -180,6 +197,12 @@ OIIO::ImageBuf png_image(const ErrorGrid& g, const std::string& title) {
                                     black);
   }
   OIIO::ImageBufAlgo::render_text(image, bar_x - 4, 14, "ulp", 12, font, black);
+  if (!g.inside.empty()) {
+    // The swatch sits in the bottom margin, under the bar.
+    for (int y = h - 14; y < h - 2; ++y)
+      for (int x = bar_x; x < bar_x + 16; ++x) image.setpixel(x, y, kOutsideGrey.data());
+    OIIO::ImageBufAlgo::render_text(image, bar_x + 20, h - 3, "outside", 12, font, black);
+  }
   return image;
 }
 

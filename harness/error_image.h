@@ -4,10 +4,15 @@
 // appear as they were sampled). EXR: one float channel "error", the raw distance in model units
 // (through OpenImageIO; +inf where the result was not finite). PNG: a colour map of the error in
 // f32 ulps of the scene's largest coordinate (the max_ulp scale), log scale, with a legend bar.
+// On a trimmed surface the samples the reference classifies outside the face are marked: grey in
+// the PNG (a grey "outside" swatch in the legend; the colour scale spans the inside samples only),
+// and in the EXR a second channel "inside" (1 inside, 0 outside) beside "error", which keeps its
+// meaning for every sample.
 // Scenes with several surfaces: one file per surface, "<stem>-<index><ext>" (index as in the eval
 // CSV's surface column); a one-surface scene writes exactly the requested file.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -21,7 +26,9 @@ struct ErrorGrid {
   std::string surface;
   int width = 0, height = 0;  // u samples, v samples
   std::vector<float> error;   // model units, index y * width + x
-  double ulp_scale = 1;       // model units of one f32 ulp of the scene's largest coordinate
+  // Trimmed surfaces: the reference's classification, same index (1 inside); empty otherwise.
+  std::vector<std::uint8_t> inside;
+  double ulp_scale = 1;  // model units of one f32 ulp of the scene's largest coordinate
 };
 
 enum class ErrorImageFormat { exr, png };

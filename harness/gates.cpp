@@ -1,8 +1,11 @@
 #include "harness/gates.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <fnmatch.h>
 
+#include <algorithm>
+#include <array>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -15,7 +18,25 @@ namespace nurbs {
 
 namespace {
 
+// Every metric a gate can name; the trim_ ones apply only to records that classified.
+constexpr std::array<std::string_view, 7> kMetrics = {"max_abs",
+                                                      "rms_abs",
+                                                      "max_rel",
+                                                      "max_ulp",
+                                                      "max_normal_angle_deg",
+                                                      "trim_misclassified",
+                                                      "trim_misclassified_rate"};
+
+bool is_trim_metric(std::string_view metric) {
+  return metric.starts_with("trim_");
+}
+
 std::optional<double> metric_value(const Accuracy& a, std::string_view metric) {
+  if (is_trim_metric(metric)) {
+    if (!a.trim || !a.trim->misclassified) return std::nullopt;
+    if (metric == "trim_misclassified") return static_cast<double>(*a.trim->misclassified);
+    return a.trim->misclassified_rate;
+  }
   if (metric == "max_abs") return a.max_abs;
   if (metric == "rms_abs") return a.rms_abs;
   if (metric == "max_rel") return a.max_rel;
@@ -31,8 +52,7 @@ bool glob_match(const std::string& pattern, const std::string& text) {
 }  // namespace
 
 bool is_known_metric(std::string_view metric) {
-  return metric == "max_abs" || metric == "rms_abs" || metric == "max_rel" || metric == "max_ulp" ||
-         metric == "max_normal_angle_deg";
+  return std::find(kMetrics.begin(), kMetrics.end(), metric) != kMetrics.end();
 }
 
 std::vector<Gate> load_gates(const std::filesystem::path& path) {
@@ -68,8 +88,7 @@ std::vector<Gate> load_gates(const std::filesystem::path& path) {
     g.scene = entry["scene"];
     g.metric = entry["metric"];
     if (!is_known_metric(g.metric))
-      fail("metric", g.metric,
-           "unknown metric (max_abs, rms_abs, max_rel, max_ulp, max_normal_angle_deg)");
+      fail("metric", g.metric, fmt::format("unknown metric ({})", fmt::join(kMetrics, ", ")));
     if (!entry.contains("max") || !entry["max"].is_number())
       fail("max", entry.contains("max") ? entry["max"].dump() : "(missing)", "must be a number");
     g.max = entry["max"].get<double>();
@@ -87,6 +106,9 @@ std::vector<std::string> check_gates(const std::vector<Gate>& gates,
       if (!glob_match(g.strategy, r.strategy) || !glob_match(g.scene, r.scene)) continue;
       // A limit row (a machine ceiling) evaluates nothing and has no accuracy to gate.
       if (r.role == "limit") continue;
+      // A classification gate does not apply to a strategy that does not trim, nor to a scene
+      // without trims: such records are not counted (README, "Gates").
+      if (is_trim_metric(g.metric) && r.trimming != "classified") continue;
       ++matched;
       const std::string where =
           fmt::format("{} on {} ({}, {})", r.strategy, r.scene, r.precision, r.samples);
@@ -106,13 +128,25 @@ std::vector<std::string> check_gates(const std::vector<Gate>& gates,
         continue;
       }
       const Accuracy& accuracy = *r.accuracy;
+      if (!is_trim_metric(g.metric) && no_inside_samples(accuracy)) {
+        violations.push_back(
+            fmt::format("{}: {} was measured over no sample: none lies inside the trimmed faces",
+                        where, g.metric));
+        continue;
+      }
       const auto value = metric_value(accuracy, g.metric);
       if (!value) {
         violations.push_back(
             fmt::format("{}: {} was not measured (run with --normals?)", where, g.metric));
         continue;
       }
-      if (!(*value <= g.max))
+      if (*value <= g.max) continue;
+      if (is_trim_metric(g.metric))
+        violations.push_back(fmt::format(
+            "{}: {} = {:.6g} exceeds {} ({} samples misclassified outside the boundary band of "
+            "{:g} x the domain diagonal)",
+            where, g.metric, *value, g.max, *accuracy.trim->misclassified, accuracy.trim->band));
+      else
         violations.push_back(fmt::format(
             "{}: {} = {:.6g} exceeds {} (worst sample: surface {}, u = {:.17g}, v = {:.17g})",
             where, g.metric, *value, g.max, accuracy.worst_surface, accuracy.worst_u,

@@ -18,7 +18,9 @@ struct Gate {
 
 // Throws InputError naming the file, entry index, field and value.
 std::vector<Gate> load_gates(const std::filesystem::path& path);
-// Metric names: max_abs, rms_abs, max_rel, max_ulp, max_normal_angle_deg.
+// Metric names: max_abs, rms_abs, max_rel, max_ulp, max_normal_angle_deg, trim_misclassified,
+// trim_misclassified_rate (the last two match only records whose strategy classified samples
+// against trims; other records are not applicable and not counted).
 bool is_known_metric(std::string_view metric);
 // One line per violation; empty when every gate holds.
 std::vector<std::string> check_gates(const std::vector<Gate>& gates,

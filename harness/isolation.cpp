@@ -423,9 +423,9 @@ Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpe
   if (!result) return r;
   if (spec.deforming_frames > 0)
     score_deforming(*spec.entry, scene, spec.request, spec.deforming_frames, *result,
-                    references.precision(), r);
+                    references.precision(), spec.trim_band, r);
   else
-    score_measurement(*spec.entry, scene, spec.request, *result, references, r);
+    score_measurement(*spec.entry, scene, spec.request, *result, references, spec.trim_band, r);
   return r;
 }
 
@@ -491,9 +491,9 @@ Record measure_with(const IsolationSettings& isolation, const MeasurementSpec& s
     return measure_in_child(isolation, spec, scene, references);
   return spec.deforming_frames > 0
              ? measure_deforming(*spec.entry, spec.options, scene, spec.request,
-                                 spec.deforming_frames, references.precision())
-             : measure(*spec.entry, spec.options, scene, spec.request, spec.repetitions,
-                       references);
+                                 spec.deforming_frames, references.precision(), spec.trim_band)
+             : measure(*spec.entry, spec.options, scene, spec.request, spec.repetitions, references,
+                       spec.trim_band);
 }
 
 int measure_server(int socket) {
@@ -525,7 +525,7 @@ int measure_child(const fs::path& directory) {
   if (surface_extras(scene) != spec_json.at("surfaces"))
     throw std::runtime_error(
         "the scene's trims or face orientation did not survive its transfer as nurbs-scene JSON "
-        "(use --isolation none until the scene writer carries them)");
+        "(--isolation none measures it in one process)");
   Record r = spec_record(spec, scene);
   const std::optional<EvalResult> result =
       spec.deforming_frames > 0

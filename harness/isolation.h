@@ -36,7 +36,8 @@ struct MeasurementSpec {
   StrategyOptions options;
   EvalRequest request;
   int repetitions = 5;
-  int deforming_frames = 0;  // > 0: measure_deforming with this many frames
+  int deforming_frames = 0;             // > 0: measure_deforming with this many frames
+  double trim_band = kDefaultTrimBand;  // scoring only: the parent's side
 };
 
 // measure() / measure_deforming() in-process (mode none) or in a child process; the record's

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <nlohmann/json.hpp>
 
 namespace nurbs {
@@ -71,6 +72,14 @@ json accuracy_to_json(const Accuracy& a) {
             {"non_finite", a.non_finite},
             {"worst", {{"surface", a.worst_surface}, {"u", a.worst_u}, {"v", a.worst_v}}}};
   if (a.max_normal_angle_deg) j["max_normal_angle_deg"] = finite_or_null(*a.max_normal_angle_deg);
+  if (a.trim) {
+    json trim = {{"band", a.trim->band},
+                 {"inside_samples", a.trim->inside},
+                 {"boundary_samples", a.trim->boundary}};
+    if (a.trim->misclassified) trim["misclassified"] = *a.trim->misclassified;
+    if (a.trim->misclassified_rate) trim["misclassified_rate"] = *a.trim->misclassified_rate;
+    j["trim"] = trim;
+  }
   return j;
 }
 
@@ -88,6 +97,17 @@ Accuracy accuracy_from_json(const json& a) {
   }
   if (a.contains("max_normal_angle_deg"))
     r.max_normal_angle_deg = number_or_inf(a, "max_normal_angle_deg");
+  if (a.contains("trim") && a["trim"].is_object()) {
+    const json& t = a["trim"];
+    TrimAccuracy trim;
+    trim.band = t.value("band", kDefaultTrimBand);
+    trim.inside = t.value("inside_samples", std::size_t{0});
+    trim.boundary = t.value("boundary_samples", std::size_t{0});
+    if (t.contains("misclassified")) trim.misclassified = t["misclassified"].get<std::size_t>();
+    if (t.contains("misclassified_rate"))
+      trim.misclassified_rate = t["misclassified_rate"].get<double>();
+    r.trim = trim;
+  }
   return r;
 }
 
@@ -114,6 +134,7 @@ json record_to_json(const Record& r) {
       {"accuracy", r.accuracy ? accuracy_to_json(*r.accuracy) : json(nullptr)},
       {"status", to_string(r.status)},
       {"reason", r.reason}};
+  if (!r.trimming.empty()) j["trimming"] = r.trimming;
   if (r.device_evaluate_median_s) j["device_evaluate_median_s"] = *r.device_evaluate_median_s;
   if (!r.extra_phases.empty()) {
     json phases = json::object();
@@ -164,13 +185,15 @@ Record record_from_json(const json& j) {
           value.is_null() ? std::numeric_limits<double>::infinity() : value.get<double>();
   if (!parse_status(j.value("status", "failed"), r.status)) r.status = Status::failed;
   r.reason = j.value("reason", "");
+  r.trimming = j.value("trimming", "");
   return r;
 }
 
 std::string csv_header() {
   return "scene,strategy,device,precision,sampling,samples,points,setup_s,upload_median_s,"
          "evaluate_min_s,evaluate_median_s,evaluate_max_s,readback_median_s,end_to_end_median_s,"
-         "throughput_pts_per_s,max_abs,rms_abs,max_rel,max_ulp,status,reason";
+         "throughput_pts_per_s,max_abs,rms_abs,max_rel,max_ulp,status,reason,trimming,trim_band,"
+         "trim_inside_samples,trim_boundary_samples,trim_misclassified,trim_misclassified_rate";
 }
 
 std::string csv_row(const Record& r) {
@@ -179,14 +202,23 @@ std::string csv_row(const Record& r) {
   auto accuracy = [&](double Accuracy::*metric) {
     return r.accuracy ? number((*r.accuracy).*metric) : std::string();
   };
+  std::array<std::string, 5> trim{};  // the trim columns after `trimming`, in csv_header's order
+  if (r.accuracy && r.accuracy->trim) {
+    const TrimAccuracy& t = *r.accuracy->trim;
+    auto count = [&](std::size_t n) { return measured ? fmt::format("{}", n) : std::string(); };
+    trim = {number(t.band), count(t.inside), count(t.boundary),
+            t.misclassified ? count(*t.misclassified) : "",
+            t.misclassified_rate ? number(*t.misclassified_rate) : ""};
+  }
   return fmt::format(
-      "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_text(r.scene),
-      csv_text(r.strategy), csv_text(r.device.name), r.precision, r.sampling, r.samples, r.points,
-      number(r.setup_s), number(r.upload.median_s), number(r.evaluate.min_s),
+      "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+      csv_text(r.scene), csv_text(r.strategy), csv_text(r.device.name), r.precision, r.sampling,
+      r.samples, r.points, number(r.setup_s), number(r.upload.median_s), number(r.evaluate.min_s),
       number(r.evaluate.median_s), number(r.evaluate.max_s), number(r.read_back.median_s),
       number(r.end_to_end.median_s), number(r.throughput_pts_per_s), accuracy(&Accuracy::max_abs),
       accuracy(&Accuracy::rms_abs), accuracy(&Accuracy::max_rel), accuracy(&Accuracy::max_ulp),
-      to_string(r.status), csv_text(r.reason));
+      to_string(r.status), csv_text(r.reason), r.trimming, trim[0], trim[1], trim[2], trim[3],
+      trim[4]);
 }
 
 }  // namespace nurbs

@@ -47,6 +47,10 @@ struct Record {
   // Absent when nothing was evaluated: a record of role "limit" (a machine ceiling measured in
   // the same run, such as the memory store bandwidth) or one that did not run.
   std::optional<Accuracy> accuracy;
+  // On a trimmed scene: "classified" (the strategy trims; accuracy->trim has its
+  // misclassification) or "untrimmed" (it evaluated the whole surfaces: a label, not a failure);
+  // "" on a scene without trims (metrics.h trimming_of).
+  std::string trimming;
   Status status = Status::ok;
   std::string reason;
 };
@@ -54,7 +58,10 @@ struct Record {
 nlohmann::json record_to_json(const Record& r);
 Record record_from_json(const nlohmann::json& j);
 
-// The CSV of DESIGN.md / the foundation issue: the columns are fixed, in this order.
+// The CSV of DESIGN.md / the foundation issue: the columns are fixed, in this order; the trim
+// columns (trimming, trim_band, trim_inside_samples, trim_boundary_samples, trim_misclassified,
+// trim_misclassified_rate) come last, empty where they do not apply, so readers of the first
+// columns by position keep working.
 std::string csv_header();
 std::string csv_row(const Record& r);
 

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "harness/summary_table.h"
 #include "reference/validation.h"
 #include "scenes/json_error.h"
 
@@ -739,12 +740,18 @@ ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller&
                     {}};
   for (const std::string& e : extra) table.header.push_back(e);
   std::vector<std::string> categories;
-  json upload = json::array(), evaluate = json::array(), read_back = json::array();
+  // classify (trimming strategies on trimmed scenes) is paid per evaluation like the others, and
+  // is part of end_to_end: stacked, where some record has it.
+  const bool classifies = extra.contains("classify");
+  json upload = json::array(), evaluate = json::array(), classify = json::array(),
+       read_back = json::array();
   for (const Row& r : rows) {
     const Record& x = *r.record;
     categories.push_back(label(r));
     upload.push_back(number_or_null(x.upload.median_s));
     evaluate.push_back(number_or_null(x.evaluate.median_s));
+    const auto c = x.extra_phases.find("classify");
+    classify.push_back(c == x.extra_phases.end() ? json(0.0) : number_or_null(c->second.median_s));
     read_back.push_back(number_or_null(x.read_back.median_s));
     std::vector<std::string> cells{label(r),
                                    seconds_text(x.setup_s),
@@ -758,21 +765,23 @@ ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller&
                                                  : "-");
     table.rows.push_back(std::move(cells));
   }
+  json stacks = {{{"label", "upload"}, {"values", upload}},
+                 {{"label", "evaluate"}, {"values", evaluate}}};
+  if (classifies) stacks.push_back({{"label", "classify"}, {"values", classify}});
+  stacks.push_back({{"label", "read_back"}, {"values", read_back}});
   charts["charts"].push_back({{"id", s.id},
                               {"kind", "stacked"},
                               {"ylabel", "median time (s)"},
                               {"categories", categories},
-                              {"stacks",
-                               {{{"label", "upload"}, {"values", upload}},
-                                {{"label", "evaluate"}, {"values", evaluate}},
-                                {{"label", "read_back"}, {"values", read_back}}}}});
+                              {"stacks", stacks}});
   s.has_chart = true;
   s.tables.push_back(std::move(table));
   s.notes.push_back(
-      "The chart stacks the phases paid per evaluation (upload, evaluate, read_back); setup "
+      "The chart stacks the phases paid per evaluation (upload, evaluate, classify where a "
+      "strategy trims a trimmed scene, read_back); setup "
       "(context creation, shader/kernel compilation, first prepare) is paid once and is in the "
       "table only.");
-  if (!extra.empty())
+  if (extra.size() > (classifies ? 1u : 0u))
     s.notes.push_back(
         "Extra phases (render, render_via_read_back, frame, …) are alternatives to the "
         "upload/evaluate/read_back path, so they are listed, not stacked.");
@@ -794,6 +803,11 @@ ReportSection measurements_section(const std::vector<ResultSet>& sets) {
   table.header = {
       "scene",    "samples",        "precision", "strategy", "device", "evaluate (median)",
       "points/s", "of store limit", "max_ulp",   "status"};
+  // Trimmed scenes add a column: the strategy's misclassification, or "untrimmed".
+  bool trims = false;
+  for (const ResultSet& set : sets)
+    for (const Record& r : set.results.records) trims = trims || !r.trimming.empty();
+  if (trims) table.header.insert(table.header.end() - 1, "trim");
   if (sets.size() > 1) table.header.insert(table.header.begin(), "set");
   bool any_limit = false;
   for (const ResultSet& set : sets)
@@ -817,11 +831,20 @@ ReportSection measurements_section(const std::vector<ResultSet>& sets) {
           ok && limit && r.role != "limit"
               ? fmt::format("{:.1f}%", 100 * r.throughput_pts_per_s / *limit)
               : "-",
-          ok && r.accuracy ? report_number(r.accuracy->max_ulp) : "-",
+          ok && r.accuracy ? (no_inside_samples(*r.accuracy) ? "- (0 inside)"
+                                                             : report_number(r.accuracy->max_ulp))
+                           : "-",
           ok ? "ok" : fmt::format("{}: {}", to_string(r.status), r.reason)};
+      if (trims) cells.insert(cells.end() - 1, r.trimming.empty() ? "-" : trim_text(r));
       if (sets.size() > 1) cells.insert(cells.begin(), set.tag);
       table.rows.push_back(std::move(cells));
     }
+  if (trims)
+    s.notes.push_back(
+        "trim (trimmed scenes): errors are over the samples the reference classifies inside the "
+        "faces; a strategy that trims is scored for classification outside the boundary band "
+        "(misclassified count and rate over those samples; boundary = samples within the band, "
+        "not scored); untrimmed = the strategy evaluated the whole surfaces.");
   if (!any_limit)
     s.notes.push_back(
         "No limit-store-bandwidth rows in these results (run with --strategies all, or add "

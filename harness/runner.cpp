@@ -39,6 +39,7 @@ Record skeleton(const StrategyEntry& entry, const Scene& scene, const EvalReques
   r.samples = request.sampling.label();
   r.points = total_samples(samples);
   r.surfaces = scene.surfaces.size();
+  r.trimming = trimming_of(entry.capabilities(), scene);
   return r;
 }
 
@@ -62,10 +63,12 @@ bool runnable(const StrategyEntry& entry, const Scene& scene, const EvalRequest&
 // Compares the result with the reference where the strategy sampled: the requested samples, or
 // (a tessellator given a density) its own, whose count then becomes the record's points. The
 // reference at the requested samples comes from `references` when the caller has a cache for
-// this scene (and is computed only if the strategy sampled there).
+// this scene (and is computed only if the strategy sampled there). Orients the result's normals
+// (reversed faces).
 void score(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
-           const std::vector<SurfaceSamples>& requested, const EvalResult& result,
-           ReferenceCache* references, ReferencePrecision reference_precision, Record& r) {
+           const std::vector<SurfaceSamples>& requested, EvalResult& result,
+           ReferenceCache* references, ReferencePrecision reference_precision, double trim_band,
+           Record& r) {
   const std::vector<SurfaceSamples> produced = result_samples(result);
   const bool as_requested = same_samples(produced, requested);
   if (!as_requested) {
@@ -73,14 +76,27 @@ void score(const StrategyEntry& entry, const Scene& scene, const EvalRequest& re
       throw std::runtime_error("result carries other (u, v) than the requested samples");
     r.points = total_samples(produced);
   }
-  r.accuracy = as_requested && references != nullptr
-                   ? measure_accuracy(scene, result, references->get(scene, request))
-                   : measure_accuracy(
-                         scene, result,
-                         evaluate_reference(scene, produced, request.normals, reference_precision));
+  orient_normals(scene, result);
+  const TrimScoring trim{trim_band, entry.capabilities().trims};
+  r.accuracy =
+      as_requested && references != nullptr
+          ? measure_accuracy(scene, result, references->get(scene, request), trim)
+          : measure_accuracy(
+                scene, result,
+                evaluate_reference(scene, produced, request.normals, reference_precision), trim);
   r.throughput_pts_per_s =
       r.evaluate.median_s > 0 ? static_cast<double>(r.points) / r.evaluate.median_s : 0;
   r.status = Status::ok;
+}
+
+// A strategy that trims classifies its samples after each evaluation of a trimmed scene; the
+// seconds it took, or nothing when it does not (or did not: classify() returned false).
+std::optional<double> time_classify(const StrategyEntry& entry, const Scene& scene,
+                                    Strategy& strategy) {
+  if (!entry.capabilities().trims || !scene.has_trims()) return std::nullopt;
+  bool classified = false;
+  const double seconds = time_seconds([&] { classified = strategy.classify(); });
+  return classified ? std::optional<double>(seconds) : std::nullopt;
 }
 
 // A strategy that throws is a result too: refused (it said it cannot serve the request) or failed.
@@ -103,10 +119,11 @@ void guarded(Record& r, Measurement&& measurement) {
 }  // namespace
 
 Record measure(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
-               const EvalRequest& request, int repetitions, ReferenceCache& references) {
+               const EvalRequest& request, int repetitions, ReferenceCache& references,
+               double trim_band) {
   Record r = measurement_record(entry, scene, request, repetitions, 0);
-  if (const auto result = time_measurement(entry, options, scene, request, repetitions, r))
-    score_measurement(entry, scene, request, *result, references, r);
+  if (auto result = time_measurement(entry, options, scene, request, repetitions, r))
+    score_measurement(entry, scene, request, *result, references, trim_band, r);
   return r;
 }
 
@@ -125,12 +142,15 @@ std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
     });
     r.device = strategy->device();
     strategy->evaluate();  // warm-up
+    time_classify(entry, scene, *strategy);
 
-    std::vector<double> evaluate_s, device_evaluate_s;
+    std::vector<double> evaluate_s, device_evaluate_s, classify_s;
     for (int i = 0; i < repetitions; ++i) {
       evaluate_s.push_back(time_seconds([&] { strategy->evaluate(); }));
       if (auto device = strategy->device_times().evaluate_s) device_evaluate_s.push_back(*device);
+      if (auto classify = time_classify(entry, scene, *strategy)) classify_s.push_back(*classify);
     }
+    if (!classify_s.empty()) r.extra_phases["classify"] = PhaseStats::of(classify_s);
     // Drawing, for strategies that have a render path: one warm-up (shader variants are compiled
     // at the first draw), then the repetitions, each after the evaluation it draws.
     auto time_render = [&](const char* phase, bool (Strategy::*draw)()) {
@@ -148,10 +168,11 @@ std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
     for (int i = 0; i < repetitions; ++i) {
       const double upload = time_seconds([&] { strategy->prepare(scene, request); });
       const double evaluate = time_seconds([&] { strategy->evaluate(); });
+      const double classify = time_classify(entry, scene, *strategy).value_or(0);
       const double read_back = time_seconds([&] { result = strategy->read_back(); });
       upload_s.push_back(upload);
       read_back_s.push_back(read_back);
-      end_to_end_s.push_back(upload + evaluate + read_back);
+      end_to_end_s.push_back(upload + evaluate + classify + read_back);
     }
     r.evaluate = PhaseStats::of(evaluate_s);
     r.upload = PhaseStats::of(upload_s);
@@ -165,19 +186,20 @@ std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
 }
 
 void score_measurement(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
-                       const EvalResult& result, ReferenceCache& references, Record& r) {
+                       EvalResult& result, ReferenceCache& references, double trim_band,
+                       Record& r) {
   guarded(r, [&] {
     score(entry, scene, request, sample_parameters(scene, request.sampling), result, &references,
-          references.precision(), r);
+          references.precision(), trim_band, r);
   });
 }
 
 Record measure_deforming(const StrategyEntry& entry, const StrategyOptions& options,
                          const Scene& scene, const EvalRequest& request, int frames,
-                         ReferencePrecision reference_precision) {
+                         ReferencePrecision reference_precision, double trim_band) {
   Record r = measurement_record(entry, scene, request, frames, frames);
-  if (const auto result = time_deforming(entry, options, scene, request, frames, r))
-    score_deforming(entry, scene, request, frames, *result, reference_precision, r);
+  if (auto result = time_deforming(entry, options, scene, request, frames, r))
+    score_deforming(entry, scene, request, frames, *result, reference_precision, trim_band, r);
   return r;
 }
 
@@ -197,8 +219,9 @@ std::optional<EvalResult> time_deforming(const StrategyEntry& entry, const Strat
     });
     r.device = strategy->device();
     strategy->evaluate();  // warm-up
+    time_classify(entry, frame_scene, *strategy);
 
-    std::vector<double> update_s, evaluate_s, read_back_s, frame_s;
+    std::vector<double> update_s, evaluate_s, classify_s, read_back_s, frame_s;
     EvalResult result;
     for (int f = 1; f <= frames; ++f) {
       deform_scene(scene, f, frame_scene);
@@ -209,12 +232,15 @@ std::optional<EvalResult> time_deforming(const StrategyEntry& entry, const Strat
           strategy->prepare(frame_scene, request);
       });
       const double evaluate = time_seconds([&] { strategy->evaluate(); });
+      const std::optional<double> classify = time_classify(entry, frame_scene, *strategy);
       const double read_back = time_seconds([&] { result = strategy->read_back(); });
       update_s.push_back(update);
       evaluate_s.push_back(evaluate);
+      if (classify) classify_s.push_back(*classify);
       read_back_s.push_back(read_back);
-      frame_s.push_back(update + evaluate + read_back);
+      frame_s.push_back(update + evaluate + classify.value_or(0) + read_back);
     }
+    if (!classify_s.empty()) r.extra_phases["classify"] = PhaseStats::of(classify_s);
     r.upload = PhaseStats::of(update_s);
     r.evaluate = PhaseStats::of(evaluate_s);
     r.read_back = PhaseStats::of(read_back_s);
@@ -227,12 +253,12 @@ std::optional<EvalResult> time_deforming(const StrategyEntry& entry, const Strat
 }
 
 void score_deforming(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
-                     int frames, const EvalResult& result, ReferencePrecision reference_precision,
-                     Record& r) {
+                     int frames, EvalResult& result, ReferencePrecision reference_precision,
+                     double trim_band, Record& r) {
   guarded(r, [&] {
     // The reference of the last frame's control points, computed here.
     score(entry, deformed_scene(scene, frames), request, sample_parameters(scene, request.sampling),
-          result, nullptr, reference_precision, r);
+          result, nullptr, reference_precision, trim_band, r);
   });
 }
 

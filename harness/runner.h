@@ -28,8 +28,12 @@ class ReferenceCache {
   std::map<std::string, std::vector<ReferenceSurface>> cache_;
 };
 
+// On a trimmed scene, a strategy that trims has its classify() timed after each evaluate() as
+// extra phase "classify" (part of end_to_end, and of each frame of measure_deforming), and its
+// classification scored with the boundary band `trim_band` (metrics.h TrimScoring).
 Record measure(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
-               const EvalRequest& request, int repetitions, ReferenceCache& references);
+               const EvalRequest& request, int repetitions, ReferenceCache& references,
+               double trim_band = kDefaultTrimBand);
 
 // The deforming-surface benchmark (003 §2): setup prepares frame 0 of deformed_scene(scene, f)
 // (scenes/deforming.h); then for f = 1..frames the scene is deformed (not timed: the application
@@ -41,7 +45,8 @@ Record measure(const StrategyEntry& entry, const StrategyOptions& options, const
 // scene (not cached: every frame is a new scene).
 Record measure_deforming(const StrategyEntry& entry, const StrategyOptions& options,
                          const Scene& scene, const EvalRequest& request, int frames,
-                         ReferencePrecision reference_precision);
+                         ReferencePrecision reference_precision,
+                         double trim_band = kDefaultTrimBand);
 
 // The two halves of measure() and measure_deforming(), apart so that process isolation
 // (harness/isolation.h) runs the strategy's half in a child and scores in the parent, which keeps
@@ -59,12 +64,13 @@ std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
 std::optional<EvalResult> time_deforming(const StrategyEntry& entry, const StrategyOptions& options,
                                          const Scene& scene, const EvalRequest& request, int frames,
                                          Record& r);
-// The harness's half: accuracy against the reference, throughput, status.
+// The harness's half: accuracy against the reference (normals oriented first, trims scored with
+// `trim_band`), throughput, status.
 void score_measurement(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
-                       const EvalResult& result, ReferenceCache& references, Record& r);
+                       EvalResult& result, ReferenceCache& references, double trim_band, Record& r);
 // Against the reference of frame `frames` of the deforming scene.
 void score_deforming(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
-                     int frames, const EvalResult& result, ReferencePrecision reference_precision,
-                     Record& r);
+                     int frames, EvalResult& result, ReferencePrecision reference_precision,
+                     double trim_band, Record& r);
 
 }  // namespace nurbs

@@ -28,7 +28,7 @@ std::optional<Scene> make_builtin_scene(std::string_view name);
 // uniform clamped knots. Throws InputError for parameters a scene cannot have.
 Scene workload_scene(int degree, int count_u, int count_v, int surfaces);
 
-// A built-in name or a path to a nurbs-scene/1 file. Throws InputError naming the valid names
+// A built-in name or a path to a nurbs-scene/1 or /2 file. Throws InputError naming the valid names
 // when it is neither.
 Scene load_scene(std::string_view name_or_path);
 

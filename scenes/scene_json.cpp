@@ -1,14 +1,17 @@
 #include "scenes/scene_json.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
+#include <span>
 
+#include "reference/surface_checker.h"
 #include "reference/validation.h"
-#include "scenes/json_error.h"
+#include "scenes/json_strict.h"
 
 namespace nurbs {
 namespace {
@@ -21,113 +24,232 @@ std::string describe(const json& value) {
   return text;
 }
 
-// Reads one surface object, naming the surface, field and index of anything malformed.
-class SurfaceReader {
+bool is_real(const json& v) {
+  return v.is_number() && !v.is_boolean();
+}
+
+// The fields of one JSON object of a surface (the surface itself, its trim, a loop, a curve),
+// each error naming the field by its path from the surface ("trim.loops[0].curves[2].knots").
+class ObjectReader {
  public:
-  SurfaceReader(const json& object, int index, std::string_view origin)
-      : object_(object), index_(index), origin_(origin) {}
+  // `path` is "" for the surface object itself.
+  ObjectReader(const json& object, std::string path, const SurfaceChecker& check)
+      : object_(object), path_(std::move(path)), check_(check) {}
 
-  Surface read() {
-    if (!object_.is_object())
-      throw ValidationError(std::string(origin_), "", index_, "surfaces", std::to_string(index_),
-                            describe(object_), "a surface must be a JSON object");
-    static const char* known[] = {"name",    "degree_u", "degree_v", "count_u", "count_v",
-                                  "knots_u", "knots_v",  "points",   "weights"};
-    if (object_.contains("name") && object_["name"].is_string())
-      surface_.name = object_["name"].get<std::string>();
-    else if (object_.contains("name"))
-      fail("name", "", describe(object_["name"]), "must be a string");
-    else
-      surface_.name = fmt::format("surface{}", index_);
+  // Element `index` of the array at `array_path`, which must be an object.
+  static ObjectReader element(const json& array, const std::string& array_path, std::size_t index,
+                              const SurfaceChecker& check, std::string_view rule) {
+    const json& object = array[index];
+    if (!object.is_object())
+      check.fail(array_path, std::to_string(index), describe(object), std::string(rule));
+    return ObjectReader(object, fmt::format("{}[{}]", array_path, index), check);
+  }
+
+  std::string field(std::string_view key) const {
+    return path_.empty() ? std::string(key) : fmt::format("{}.{}", path_, key);
+  }
+
+  [[noreturn]] void fail(std::string_view key, const std::string& index, const std::string& value,
+                         const std::string& rule) const {
+    check_.fail(field(key), index, value, rule);
+  }
+
+  void refuse_unknown_keys(std::span<const std::string_view> known) const {
     for (const auto& [key, value] : object_.items())
-      if (std::find(std::begin(known), std::end(known), key) == std::end(known))
+      if (std::find(known.begin(), known.end(), key) == known.end())
         fail(key, "", describe(value),
-             "unknown key (expected name, degree_u, degree_v, count_u, count_v, knots_u, "
-             "knots_v, points, weights)");
-
-    surface_.degree_u = integer("degree_u");
-    surface_.degree_v = integer("degree_v");
-    surface_.count_u = integer("count_u");
-    surface_.count_v = integer("count_v");
-    validate_surface_sizes(surface_, index_, origin_);  // before anything is allocated
-
-    surface_.knots_u = numbers("knots_u");
-    surface_.knots_v = numbers("knots_v");
-    read_points();
-    read_weights();
-    return std::move(surface_);
+             fmt::format("unknown key (expected {})", fmt::join(known, ", ")));
   }
 
- private:
-  [[noreturn]] void fail(const std::string& field, const std::string& index,
-                         const std::string& value, const std::string& rule) const {
-    throw ValidationError(std::string(origin_), surface_.name, index_, field, index, value, rule);
+  const json* optional(const char* key) const {
+    const auto it = object_.find(key);
+    return it == object_.end() ? nullptr : &*it;
   }
 
-  const json& required(const char* field) const {
-    if (!object_.contains(field)) fail(field, "", "(missing)", "required field is missing");
-    return object_[field];
+  const json& required(const char* key) const {
+    if (const json* value = optional(key)) return *value;
+    fail(key, "", "(missing)", "required field is missing");
   }
 
-  int integer(const char* field) const {
-    const json& value = required(field);
-    if (!value.is_number_integer()) fail(field, "", describe(value), "must be an integer");
+  int integer(const char* key) const {
+    const json& value = required(key);
+    if (!value.is_number_integer()) fail(key, "", describe(value), "must be an integer");
     const auto wide = value.is_number_unsigned()
                           ? static_cast<long double>(value.get<std::uint64_t>())
                           : static_cast<long double>(value.get<std::int64_t>());
-    if (wide < -1e9L || wide > 1e9L) fail(field, "", describe(value), "out of range");
+    if (wide < -1e9L || wide > 1e9L) fail(key, "", describe(value), "out of range");
     return static_cast<int>(wide);
   }
 
-  static bool is_real(const json& v) { return v.is_number() && !v.is_boolean(); }
+  double number(const char* key) const {
+    const json& value = required(key);
+    if (!is_real(value)) fail(key, "", describe(value), "must be a number");
+    return value.get<double>();
+  }
 
-  std::vector<double> numbers(const char* field) const {
-    const json& value = required(field);
-    if (!value.is_array()) fail(field, "", describe(value), "must be an array of numbers");
+  std::string string(const char* key) const {
+    const json& value = required(key);
+    if (!value.is_string()) fail(key, "", describe(value), "must be a string");
+    return value.get<std::string>();
+  }
+
+  // An array of at most `max` entries (checked before anything is allocated for it).
+  const json& array(const char* key, std::string_view what, std::size_t max) const {
+    const json& value = required(key);
+    if (!value.is_array())
+      fail(key, "", describe(value), fmt::format("must be an array of {}", what));
+    check_.check_at_most(field(key), value.size(), max, what);
+    return value;
+  }
+
+  std::vector<double> numbers(const char* key, std::size_t max) const {
+    const json& value = array(key, "numbers", max);
     std::vector<double> out;
     out.reserve(value.size());
     for (std::size_t k = 0; k < value.size(); ++k) {
-      if (!is_real(value[k]))
-        fail(field, std::to_string(k), describe(value[k]), "must be a number");
+      if (!is_real(value[k])) fail(key, std::to_string(k), describe(value[k]), "must be a number");
       out.push_back(value[k].get<double>());
     }
     return out;
   }
 
-  std::size_t expected_points() const {
-    return static_cast<std::size_t>(surface_.count_u) * surface_.count_v;
-  }
-
-  void read_points() {
-    const json& value = required("points");
-    if (!value.is_array()) fail("points", "", describe(value), "must be an array of [x, y, z]");
-    if (value.size() != expected_points())
-      fail("points", kLengthIndex, std::to_string(value.size()),
-           fmt::format("need count_u * count_v = {} points", expected_points()));
-    surface_.points.resize(value.size());
+  // Entries of `value` (the array at `key`), each an array of N numbers written as `shape`.
+  template <std::size_t N>
+  std::vector<std::array<double, N>> tuples(const char* key, const json& value,
+                                            std::string_view shape) const {
+    std::vector<std::array<double, N>> out(value.size());
     for (std::size_t k = 0; k < value.size(); ++k) {
       const json& p = value[k];
-      if (!p.is_array() || p.size() != 3 || !is_real(p[0]) || !is_real(p[1]) || !is_real(p[2]))
-        fail("points", std::to_string(k), describe(p), "must be [x, y, z] numbers");
-      surface_.points[k] = {p[0].get<double>(), p[1].get<double>(), p[2].get<double>()};
+      if (!p.is_array() || p.size() != N || !std::all_of(p.begin(), p.end(), is_real))
+        fail(key, std::to_string(k), describe(p), fmt::format("must be {} numbers", shape));
+      for (std::size_t c = 0; c < N; ++c) out[k][c] = p[c].get<double>();
     }
+    return out;
   }
 
-  void read_weights() {
-    if (!object_.contains("weights")) {
-      surface_.weights.assign(expected_points(), 1.0);
-      return;
+ private:
+  const json& object_;
+  std::string path_;
+  const SurfaceChecker& check_;
+};
+
+// The longest knot vectors a valid surface direction or trim curve can have: a longer array is
+// refused before it is copied.
+constexpr std::size_t kMaxKnots = kMaxCountPerDirection + kMaxDegree + 1;
+constexpr std::size_t kMaxTrimKnots = kMaxTrimPointsPerCurve + kMaxDegree + 1;
+
+TrimCurve read_trim_curve(const ObjectReader& r) {
+  static constexpr std::string_view kKeys[] = {"degree", "knots", "points", "weights"};
+  r.refuse_unknown_keys(kKeys);
+  TrimCurve curve;
+  curve.degree = r.integer("degree");
+  curve.knots = r.numbers("knots", kMaxTrimKnots);
+  curve.points = r.tuples<2>(
+      "points", r.array("points", "[u, v] control points", kMaxTrimPointsPerCurve), "[u, v]");
+  if (r.optional("weights"))
+    curve.weights = r.numbers("weights", kMaxTrimPointsPerCurve);
+  else
+    curve.weights.assign(curve.points.size(), 1.0);
+  return curve;
+}
+
+Trim read_trim(const json& value, const SurfaceChecker& check) {
+  if (!value.is_object())
+    check.fail("trim", "", describe(value),
+               "must be an object {\"rule\", \"tolerance\", \"loops\"}");
+  const ObjectReader r(value, "trim", check);
+  static constexpr std::string_view kKeys[] = {"rule", "tolerance", "loops"};
+  r.refuse_unknown_keys(kKeys);
+  Trim trim;
+  if (r.optional("rule")) trim.rule = r.string("rule");
+  if (r.optional("tolerance")) trim.tolerance = r.number("tolerance");
+  const json& loops = r.array("loops", "loops", kMaxTrimLoops);
+  trim.loops.reserve(loops.size());
+  for (std::size_t l = 0; l < loops.size(); ++l) {
+    const ObjectReader loop = ObjectReader::element(loops, r.field("loops"), l, check,
+                                                    "a loop must be an object {\"curves\": [...]}");
+    static constexpr std::string_view kLoopKeys[] = {"curves"};
+    loop.refuse_unknown_keys(kLoopKeys);
+    const json& curves = loop.array("curves", "curves", kMaxTrimCurvesPerLoop);
+    TrimLoop& out = trim.loops.emplace_back();
+    out.curves.reserve(curves.size());
+    for (std::size_t c = 0; c < curves.size(); ++c)
+      out.curves.push_back(read_trim_curve(ObjectReader::element(
+          curves, loop.field("curves"), c, check, "a trim curve must be a JSON object")));
+  }
+  return trim;
+}
+
+// Reads one surface object, naming the surface, field and index of anything malformed.
+class SurfaceReader {
+ public:
+  SurfaceReader(const json& object, int index, std::string_view origin, bool version2)
+      : object_(object),
+        index_(index),
+        origin_(origin),
+        version2_(version2),
+        check_(surface_, index, origin) {}
+
+  Surface read() {
+    if (!object_.is_object())
+      check_.fail("surfaces", std::to_string(index_), describe(object_),
+                  "a surface must be a JSON object");
+    const ObjectReader r(object_, "", check_);
+    if (r.optional("name"))
+      surface_.name = r.string("name");
+    else
+      surface_.name = fmt::format("surface{}", index_);
+    for (const char* key : {"trim", "orientation"})
+      if (!version2_ && r.optional(key))
+        r.fail(
+            key, "", describe(*r.optional(key)),
+            fmt::format("needs \"format\": \"{}\" (this file is {})", kSceneFormat2, kSceneFormat));
+    // nurbs-scene/2 adds the last two.
+    static constexpr std::string_view kKeys[] = {"name",    "degree_u", "degree_v",   "count_u",
+                                                 "count_v", "knots_u",  "knots_v",    "points",
+                                                 "weights", "trim",     "orientation"};
+    r.refuse_unknown_keys(version2_ ? std::span(kKeys) : std::span(kKeys).first(9));
+
+    surface_.degree_u = r.integer("degree_u");
+    surface_.degree_v = r.integer("degree_v");
+    surface_.count_u = r.integer("count_u");
+    surface_.count_v = r.integer("count_v");
+    validate_surface_sizes(surface_, index_, origin_);  // before anything is allocated
+
+    surface_.knots_u = r.numbers("knots_u", kMaxKnots);
+    surface_.knots_v = r.numbers("knots_v", kMaxKnots);
+    const std::size_t expected = static_cast<std::size_t>(surface_.count_u) * surface_.count_v;
+    const json& points = r.array("points", "[x, y, z] control points", kMaxControlPointsPerSurface);
+    if (points.size() != expected)
+      r.fail("points", kLengthIndex, std::to_string(points.size()),
+             fmt::format("need count_u * count_v = {} points", expected));
+    surface_.points = r.tuples<3>("points", points, "[x, y, z]");
+    if (r.optional("weights")) {
+      surface_.weights = r.numbers("weights", kMaxControlPointsPerSurface);
+      if (surface_.weights.size() != expected)
+        r.fail("weights", kLengthIndex, std::to_string(surface_.weights.size()),
+               fmt::format("need count_u * count_v = {} weights", expected));
+    } else {
+      surface_.weights.assign(expected, 1.0);
     }
-    surface_.weights = numbers("weights");
-    if (surface_.weights.size() != expected_points())
-      fail("weights", kLengthIndex, std::to_string(surface_.weights.size()),
-           fmt::format("need count_u * count_v = {} weights", expected_points()));
+    if (r.optional("orientation")) {
+      const std::string orientation = r.string("orientation");
+      if (orientation != "forward" && orientation != "reversed")
+        r.fail("orientation", "", describe(*r.optional("orientation")),
+               "must be \"forward\" or \"reversed\"");
+      surface_.reversed = orientation == "reversed";
+    }
+    if (const json* trim = r.optional("trim")) surface_.trim = read_trim(*trim, check_);
+    return std::move(surface_);
   }
 
+ private:
   const json& object_;
   int index_;
   std::string_view origin_;
+  bool version2_;
   Surface surface_;
+  SurfaceChecker check_;
 };
 
 [[noreturn]] void fail_scene(std::string_view origin, const std::string& field,
@@ -138,22 +260,18 @@ class SurfaceReader {
 }  // namespace
 
 Scene parse_scene_json(std::string_view text, std::string_view origin) {
-  json document;
-  try {
-    document = json::parse(text.begin(), text.end());
-  } catch (const json::exception& e) {  // parse_error, and out_of_range for 1e999
-    throw InputError(fmt::format("{}: not valid JSON: {}", origin, json_error_text(e)));
-  }
+  const json document = parse_json_strictly(text, origin);
   if (!document.is_object())
     fail_scene(origin, "(document)", describe(document), "must be a JSON object");
   for (const auto& [key, value] : document.items())
     if (key != "format" && key != "name" && key != "description" && key != "surfaces")
       fail_scene(origin, key, describe(value),
                  "unknown key (expected format, name, description, surfaces)");
-  if (!document.contains("format") || document["format"] != kSceneFormat)
-    fail_scene(origin, "format",
-               document.contains("format") ? describe(document["format"]) : "(missing)",
-               fmt::format("must be \"{}\"", kSceneFormat));
+  const auto format = document.find("format");
+  if (format == document.end() || (*format != kSceneFormat && *format != kSceneFormat2))
+    fail_scene(origin, "format", format != document.end() ? describe(*format) : "(missing)",
+               fmt::format("must be \"{}\" or \"{}\"", kSceneFormat, kSceneFormat2));
+  const bool version2 = *format == kSceneFormat2;
   Scene scene;
   if (document.contains("name")) {
     if (!document["name"].is_string())
@@ -175,17 +293,28 @@ Scene parse_scene_json(std::string_view text, std::string_view origin) {
                fmt::format("at most {} surfaces", kMaxSurfacesPerScene));
   scene.surfaces.reserve(surfaces.size());
   for (std::size_t i = 0; i < surfaces.size(); ++i)
-    scene.surfaces.push_back(SurfaceReader(surfaces[i], static_cast<int>(i), origin).read());
+    scene.surfaces.push_back(
+        SurfaceReader(surfaces[i], static_cast<int>(i), origin, version2).read());
   validate_scene(scene, origin);
   return scene;
 }
 
 Scene load_scene_file(const std::filesystem::path& path) {
+  std::error_code error;
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  if (error)
+    throw InputError(fmt::format("{}: cannot read scene file: {}", path.string(), error.message()));
+  if (size > kMaxSceneFileBytes)
+    throw InputError(
+        fmt::format("{}: file size {} bytes exceeds the limit of {} bytes for a scene "
+                    "file",
+                    path.string(), size, kMaxSceneFileBytes));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot open scene file", path.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  Scene scene = parse_scene_json(text.str(), path.string());
+  std::string text(static_cast<std::size_t>(size), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  Scene scene = parse_scene_json(text, path.string());
   if (scene.name.empty()) scene.name = path.stem().string();
   return scene;
 }
@@ -205,27 +334,69 @@ std::string join_numbers(const Range& values) {
   }
   return out;
 }
+
+bool all_one(const std::vector<double>& weights) {
+  return std::all_of(weights.begin(), weights.end(), [](double w) { return w == 1.0; });
+}
+
+// One control point per line at `indent`, as "[a, b, ...]".
+template <typename Point>
+std::string point_lines(const std::vector<Point>& points, std::string_view indent) {
+  std::string out;
+  for (std::size_t k = 0; k < points.size(); ++k)
+    out += fmt::format("{}\n{}[{}]", k ? "," : "", indent, join_numbers(points[k]));
+  return out;
+}
+
+std::string trim_json(const Trim& trim) {
+  std::string out = fmt::format(
+      ",\n      \"trim\": {{\n        \"rule\": {}, \"tolerance\": {},\n        \"loops\": [",
+      json(trim.rule).dump(), number_text(trim.tolerance));
+  for (std::size_t l = 0; l < trim.loops.size(); ++l) {
+    out += fmt::format("{}\n          {{\n            \"curves\": [", l ? "," : "");
+    const std::vector<TrimCurve>& curves = trim.loops[l].curves;
+    for (std::size_t c = 0; c < curves.size(); ++c) {
+      const TrimCurve& curve = curves[c];
+      out += fmt::format(
+          "{}\n              {{\n                \"degree\": {},\n                \"knots\": "
+          "[{}],\n"
+          "                \"points\": [{}\n                ]",
+          c ? "," : "", curve.degree, join_numbers(curve.knots),
+          point_lines(curve.points, "                  "));
+      if (!all_one(curve.weights))
+        out += fmt::format(",\n                \"weights\": [{}]", join_numbers(curve.weights));
+      out += "\n              }";
+    }
+    out += "\n            ]\n          }";
+  }
+  out += "\n        ]\n      }";
+  return out;
+}
 }  // namespace
 
 std::string scene_to_json(const Scene& scene) {
   // Written by hand rather than json::dump so a control point is one line: files stay readable
-  // and diffable. fmt's "{}" prints doubles in shortest round-trip form.
+  // and diffable. fmt's "{}" prints doubles in shortest round-trip form. A scene /1 can hold is
+  // written as /1, so files of untrimmed scenes stay what older readers accept.
+  const bool version2 =
+      std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
+                  [](const Surface& s) { return s.trim.has_value() || s.reversed; });
   std::string out = fmt::format(
       "{{\n  \"format\": \"{}\",\n  \"name\": {},\n  \"description\": {},\n  \"surfaces\": [",
-      kSceneFormat, json(scene.name).dump(), json(scene.description).dump());
+      version2 ? kSceneFormat2 : kSceneFormat, json(scene.name).dump(),
+      json(scene.description).dump());
   for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
     const Surface& s = scene.surfaces[i];
     out += fmt::format(
         "{}\n    {{\n      \"name\": {},\n      \"degree_u\": {}, \"degree_v\": {},\n"
         "      \"count_u\": {}, \"count_v\": {},\n      \"knots_u\": [{}],\n      \"knots_v\": "
         "[{}],\n"
-        "      \"points\": [",
+        "      \"points\": [{}\n      ]",
         i ? "," : "", json(s.name).dump(), s.degree_u, s.degree_v, s.count_u, s.count_v,
-        join_numbers(s.knots_u), join_numbers(s.knots_v));
-    for (std::size_t k = 0; k < s.points.size(); ++k)
-      out += fmt::format("{}\n        [{}]", k ? "," : "", join_numbers(s.points[k]));
-    out += "\n      ]";
+        join_numbers(s.knots_u), join_numbers(s.knots_v), point_lines(s.points, "        "));
     if (s.is_rational()) out += fmt::format(",\n      \"weights\": [{}]", join_numbers(s.weights));
+    if (s.reversed) out += ",\n      \"orientation\": \"reversed\"";
+    if (s.trim) out += trim_json(*s.trim);
     out += "\n    }";
   }
   out += "\n  ]\n}\n";

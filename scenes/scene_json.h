@@ -1,8 +1,10 @@
-// The nurbs-scene/1 JSON format (DESIGN.md, "Scene file format"): parse with every structural
-// error named (file, surface, field, index, value), unknown keys refused; write in a form that
-// reads back bit-identically (shortest round-trip numbers).
+// The nurbs-scene/1 and /2 JSON formats (DESIGN.md, "Scene file format"; /2 adds a surface's
+// "trim" and "orientation"): parse with every structural error named (file, surface, field path,
+// index, value), unknown and duplicated keys refused, nesting and file size bounded; write in a
+// form that reads back bit-identically (shortest round-trip numbers).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -12,6 +14,11 @@
 namespace nurbs {
 
 inline constexpr std::string_view kSceneFormat = "nurbs-scene/1";
+// Written only for a scene that needs it: a trimmed or reversed surface.
+inline constexpr std::string_view kSceneFormat2 = "nurbs-scene/2";
+// A scene file larger than this is refused before it is read: its JSON tree would take several
+// times its size in memory.
+inline constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t{1} << 30;
 
 // Throws InputError (or its ValidationError) naming `origin`; the result is validated.
 Scene parse_scene_json(std::string_view text, std::string_view origin);

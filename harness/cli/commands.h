@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,7 @@ struct EvalOptions {
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
   std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
   std::string error_image;                    // --error-image F.exr|F.png (harness/error_image.h)
+  std::optional<std::string> trim_band;       // --trim-band FRACTION (absent: kDefaultTrimBand)
 };
 int eval_command(const EvalOptions& options);
 
@@ -67,6 +69,7 @@ struct RunOptions {
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
   std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
   IsolationOptions isolation;
+  std::optional<std::string> trim_band;  // --trim-band FRACTION (absent: kDefaultTrimBand)
 };
 int run_command(const RunOptions& options);
 
@@ -122,6 +125,9 @@ std::vector<Sampling> parse_grid_list(std::string_view option, std::string_view 
 std::vector<Sampling> parse_span_list(std::string_view option, std::string_view text);
 Precision parse_precision(std::string_view text);
 ReferencePrecision parse_reference(std::string_view text);
+// --trim-band: a fraction of each trimmed surface's (u, v) domain diagonal, finite, in [0, 1);
+// absent = kDefaultTrimBand (harness/metrics.h).
+double parse_trim_band(const std::optional<std::string>& text);
 std::vector<std::string> split_list(std::string_view text);
 // --scenes: "default" = every listed built-in scene except those whose default grids exceed the
 // per-request sample limit (many-4096); "all" = every listed built-in scene; else a comma list.

@@ -92,6 +92,22 @@ std::string point_text(const PointArray& a, std::size_t k) {
                      coordinate_text(a.f64()[3 * k + 1]), coordinate_text(a.f64()[3 * k + 2]));
 }
 
+// The trim figures in words: the errors above are over the inside samples only.
+std::string trim_summary(const TrimAccuracy& t) {
+  std::string text =
+      t.inside == 0
+          ? std::string("no sample lies inside the trimmed faces: the errors above are over none")
+          : fmt::format("errors over the {} samples inside the faces", t.inside);
+  text +=
+      fmt::format(", {} boundary samples (band {:g} of the domain diagonal)", t.boundary, t.band);
+  if (t.misclassified)
+    text += fmt::format(", {} misclassified outside the band (rate {:.3g})", *t.misclassified,
+                        t.misclassified_rate.value_or(0));
+  else
+    text += ", untrimmed (the strategy does not classify)";
+  return text;
+}
+
 }  // namespace
 
 int eval_command(const EvalOptions& options) {
@@ -102,6 +118,7 @@ int eval_command(const EvalOptions& options) {
     throw InputError(fmt::format("--strategy = '{}': unknown strategy (known: {})",
                                  options.strategy, fmt::join(strategy_names(), ", ")));
   const ReferencePrecision reference_precision = parse_reference(options.reference);
+  const double trim_band = parse_trim_band(options.trim_band);
 
   EvalRequest request;
   request.precision = parse_precision(options.precision);
@@ -134,9 +151,13 @@ int eval_command(const EvalOptions& options) {
 
   std::unique_ptr<Strategy> strategy = entry->create(StrategyOptions{
       options.threads, backend_extra(options.gl, options.device, options.strategy_options)});
+  // The strategy's own classification of its samples, for the CSV's inside column.
+  const bool classifies = entry->capabilities().trims && scene.has_trims();
   strategy->prepare(scene, request);
   strategy->evaluate();
-  const EvalResult result = strategy->read_back();
+  if (classifies) strategy->classify();
+  EvalResult result = strategy->read_back();
+  orient_normals(scene, result);  // the CSV and the scoring give the face's normals
 
   // Compared where the strategy sampled: the request's samples, or its own for a strategy that
   // chooses them (glu-nurbs).
@@ -146,7 +167,8 @@ int eval_command(const EvalOptions& options) {
         fmt::format("strategy {} returned other (u, v) than the requested samples", entry->name));
   const std::vector<ReferenceSurface> reference =
       evaluate_reference(scene, produced, request.normals, reference_precision);
-  const Accuracy accuracy = measure_accuracy(scene, result, reference);
+  const Accuracy accuracy =
+      measure_accuracy(scene, result, reference, {trim_band, entry->capabilities().trims});
   if (!options.error_image.empty()) {
     const auto paths = write_error_images(
         options.error_image, error_grids(scene, result, reference),
@@ -157,15 +179,16 @@ int eval_command(const EvalOptions& options) {
   std::cerr << fmt::format(
       "{} on {} ({}, {}, {} samples): max_abs {:.3g}, rms_abs {:.3g}, max_rel {:.3g}, max_ulp "
       "{:.3g}{} "
-      "against the {} reference\n",
+      "against the {} reference{}\n",
       entry->name, scene.name, options.precision, request.sampling.label(), total_samples(produced),
       accuracy.max_abs, accuracy.rms_abs, accuracy.max_rel, accuracy.max_ulp,
       accuracy.max_normal_angle_deg
           ? fmt::format(", normals within {:.3g} deg", *accuracy.max_normal_angle_deg)
           : "",
-      options.reference);
+      options.reference, accuracy.trim ? "; " + trim_summary(*accuracy.trim) : "");
 
-  std::string csv = options.normals ? "surface,u,v,x,y,z,nx,ny,nz\n" : "surface,u,v,x,y,z\n";
+  std::string csv = options.normals ? "surface,u,v,x,y,z,nx,ny,nz" : "surface,u,v,x,y,z";
+  csv += classifies ? ",inside\n" : "\n";
   for (std::size_t i = 0; i < result.surfaces.size(); ++i) {
     const SurfaceResult& r = result.surfaces[i];
     for (std::size_t k = 0; k < r.positions.size(); ++k) {
@@ -175,6 +198,8 @@ int eval_command(const EvalOptions& options) {
         csv += ',';
         csv += point_text(r.normals, k);
       }
+      // An untrimmed surface of a trimmed scene is its whole face.
+      if (classifies) csv += r.inside.empty() || r.inside[k] != 0 ? ",1" : ",0";
       csv += "\n";
     }
   }

@@ -27,6 +27,9 @@ void add_isolation_options(CLI::App* verb, nurbs::cli::IsolationOptions& options
                    "strategy reports timed_out in that phase (default 60)");
 }
 
+constexpr const char* kTrimBandHelp =
+    "trimmed scenes: samples nearer the trim boundary than FRACTION of the surface's (u,v) domain "
+    "diagonal are boundary samples, not scored for classification (default 1e-7; recorded)";
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -42,8 +45,9 @@ int main(int argc, char** argv) {
   list_cmd->add_flag("--json", list.json, "machine-readable output");
 
   SceneOptions scene;
-  auto* scene_cmd =
-      app.add_subcommand("scene", "write a scene (built-in name or file) as nurbs-scene/1 JSON");
+  auto* scene_cmd = app.add_subcommand("scene",
+                                       "write a scene (built-in name or file) as nurbs-scene/1 "
+                                       "JSON (/2 when it has trims or reversed faces)");
   scene_cmd->add_option("name", scene.scene, "built-in scene name or scene file")->required();
   scene_cmd->add_option("--out", scene.out, "output file (default: stdout)");
 
@@ -75,8 +79,10 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--error-image", eval.error_image,
                        "heat map of the error over (u,v): F.exr (raw float error, model units) or "
                        "F.png (colour map, ulps, legend); several surfaces: F-<index>.ext");
+  eval_cmd->add_option("--trim-band", eval.trim_band, kTrimBandHelp)->type_name("FRACTION");
   eval_cmd->add_option("--out", eval.out,
-                       "CSV file surface,u,v,x,y,z[,nx,ny,nz] (default: stdout)");
+                       "CSV file surface,u,v,x,y,z[,nx,ny,nz][,inside] (inside: a strategy that "
+                       "trims, on a trimmed scene; default: stdout)");
 
   RunOptions run;
   auto* run_cmd = app.add_subcommand(
@@ -107,6 +113,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--strategy-option", run.strategy_options,
                       "KEY=VALUE for the strategies that read KEY (repeatable), e.g. "
                       "vk-mode=adaptive, vk-eye=x,y,z, vk-center=x,y,z, vk-mu=4 (vk-ksquad)");
+  run_cmd->add_option("--trim-band", run.trim_band, kTrimBandHelp)->type_name("FRACTION");
   run_cmd->add_option("--out", run.out, "output directory (default results/latest)");
   add_isolation_options(run_cmd, run.isolation);
 

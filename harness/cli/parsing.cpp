@@ -2,11 +2,13 @@
 #include <omp.h>
 
 #include <charconv>
+#include <cmath>
 #include <cstdlib>
 #include <string>
 #include <thread>
 
 #include "harness/cli/commands.h"
+#include "harness/metrics.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
 
@@ -96,6 +98,19 @@ ReferencePrecision parse_reference(std::string_view text) {
     throw InputError(fmt::format("--reference = '{}': must be long-double or float128{}", text,
                                  NURBSBENCH_HAS_FLOAT128 ? "" : " (this build has no __float128)"));
   return precision;
+}
+
+double parse_trim_band(const std::optional<std::string>& text) {
+  if (!text) return kDefaultTrimBand;
+  char* end = nullptr;
+  const double band = std::strtod(text->c_str(), &end);
+  if (text->empty() || end != text->c_str() + text->size() || !std::isfinite(band) || band < 0 ||
+      band >= 1)
+    throw InputError(fmt::format(
+        "--trim-band = '{}': must be a number in [0, 1) (a fraction of each trimmed surface's "
+        "(u, v) domain diagonal; default {:g})",
+        *text, kDefaultTrimBand));
+  return band;
 }
 
 std::map<std::string, std::string> backend_extra(const std::string& gl, const std::string& device,

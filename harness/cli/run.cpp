@@ -86,6 +86,7 @@ int run_command(const RunOptions& options) {
                           : parse_span_list("--span-samples", options.span_samples);
   const Precision precision = parse_precision(options.precision);
   const ReferencePrecision reference_precision = parse_reference(options.reference);
+  const double trim_band = parse_trim_band(options.trim_band);
   for (const Scene& scene : scenes)
     for (const Sampling& sampling : samplings) sample_parameters(scene, sampling);
 
@@ -100,6 +101,7 @@ int run_command(const RunOptions& options) {
                              {"gl", options.gl.empty() ? "egl" : options.gl},
                              {"strategy_options", options.strategy_options},
                              {"reference", std::string(to_string(reference_precision))},
+                             {"trim_band", trim_band},
                              {"isolation", to_string(isolation.mode)},
                              {"timeout_s", isolation.timeout_s},
                              {"device_timeout_s", device_wait_limit_s()}};
@@ -130,7 +132,8 @@ int run_command(const RunOptions& options) {
         const StrategyOptions strategy_options{
             threads, backend_extra(options.gl, options.device, options.strategy_options)};
         writer.append(measure_with(
-            isolation, {entry, strategy_options, request, options.repetitions, options.deforming},
+            isolation,
+            {entry, strategy_options, request, options.repetitions, options.deforming, trim_band},
             scene, references));
       }
     }

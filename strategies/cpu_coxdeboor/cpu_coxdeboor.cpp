@@ -1,8 +1,11 @@
 #include "strategies/cpu_coxdeboor/cpu_coxdeboor.h"
 
+#include <cstdint>
+#include <optional>
 #include <variant>
 
 #include "reference/nurbs_math.h"
+#include "reference/trim_classify.h"
 
 namespace nurbs {
 namespace {
@@ -10,6 +13,7 @@ namespace {
 Capabilities coxdeboor_capabilities() {
   Capabilities c;
   c.max_degree = kMaxDegree;
+  c.trims = true;
   return c;
 }
 
@@ -27,6 +31,8 @@ class CpuCoxDeBoor final : public Strategy {
     else
       nets_ = make_nets<double>(scene);
     results_.assign(scene.surfaces.size(), {});
+    trims_.clear();
+    for (const Surface& s : scene.surfaces) trims_.push_back(s.trim);
     for (std::size_t i = 0; i < results_.size(); ++i) {
       results_[i].positions = PointArray(request.precision, samples_[i].count());
       if (request.normals) results_[i].normals = PointArray(request.precision, samples_[i].count());
@@ -37,6 +43,17 @@ class CpuCoxDeBoor final : public Strategy {
     std::visit([this](const auto& nets) { evaluate_all(nets); }, nets_);
   }
 
+  // The reference's classifier in double: the same crossings, so the harness's misclassification
+  // metrics are exercised by a strategy whose answer is known to be right away from the boundary.
+  bool classify() override {
+    for (std::size_t i = 0; i < trims_.size(); ++i)
+      if (trims_[i])
+        results_[i].inside =
+            classify_trim_samples(*trims_[i], samples_[i], /*with_distance=*/false, TrimScalar::f64)
+                .inside;
+    return true;
+  }
+
   EvalResult read_back() override {
     EvalResult out;
     out.surfaces.resize(results_.size());
@@ -44,6 +61,7 @@ class CpuCoxDeBoor final : public Strategy {
       out.surfaces[i].samples = samples_[i];
       out.surfaces[i].positions = results_[i].positions;
       out.surfaces[i].normals = results_[i].normals;
+      out.surfaces[i].inside = results_[i].inside;
     }
     return out;
   }
@@ -51,6 +69,7 @@ class CpuCoxDeBoor final : public Strategy {
  private:
   struct Output {
     PointArray positions, normals;
+    std::vector<std::uint8_t> inside;  // trimmed surfaces, after classify()
   };
 
   template <typename T>
@@ -79,6 +98,7 @@ class CpuCoxDeBoor final : public Strategy {
   std::vector<SurfaceSamples> samples_;
   std::variant<std::vector<SurfaceNet<float>>, std::vector<SurfaceNet<double>>> nets_;
   std::vector<Output> results_;
+  std::vector<std::optional<Trim>> trims_;  // per surface, copied at prepare
 };
 
 }  // namespace

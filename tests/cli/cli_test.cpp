@@ -14,7 +14,10 @@
 #include "reference/sampling.h"
 #include "run_cli.h"
 #include "scenes/builtin_scenes.h"
+#include "scenes/scene_json.h"
 #include "strategies/registry.h"
+#include "tests/harness/plates.h"
+#include "tests/scenes/trimmed_plate_closed_form.h"
 
 namespace nurbs::test {
 namespace {
@@ -25,7 +28,8 @@ using nlohmann::json;
 const char* const kResultsCsvHeader =
     "scene,strategy,device,precision,sampling,samples,points,setup_s,upload_median_s,"
     "evaluate_min_s,evaluate_median_s,evaluate_max_s,readback_median_s,end_to_end_median_s,"
-    "throughput_pts_per_s,max_abs,rms_abs,max_rel,max_ulp,status,reason";
+    "throughput_pts_per_s,max_abs,rms_abs,max_rel,max_ulp,status,reason,trimming,trim_band,"
+    "trim_inside_samples,trim_boundary_samples,trim_misclassified,trim_misclassified_rate";
 
 Scene builtin(std::string_view name) {
   return *make_builtin_scene(name);
@@ -534,6 +538,164 @@ TEST(CliMemory, BadScenesAreExitTwoWithOneLine) {
   }
   expect_usage_error(run_cli({"memory", "--scenes", ","}), {"--scenes", "empty"});
   expect_usage_error(run_cli({"memory", "--bogus"}), {"--bogus"});
+}
+
+// --------------------------------------------------------------------------------------- trims
+
+// The built-in trimmed-plate's face in closed form, per sample of a CSV row's (u, v).
+double plate_distance(const std::vector<std::string>& row) {
+  return trimmed_plate_signed_distance(TrimmedPlateShape{}, parse_exact(row[1]),
+                                       parse_exact(row[2]));
+}
+
+TEST(CliTrim, EvalWritesTheStrategysInsideColumn) {
+  TempDir tmp;
+  const std::string out = tmp / "p.csv";
+  const CliResult r = run_cli({"eval", "--scene", "trimmed-plate", "--strategy", "cpu-coxdeboor",
+                               "--samples", "17x13", "--normals", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rows = eval_rows(read_text(out), "surface,u,v,x,y,z,nx,ny,nz,inside");
+  ASSERT_EQ(rows.size(), 17u * 13u);
+  std::size_t inside = 0;
+  for (const auto& row : rows) {
+    ASSERT_EQ(row.size(), 10u);
+    const double d = plate_distance(row);
+    ASSERT_GT(std::abs(d), 1e-9) << "no sample of this grid lies on the boundary";
+    EXPECT_EQ(row[9], d < 0 ? "1" : "0") << row[1] << "," << row[2];
+    inside += d < 0;
+  }
+  // The accuracy line says what the errors are over, and the classification's score.
+  EXPECT_NE(r.err.find(fmt::format("errors over the {} samples inside the faces", inside)),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("0 misclassified outside the band"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("band 1e-07"), std::string::npos) << r.err;
+
+  // A strategy that does not trim: no column, and the accuracy line says so.
+  const CliResult plain = run_cli({"eval", "--scene", "trimmed-plate", "--strategy", "cpu-tensor",
+                                   "--samples", "17x13", "--trim-band", "0.001"});
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(eval_rows(plain.out, "surface,u,v,x,y,z").size(), 17u * 13u);
+  EXPECT_NE(plain.err.find("untrimmed"), std::string::npos) << plain.err;
+  EXPECT_NE(plain.err.find("band 0.001"), std::string::npos) << plain.err;
+}
+
+TEST(CliTrim, RunScoresTrimmedScenesWithTheGivenBand) {
+  TempDir tmp;
+  const std::string out = tmp / "r";
+  const CliResult r = run_cli({"run", "--scenes", "trimmed-plate,patch144", "--strategies",
+                               "cpu-coxdeboor,cpu-tensor", "--samples", "33x33", "--repetitions",
+                               "2", "--trim-band", "0.01", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // By the closed form at u, v = k/32: samples inside, and samples within the band of 0.01 x the
+  // domain diagonal (sqrt 2) -- bounded by 1% either way, the stated accuracy of the reference's
+  // distance.
+  std::size_t inside = 0, near_low = 0, near_high = 0;
+  const double band = 0.01 * std::sqrt(2.0);
+  for (int a = 0; a <= 32; ++a)
+    for (int b = 0; b <= 32; ++b) {
+      const double d = trimmed_plate_signed_distance(TrimmedPlateShape{}, a / 32.0, b / 32.0);
+      inside += d < 0;
+      near_low += std::abs(d) < 0.99 * band;
+      near_high += std::abs(d) < 1.01 * band;
+    }
+  ASSERT_GT(near_low, 0u) << "the band must hold some samples for the test to mean anything";
+
+  const json results = json::parse(read_text(fs::path(out) / "results.json"));
+  EXPECT_EQ(results["settings"]["trim_band"], 0.01);
+  ASSERT_EQ(results["records"].size(), 4u);
+  for (const json& rec : results["records"]) {
+    SCOPED_TRACE(rec.dump());
+    ASSERT_EQ(rec["status"], "ok");
+    if (rec["scene"] == "patch144") {
+      EXPECT_FALSE(rec.contains("trimming"));
+      EXPECT_FALSE(rec["accuracy"].contains("trim"));
+      continue;
+    }
+    const json& trim = rec["accuracy"]["trim"];
+    EXPECT_EQ(trim["band"], 0.01);
+    EXPECT_EQ(trim["inside_samples"], inside);
+    EXPECT_GE(trim["boundary_samples"].get<std::size_t>(), near_low);
+    EXPECT_LE(trim["boundary_samples"].get<std::size_t>(), near_high);
+    const bool classifies = rec["strategy"] == "cpu-coxdeboor";
+    EXPECT_EQ(rec["trimming"], classifies ? "classified" : "untrimmed");
+    EXPECT_EQ(rec["extra_phases"].contains("classify"), classifies);
+    EXPECT_EQ(trim.contains("misclassified"), classifies);
+    if (classifies) {
+      EXPECT_EQ(trim["misclassified"], 0);
+    }
+  }
+  // The CSV's trim columns, and the summary's trim column.
+  const std::vector<std::string> lines = split_lines(read_text(fs::path(out) / "results.csv"));
+  ASSERT_EQ(lines.size(), 5u);
+  EXPECT_EQ(lines[0], kResultsCsvHeader);
+  const std::vector<std::string> first = split_csv(lines[1]);  // cpu-coxdeboor on trimmed-plate
+  ASSERT_EQ(first.size(), split_csv(kResultsCsvHeader).size());
+  EXPECT_EQ(first[21], "classified");
+  EXPECT_EQ(first[22], "0.01");
+  EXPECT_EQ(first[23], std::to_string(inside));
+  EXPECT_EQ(first[25], "0");
+  EXPECT_NE(r.out.find("untrimmed"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0 misclassified (0)"), std::string::npos) << r.out;
+}
+
+// A scene file (nurbs-scene/2) with a trimmed, reversed face: the hand-classified plate of
+// tests/harness/plates.h, so every expected value here is known without the classifier.
+TEST(CliTrim, SceneFileWithAReversedTrimmedFace) {
+  TempDir tmp;
+  Scene scene = trimmed_plate();
+  scene.surfaces[0].reversed = true;
+  const std::string file = tmp / "plate.json", csv = tmp / "p.csv";
+  write_text(file, scene_to_json(scene));
+
+  const CliResult eval = run_cli({"eval", "--scene", file, "--strategy", "cpu-coxdeboor",
+                                  "--samples", "9x9", "--normals", "--out", csv});
+  ASSERT_EQ(eval.exit_code, 0) << eval.err;
+  const auto rows = eval_rows(read_text(csv), "surface,u,v,x,y,z,nx,ny,nz,inside");
+  ASSERT_EQ(rows.size(), 81u);
+  for (const auto& row : rows) {
+    ASSERT_EQ(row.size(), 10u);
+    EXPECT_EQ(row[9], hand_inside(parse_exact(row[1]), parse_exact(row[2])) ? "1" : "0");
+    // S_u x S_v = +z on the plate; the reversed face's normal, as written, is -z.
+    EXPECT_EQ(parse_exact(row[8]), -1.0) << row[1] << "," << row[2];
+  }
+  EXPECT_NE(eval.err.find("errors over the 40 samples inside the faces"), std::string::npos)
+      << eval.err;
+  EXPECT_NE(eval.err.find("normals within 0 deg"), std::string::npos) << eval.err;
+
+  // 0.04 x sqrt(2): exactly the 12 samples 0.05 beside the hole are boundary samples.
+  const std::string out = tmp / "r";
+  const CliResult run =
+      run_cli({"run", "--scenes", file, "--strategies", "cpu-coxdeboor,cpu-tensor", "--samples",
+               "9x9", "--repetitions", "1", "--normals", "--trim-band", "0.04", "--out", out});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json results = json::parse(read_text(fs::path(out) / "results.json"));
+  ASSERT_EQ(results["records"].size(), 2u);
+  for (const json& rec : results["records"]) {
+    SCOPED_TRACE(rec.dump());
+    ASSERT_EQ(rec["status"], "ok");
+    EXPECT_EQ(rec["accuracy"]["trim"]["inside_samples"], 40);
+    EXPECT_EQ(rec["accuracy"]["trim"]["boundary_samples"], 12);
+    EXPECT_LT(rec["accuracy"]["max_normal_angle_deg"].get<double>(), 1e-3);
+  }
+  EXPECT_EQ(results["records"][0]["accuracy"]["trim"]["misclassified"], 0);
+  EXPECT_EQ(results["records"][1]["trimming"], "untrimmed");
+}
+
+TEST(CliTrim, BadTrimBandIsExitTwoAndWritesNothing) {
+  TempDir tmp;
+  const std::string out = tmp / "r", csv = tmp / "p.csv";
+  for (const std::string bad : {"-0.1", "1", "nan", "inf", "abc", "0.1x", ""}) {
+    SCOPED_TRACE(bad);
+    expect_usage_error(run_cli({"run", "--scenes", "trimmed-plate", "--strategies", "cpu-coxdeboor",
+                                "--samples", "4x4", "--trim-band", bad, "--out", out}),
+                       {"--trim-band", "'" + bad + "'"});
+    EXPECT_FALSE(fs::exists(out));
+    expect_usage_error(run_cli({"eval", "--scene", "trimmed-plate", "--strategy", "cpu-coxdeboor",
+                                "--samples", "4x4", "--trim-band", bad, "--out", csv}),
+                       {"--trim-band", "'" + bad + "'"});
+    EXPECT_FALSE(fs::exists(csv));
+  }
 }
 
 // --------------------------------------------------------------------------------------- check

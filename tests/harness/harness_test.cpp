@@ -16,6 +16,7 @@
 #include "harness/store_limit.h"
 #include "harness/timing.h"
 #include "scenes/builtin_scenes.h"
+#include "tests/harness/plates.h"
 
 namespace nurbs {
 namespace {
@@ -23,14 +24,8 @@ namespace {
 // A scene of one bilinear patch with corners at (0,0,0)..(3,4,0): largest coordinate 4,
 // bounding-box diagonal 5.
 Scene flat_scene() {
-  Surface s;
-  s.name = "flat";
-  s.degree_u = s.degree_v = 1;
-  s.count_u = s.count_v = 2;
-  s.knots_u = s.knots_v = {0, 0, 1, 1};
-  s.points = {{0, 0, 0}, {0, 4, 0}, {3, 0, 0}, {3, 4, 0}};
-  s.weights = {1, 1, 1, 1};
-  return Scene{"flat", "", {s}};
+  return Scene{
+      "flat", "", {test::bilinear_patch("flat", {0, 0, 0}, {0, 4, 0}, {3, 0, 0}, {3, 4, 0})}};
 }
 
 EvalResult result_with(const std::vector<Point3>& points, Precision precision) {
@@ -156,7 +151,8 @@ TEST(Record, CsvHasTheIssueColumnsAndQuotes) {
   EXPECT_EQ(header,
             "scene,strategy,device,precision,sampling,samples,points,setup_s,upload_median_s,"
             "evaluate_min_s,evaluate_median_s,evaluate_max_s,readback_median_s,end_to_end_median_s,"
-            "throughput_pts_per_s,max_abs,rms_abs,max_rel,max_ulp,status,reason");
+            "throughput_pts_per_s,max_abs,rms_abs,max_rel,max_ulp,status,reason,trimming,trim_band,"
+            "trim_inside_samples,trim_boundary_samples,trim_misclassified,trim_misclassified_rate");
   const std::string row = csv_row(sample_record());
   EXPECT_NE(row.find("\"a, \"\"quoted\"\" reason\""), std::string::npos) << row;
   EXPECT_NE(row.find(",ok,"), std::string::npos);

@@ -11,27 +11,21 @@
 #include "reference/trim_classify.h"
 #include "scenes/builtin_scenes.h"
 #include "scenes/trimmed_plate.h"
+#include "tests/scenes/trimmed_plate_closed_form.h"
 
 namespace nurbs {
 namespace {
 
 const TrimmedPlateShape kShape;
 
-// Signed distance-free closed form of the plate's inside, with the distance to its boundary.
 struct Analytic {
   bool inside;
   double distance;
 };
 
 Analytic analytic_plate(double u, double v) {
-  const TrimmedPlateShape& s = kShape;
-  // Rounded rectangle: distance to the rectangle shrunk by r, minus r (a rounded box's SDF).
-  const double r = s.corner_radius, half = (s.high - s.low) / 2 - r, mid = (s.high + s.low) / 2;
-  const double qu = std::fabs(u - mid) - half, qv = std::fabs(v - mid) - half;
-  const double box =
-      std::hypot(std::max(qu, 0.0), std::max(qv, 0.0)) + std::min(std::max(qu, qv), 0.0) - r;
-  const double hole = std::hypot(u - s.hole_center_u, v - s.hole_center_v) - s.hole_radius;
-  return {box < 0 && hole > 0, std::min(std::fabs(box), std::fabs(hole))};
+  const double signed_distance = test::trimmed_plate_signed_distance(kShape, u, v);
+  return {signed_distance < 0, std::fabs(signed_distance)};
 }
 
 // The distance's stated accuracy (reference/trim_classify.h): 1e-4 relative below 1e-3 of the

@@ -1,8 +1,10 @@
-// scenes/: the nurbs-scene/1 writer reads back exactly (every double equal), and the built-in
-// scenes have the shapes the papers' experiments need (DESIGN.md, "Scene file format";
-// builtin_scenes.h).
+// scenes/: the nurbs-scene/1 and /2 writer reads back exactly (every double equal), the reader
+// names every flaw by its field path (trims included) and refuses duplicated keys and deep nesting,
+// and the built-in scenes have the shapes the papers' experiments need (DESIGN.md, "Scene file
+// format"; builtin_scenes.h).
 #include "scenes/scene_json.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +17,7 @@
 #include "../cli/run_cli.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
+#include "scenes/json_strict.h"
 
 namespace nurbs {
 namespace {
@@ -47,6 +50,24 @@ void expect_identical(const Scene& a, const Scene& b) {
     EXPECT_EQ(s.knots_v, t.knots_v);
     EXPECT_EQ(coordinates(s.points), coordinates(t.points));
     EXPECT_EQ(s.weights, t.weights);
+    EXPECT_EQ(s.reversed, t.reversed);
+    ASSERT_EQ(s.trim.has_value(), t.trim.has_value());
+    if (!s.trim) continue;
+    EXPECT_EQ(s.trim->rule, t.trim->rule);
+    EXPECT_EQ(s.trim->tolerance, t.trim->tolerance);
+    ASSERT_EQ(s.trim->loops.size(), t.trim->loops.size());
+    for (std::size_t l = 0; l < s.trim->loops.size(); ++l) {
+      const std::vector<TrimCurve>&a_curves = s.trim->loops[l].curves,
+            &b_curves = t.trim->loops[l].curves;
+      ASSERT_EQ(a_curves.size(), b_curves.size());
+      for (std::size_t c = 0; c < a_curves.size(); ++c) {
+        SCOPED_TRACE(testing::Message() << "loop " << l << " curve " << c);
+        EXPECT_EQ(a_curves[c].degree, b_curves[c].degree);
+        EXPECT_EQ(a_curves[c].knots, b_curves[c].knots);
+        EXPECT_EQ(a_curves[c].points, b_curves[c].points);
+        EXPECT_EQ(a_curves[c].weights, b_curves[c].weights);
+      }
+    }
   }
 }
 
@@ -164,6 +185,320 @@ TEST(SceneJson, CliSceneFileEvaluatesLikeTheBuiltin) {
   const CliResult printed = run_cli({"scene", "patch144"});
   ASSERT_EQ(printed.exit_code, 0) << printed.err;
   EXPECT_EQ(printed.out, scene_to_json(builtin("patch144")));
+}
+
+// ----------------------------------------------------------------------------- nurbs-scene/2
+
+// A bilinear patch on [0, u_max] x [0, 1], so a trim's domain check reads the knots, not [0, 1]^2.
+Surface plane(std::string name, double u_max) {
+  Surface s;
+  s.name = std::move(name);
+  s.degree_u = s.degree_v = 1;
+  s.count_u = s.count_v = 2;
+  s.knots_u = {0, 0, u_max, u_max};
+  s.knots_v = {0, 0, 1, 1};
+  s.points = {{0, 0, 0}, {0, 1, 0}, {u_max, 0, 0}, {u_max, 1, 0.5}};
+  s.weights = {1, 1, 1, 1};
+  return s;
+}
+
+TrimCurve segment(Point2 a, Point2 b) {
+  return TrimCurve{1, {0, 0, 1, 1}, {a, b}, {1, 1}};
+}
+
+TrimLoop polygon(const std::vector<Point2>& corners) {
+  TrimLoop loop;
+  for (std::size_t k = 0; k < corners.size(); ++k)
+    loop.curves.push_back(segment(corners[k], corners[(k + 1) % corners.size()]));
+  return loop;
+}
+
+// The exact circle of centre (cu, cv) and radius r: four rational quadratic arcs in one curve
+// (The NURBS Book, Ex 7.2: corner weights sqrt(1/2), double interior knots).
+TrimCurve circle(double cu, double cv, double r) {
+  const double s = std::sqrt(0.5);
+  TrimCurve c;
+  c.degree = 2;
+  c.knots = {0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1};
+  c.points = {{cu + r, cv},     {cu + r, cv + r}, {cu, cv + r},     {cu - r, cv + r}, {cu - r, cv},
+              {cu - r, cv - r}, {cu, cv - r},     {cu + r, cv - r}, {cu + r, cv}};
+  c.weights = {1, s, 1, s, 1, s, 1, s, 1};
+  return c;
+}
+
+// Uniform quadratic B-spline (unclamped): on [2, 3] it runs from the midpoint of P0 P1 to the
+// midpoint of P1 P2, here (0.375, 0.5) to (0.625, 0.5); every value is exact in binary.
+TrimCurve unclamped_arch() {
+  return TrimCurve{2, {0, 1, 2, 3, 4, 5}, {{0.25, 0.25}, {0.5, 0.75}, {0.75, 0.25}}, {1, 1, 1}};
+}
+
+Scene trimmed_scene() {
+  Scene scene{"trimmed", "a reversed face and a face with three trim loops", {}};
+  Surface reversed = plane("reversed", 1);
+  reversed.reversed = true;
+  scene.surfaces.push_back(reversed);
+  Surface face = plane("face", 2);
+  Trim trim;
+  trim.tolerance = 1e-7;
+  trim.loops.push_back(TrimLoop{{circle(1, 0.5, 0.4)}});
+  trim.loops.push_back(polygon({{0.875, 0.375}, {1.125, 0.375}, {1.125, 0.625}, {0.875, 0.625}}));
+  trim.loops.push_back(TrimLoop{{unclamped_arch(), segment({0.625, 0.5}, {0.375, 0.5})}});
+  trim.loops[2].curves[1].weights = {0.5, 3};  // a rational line: the weights still round-trip
+  face.trim = trim;
+  scene.surfaces.push_back(face);
+  return scene;
+}
+
+TEST(SceneJsonV2, TrimsAndOrientationRoundTripExactly) {
+  const Scene scene = trimmed_scene();
+  ASSERT_NO_THROW(validate_scene(scene, "trimmed"));
+  const std::string text = scene_to_json(scene);
+  EXPECT_NE(text.find("\"format\": \"nurbs-scene/2\""), std::string::npos) << text;
+  EXPECT_NE(text.find("\"orientation\": \"reversed\""), std::string::npos) << text;
+  const Scene read = parse_scene_json(text, "trimmed.json");
+  expect_identical(read, scene);
+  EXPECT_TRUE(read.surfaces[0].reversed);
+  EXPECT_FALSE(read.surfaces[0].trim.has_value());
+  EXPECT_FALSE(read.surfaces[1].reversed);
+  // Written again, the text is the same: nothing is lost or reordered.
+  EXPECT_EQ(scene_to_json(read), text);
+}
+
+TEST(SceneJsonV2, DefaultsAreEvenOddTolerance1e9AndUnitWeights) {
+  const Scene scene = parse_scene_json(R"({"format": "nurbs-scene/2", "surfaces": [{
+      "degree_u": 1, "degree_v": 1, "count_u": 2, "count_v": 2,
+      "knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1],
+      "points": [[0, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0]],
+      "orientation": "forward",
+      "trim": {"loops": [{"curves": [
+        {"degree": 1, "knots": [0, 0, 1, 1], "points": [[0.25, 0.25], [0.75, 0.25]]},
+        {"degree": 1, "knots": [0, 0, 1, 1], "points": [[0.75, 0.25], [0.25, 0.25]]}]}]}}]})",
+                                       "defaults.json");
+  const Surface& s = scene.surfaces.at(0);
+  EXPECT_FALSE(s.reversed);
+  ASSERT_TRUE(s.trim.has_value());
+  EXPECT_EQ(s.trim->rule, "even-odd");
+  EXPECT_EQ(s.trim->tolerance, 1e-9);
+  EXPECT_EQ(s.trim->loops.at(0).curves.at(1).weights, (std::vector<double>{1, 1}));
+  // Unit weights are not written, a forward orientation neither.
+  const std::string text = scene_to_json(scene);
+  EXPECT_EQ(text.find("\"weights\""), std::string::npos) << text;
+  EXPECT_EQ(text.find("\"orientation\""), std::string::npos) << text;
+}
+
+// A scene /1 can hold is written as /1, exactly as before /2 existed (expected text by hand).
+TEST(SceneJsonV2, UntrimmedScenesAreWrittenAsVersion1ByteForByte) {
+  const Scene scene{"tiny", "one bilinear patch", {plane("p", 2)}};
+  EXPECT_EQ(scene_to_json(scene), R"({
+  "format": "nurbs-scene/1",
+  "name": "tiny",
+  "description": "one bilinear patch",
+  "surfaces": [
+    {
+      "name": "p",
+      "degree_u": 1, "degree_v": 1,
+      "count_u": 2, "count_v": 2,
+      "knots_u": [0, 0, 2, 2],
+      "knots_v": [0, 0, 1, 1],
+      "points": [
+        [0, 0, 0],
+        [0, 1, 0],
+        [2, 0, 0],
+        [2, 1, 0.5]
+      ]
+    }
+  ]
+}
+)");
+  // Every built-in scene without a trim or a reversed face is written as /1 (trimmed-plate is /2).
+  for (const std::string& name : builtin_names()) {
+    SCOPED_TRACE(name);
+    const Scene scene = builtin(name);
+    const bool needs_v2 =
+        scene.has_trims() || std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
+                                         [](const Surface& s) { return s.reversed; });
+    const std::string text = scene_to_json(scene);
+    EXPECT_TRUE(
+        text.starts_with(fmt::format("{{\n  \"format\": \"nurbs-scene/{}\",\n", needs_v2 ? 2 : 1)))
+        << text.substr(0, 80);
+    if (!needs_v2) {
+      EXPECT_EQ(text.find("\"trim\""), std::string::npos);
+    }
+  }
+}
+
+// The ValidationError of parsing `scene` written out, for tests of one flaw.
+std::optional<ValidationError> validation_error(const Scene& scene) {
+  try {
+    parse_scene_json(scene_to_json(scene), "bad.json");
+  } catch (const ValidationError& e) {
+    return e;
+  }
+  return std::nullopt;
+}
+
+TEST(SceneJsonV2, TrimErrorsNameTheFieldPath) {
+  Scene scene{"faces", "", {}};
+  for (int k = 0; k < 3; ++k) scene.surfaces.push_back(plane(fmt::format("face-{}", k), 1));
+  Surface face = plane("face-3", 1);
+  TrimLoop loop = polygon({{0.25, 0.25}, {0.75, 0.25}, {0.5, 0.75}});
+  loop.curves[2] =
+      TrimCurve{2, {0, 0, 0, 0.5, 0.3, 1}, {{0.5, 0.75}, {0.4, 0.5}, {0.25, 0.25}}, {1, 1, 1}};
+  face.trim = Trim{"even-odd", 1e-9, {loop}};
+  scene.surfaces.push_back(face);
+  const std::optional<ValidationError> e = validation_error(scene);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_STREQ(e->what(),
+               "bad.json: surface 'face-3' (#3): trim.loops[0].curves[2].knots[4] = 0.3: knots "
+               "must be non-decreasing (previous is 0.5)");
+  EXPECT_EQ(e->surface_index(), 3);
+  EXPECT_EQ(e->field(), "trim.loops[0].curves[2].knots");
+  EXPECT_EQ(e->index(), "4");
+  EXPECT_EQ(e->value(), "0.3");
+}
+
+// The surface's knot rules apply to trim curves word for word (one implementation).
+TEST(SceneJsonV2, TrimKnotsFollowTheSurfaceRules) {
+  Surface face = plane("face", 1);
+  TrimLoop loop = polygon({{0.25, 0.25}, {0.75, 0.25}, {0.5, 0.75}});
+  // Degree 1 with an interior double knot: the curve would jump there.
+  loop.curves[0] = TrimCurve{1,
+                             {0, 0, 0.5, 0.5, 1, 1},
+                             {{0.25, 0.25}, {0.5, 0.25}, {0.6, 0.25}, {0.75, 0.25}},
+                             {1, 1, 1, 1}};
+  face.trim = Trim{"even-odd", 1e-9, {loop}};
+  const std::optional<ValidationError> e = validation_error(Scene{"s", "", {face}});
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field(), "trim.loops[0].curves[0].knots");
+  EXPECT_EQ(e->index(), "2");
+  EXPECT_NE(e->rule().find("multiplicity 2 exceeds 1 (interior knots"), std::string::npos)
+      << e->what();
+}
+
+// The end of an unclamped curve is evaluated: the midpoints of its control polygon's legs.
+TEST(SceneJsonV2, UnclampedCurveEndsAreEvaluatedForClosure) {
+  Surface face = plane("face", 1);
+  face.trim =
+      Trim{"even-odd", 1e-9, {TrimLoop{{unclamped_arch(), segment({0.625, 0.5}, {0.375, 0.5})}}}};
+  EXPECT_NO_THROW(validate_surface(face, 0, "arch"));
+
+  // Closing from the last control point instead of the curve's end leaves a gap there.
+  face.trim->loops[0].curves[1] = segment({0.75, 0.25}, {0.375, 0.5});
+  std::optional<ValidationError> e = validation_error(Scene{"s", "", {face}});
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field(), "trim.loops[0].curves[0].end");
+  EXPECT_EQ(e->value(), "[0.625, 0.5]");
+  EXPECT_NE(e->rule().find("start of curve 1 is [0.75, 0.25]"), std::string::npos) << e->what();
+
+  // And back to the first control point instead of the curve's start.
+  face.trim->loops[0].curves[1] = segment({0.625, 0.5}, {0.25, 0.25});
+  e = validation_error(Scene{"s", "", {face}});
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field(), "trim.loops[0].curves[1].end");
+  EXPECT_EQ(e->value(), "[0.25, 0.25]");
+  EXPECT_NE(e->rule().find("start of curve 0 is [0.375, 0.5]"), std::string::npos) << e->what();
+  // gap = |(0.25, 0.25) - (0.375, 0.5)| = sqrt(0.125^2 + 0.25^2) = sqrt(0.078125)
+  EXPECT_NE(e->rule().find(fmt::format("a gap of {}", std::sqrt(0.078125))), std::string::npos)
+      << e->what();
+}
+
+// The tolerance bounds both the gaps between curves and how far a control point may leave the
+// domain.
+TEST(SceneJsonV2, TheToleranceIsHonoured) {
+  const auto with = [](double tolerance, double gap, double outside) {
+    Surface face = plane("face", 1);
+    TrimLoop loop = polygon({{-outside, 0.25}, {0.75, 0.25}, {0.5, 0.75}});
+    loop.curves[2].points[1][1] += gap;  // the last curve ends `gap` above the first one's start
+    face.trim = Trim{"even-odd", tolerance, {loop}};
+    return validation_error(Scene{"s", "", {face}});
+  };
+  EXPECT_FALSE(with(1e-9, 5e-10, 0).has_value());
+  EXPECT_FALSE(with(1e-9, 0, 5e-10).has_value());
+  std::optional<ValidationError> e = with(1e-9, 2e-9, 0);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field(), "trim.loops[0].curves[2].end");
+  e = with(1e-9, 0, 2e-9);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field(), "trim.loops[0].curves[0].points");
+  EXPECT_EQ(e->index(), "0");
+  EXPECT_FALSE(with(4e-9, 2e-9, 2e-9).has_value());
+}
+
+// ----------------------------------------------------------------------------- hardened input
+
+std::string input_error(std::string_view text) {
+  try {
+    parse_scene_json(text, "in.json");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+TEST(SceneJsonInput, DuplicateKeysAreRefusedWithTheirPath) {
+  const std::string surface = R"({"degree_u": 1, "degree_v": 1, "count_u": 2, "count_v": 2,
+      "knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1],
+      "points": [[0, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0]]})";
+  // The same keys in sibling objects are no duplicates.
+  const std::string two =
+      R"({"format": "nurbs-scene/1", "surfaces": [)" + surface + ", " + surface + "]}";
+  EXPECT_EQ(parse_scene_json(two, "two.json").surfaces.size(), 2u);
+
+  EXPECT_EQ(input_error(R"({"format": "nurbs-scene/1", "format": "nurbs-scene/1"})"),
+            "in.json: format: duplicate key (each key may appear once)");
+  std::string bad = two;
+  bad.replace(bad.rfind("\"count_v\": 2"), 12, "\"count_v\": 2, \"count_v\": 3");
+  EXPECT_EQ(input_error(bad),
+            "in.json: surfaces[1].count_v: duplicate key (each key may appear once)");
+
+  const std::string trimmed = scene_to_json(trimmed_scene());
+  bad = trimmed;
+  // The second loop's first curve: its "degree" again, after the arrays of the loops before it.
+  const std::size_t second_loop = bad.find("\"curves\"", bad.find("\"curves\"") + 1);
+  bad.insert(bad.find("\"degree\": 1,", second_loop) + 12, " \"degree\": 1,");
+  EXPECT_EQ(input_error(bad),
+            "in.json: surfaces[1].trim.loops[1].curves[0].degree: duplicate key (each key may "
+            "appear once)");
+  // A key is shown cut to 40 characters, so a megabyte of key makes no megabyte of message.
+  const std::string long_key(1 << 20, 'k');
+  EXPECT_EQ(input_error("{\"" + long_key + "\": 1, \"" + long_key + "\": 2}"),
+            "in.json: " + std::string(37, 'k') + "...: duplicate key (each key may appear once)");
+  bad = trimmed;
+  bad.insert(bad.find("\"tolerance\""), "\"rule\": \"even-odd\", ");
+  EXPECT_EQ(input_error(bad),
+            "in.json: surfaces[1].trim.rule: duplicate key (each key may appear once)");
+}
+
+std::string nested(int levels) {
+  return R"({"format": "nurbs-scene/1", "surfaces": )" + std::string(levels, '[') +
+         std::string(levels, ']') + "}";
+}
+
+TEST(SceneJsonInput, NestingIsBoundedWhileParsing) {
+  // The document object is level 1, so 63 brackets reach the limit of 64 and pass the parser
+  // (to be refused as a surface that is not an object), 64 do not.
+  EXPECT_NE(input_error(nested(kMaxJsonDepth - 1)).find("a surface must be a JSON object"),
+            std::string::npos);
+  const std::string refused = input_error(nested(kMaxJsonDepth));
+  EXPECT_TRUE(refused.starts_with("in.json: surfaces[0]")) << refused;
+  EXPECT_TRUE(refused.ends_with("[0]: nesting deeper than 64 levels")) << refused;
+  // Far past any stack: refused as soon as the limit is crossed.
+  EXPECT_NE(input_error(nested(300000)).find("nesting deeper than 64 levels"), std::string::npos);
+  EXPECT_NE(input_error(std::string(300000, '[')).find("nesting deeper than 64 levels"),
+            std::string::npos);
+}
+
+TEST(SceneJsonInput, SyntaxErrorsNameWhereTheyAre) {
+  std::string text = scene_to_json(trimmed_scene());
+  // The second loop's corner (0.875, 0.625) first appears as the end of its curve 2.
+  const std::string point = "[0.875, 0.625]";
+  ASSERT_NE(text.find(point), std::string::npos);
+  text.replace(text.find(point), point.size(), "[0.875, 1e999]");
+  const std::string error = input_error(text);
+  EXPECT_TRUE(
+      error.starts_with("in.json: not valid JSON at surfaces[1].trim.loops[1].curves[2]"
+                        ".points[1][1]: number overflow parsing '1e999'"))
+      << error;
 }
 
 // ----------------------------------------------------------------------------- built-in shapes
