@@ -113,7 +113,9 @@ std::vector<std::string> check_gates(const std::vector<Gate>& gates,
       const std::string where =
           fmt::format("{} on {} ({}, {})", r.strategy, r.scene, r.precision, r.samples);
       if (r.status != Status::ok) {
-        // A refusal is the strategy saying "not my case"; anything else means no measurement.
+        // A refusal is the strategy saying "not my case"; anything else means no measurement, and
+        // a crashed or timed_out record (isolation) violates the gate like a failed one: a
+        // strategy cannot pass its gates by crashing or hanging.
         if (r.status != Status::refused)
           violations.push_back(fmt::format("{}: {} <= {} not measured: {}: {}", where, g.metric,
                                            g.max, to_string(r.status), r.reason));

@@ -19,12 +19,16 @@ std::string_view to_string(Status s) {
       return "failed";
     case Status::refused:
       return "refused";
+    case Status::crashed:
+      return "crashed";
+    case Status::timed_out:
+      return "timed_out";
   }
   return "failed";
 }
 
 bool parse_status(std::string_view text, Status& out) {
-  for (Status s : {Status::ok, Status::unavailable, Status::failed, Status::refused})
+  for (Status s : kAllStatuses)
     if (to_string(s) == text) {
       out = s;
       return true;

@@ -5,7 +5,9 @@
 #include <exception>
 #include <stdexcept>
 
+#include "harness/strategy_guard.h"
 #include "scenes/deforming.h"
+#include "strategies/device_wait.h"
 
 namespace nurbs {
 
@@ -105,6 +107,9 @@ void guarded(Record& r, Measurement&& measurement) {
   } catch (const RefusedError& e) {
     r.status = Status::refused;
     r.reason = e.what();
+  } catch (const DeviceTimeout& e) {
+    r.status = Status::timed_out;
+    r.reason = fmt::format("in {}: {}", current_phase(), e.what());
   } catch (const std::exception& e) {
     r.status = Status::failed;
     r.reason = e.what();
@@ -116,14 +121,23 @@ void guarded(Record& r, Measurement&& measurement) {
 Record measure(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
                const EvalRequest& request, int repetitions, ReferenceCache& references,
                double trim_band) {
-  Record r = skeleton(entry, scene, request, sample_parameters(scene, request.sampling));
-  r.repetitions = repetitions;
-  if (!runnable(entry, scene, request, r)) return r;
+  Record r = measurement_record(entry, scene, request, repetitions, 0);
+  if (auto result = time_measurement(entry, options, scene, request, repetitions, r))
+    score_measurement(entry, scene, request, *result, references, trim_band, r);
+  return r;
+}
+
+std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
+                                           const StrategyOptions& options, const Scene& scene,
+                                           const EvalRequest& request, int repetitions, Record& r) {
+  announce_phase("probe");
+  if (!runnable(entry, scene, request, r)) return std::nullopt;
+  std::optional<EvalResult> last;
   guarded(r, [&] {
     std::unique_ptr<Strategy> strategy;
     // setup: context, compilation and the first (cold) prepare; paid once.
     r.setup_s = time_seconds([&] {
-      strategy = entry.create(options);
+      strategy = create_guarded(entry, options);
       strategy->prepare(scene, request);
     });
     r.device = strategy->device();
@@ -166,26 +180,41 @@ Record measure(const StrategyEntry& entry, const StrategyOptions& options, const
     r.end_to_end = PhaseStats::of(end_to_end_s);
     if (!device_evaluate_s.empty())
       r.device_evaluate_median_s = PhaseStats::of(device_evaluate_s).median_s;
+    last = std::move(result);
+  });
+  return last;
+}
+
+void score_measurement(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
+                       EvalResult& result, ReferenceCache& references, double trim_band,
+                       Record& r) {
+  guarded(r, [&] {
     score(entry, scene, request, sample_parameters(scene, request.sampling), result, &references,
           references.precision(), trim_band, r);
   });
-  return r;
 }
 
 Record measure_deforming(const StrategyEntry& entry, const StrategyOptions& options,
                          const Scene& scene, const EvalRequest& request, int frames,
                          ReferencePrecision reference_precision, double trim_band) {
-  const std::vector<SurfaceSamples> samples = sample_parameters(scene, request.sampling);
-  Record r = skeleton(entry, scene, request, samples);
-  r.repetitions = frames;
-  r.figures["frames"] = frames;
-  if (!runnable(entry, scene, request, r)) return r;
+  Record r = measurement_record(entry, scene, request, frames, frames);
+  if (auto result = time_deforming(entry, options, scene, request, frames, r))
+    score_deforming(entry, scene, request, frames, *result, reference_precision, trim_band, r);
+  return r;
+}
+
+std::optional<EvalResult> time_deforming(const StrategyEntry& entry, const StrategyOptions& options,
+                                         const Scene& scene, const EvalRequest& request, int frames,
+                                         Record& r) {
+  announce_phase("probe");
+  if (!runnable(entry, scene, request, r)) return std::nullopt;
+  std::optional<EvalResult> last;
   guarded(r, [&] {
     const bool updates = entry.capabilities().updates_control_points;
     Scene frame_scene = deformed_scene(scene, 0);
     std::unique_ptr<Strategy> strategy;
     r.setup_s = time_seconds([&] {
-      strategy = entry.create(options);
+      strategy = create_guarded(entry, options);
       strategy->prepare(frame_scene, request);
     });
     r.device = strategy->device();
@@ -218,9 +247,26 @@ Record measure_deforming(const StrategyEntry& entry, const StrategyOptions& opti
     r.end_to_end = PhaseStats::of(frame_s);
     r.extra_phases["frame"] = r.end_to_end;
     r.extra_phases[updates ? "frame_update" : "frame_prepare"] = r.upload;
-    // The reference of the last frame's control points, computed here.
-    score(entry, frame_scene, request, samples, result, nullptr, reference_precision, trim_band, r);
+    last = std::move(result);
   });
+  return last;
+}
+
+void score_deforming(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
+                     int frames, EvalResult& result, ReferencePrecision reference_precision,
+                     double trim_band, Record& r) {
+  guarded(r, [&] {
+    // The reference of the last frame's control points, computed here.
+    score(entry, deformed_scene(scene, frames), request, sample_parameters(scene, request.sampling),
+          result, nullptr, reference_precision, trim_band, r);
+  });
+}
+
+Record measurement_record(const StrategyEntry& entry, const Scene& scene,
+                          const EvalRequest& request, int repetitions, int deforming_frames) {
+  Record r = skeleton(entry, scene, request, sample_parameters(scene, request.sampling));
+  r.repetitions = repetitions;
+  if (deforming_frames > 0) r.figures["frames"] = deforming_frames;
   return r;
 }
 

@@ -48,4 +48,29 @@ Record measure_deforming(const StrategyEntry& entry, const StrategyOptions& opti
                          ReferencePrecision reference_precision,
                          double trim_band = kDefaultTrimBand);
 
+// The two halves of measure() and measure_deforming(), apart so that process isolation
+// (harness/isolation.h) runs the strategy's half in a child and scores in the parent, which keeps
+// the reference once per scene x sampling. measure() calls both in one process.
+//
+// The record measure() starts from: what, where, how many samples; status ok.
+Record measurement_record(const StrategyEntry& entry, const Scene& scene,
+                          const EvalRequest& request, int repetitions, int deforming_frames);
+// The strategy's half: availability, refusal, setup, warm-up, repetitions (or frames), read back,
+// timings into r. Returns the last read back when there is something to score; nullopt when r is
+// already final (unavailable, refused, failed, timed_out).
+std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
+                                           const StrategyOptions& options, const Scene& scene,
+                                           const EvalRequest& request, int repetitions, Record& r);
+std::optional<EvalResult> time_deforming(const StrategyEntry& entry, const StrategyOptions& options,
+                                         const Scene& scene, const EvalRequest& request, int frames,
+                                         Record& r);
+// The harness's half: accuracy against the reference (normals oriented first, trims scored with
+// `trim_band`), throughput, status.
+void score_measurement(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
+                       EvalResult& result, ReferenceCache& references, double trim_band, Record& r);
+// Against the reference of frame `frames` of the deforming scene.
+void score_deforming(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
+                     int frames, EvalResult& result, ReferencePrecision reference_precision,
+                     double trim_band, Record& r);
+
 }  // namespace nurbs

@@ -1,6 +1,7 @@
 #include "harness/summary_table.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <vector>
@@ -69,6 +70,17 @@ std::string summary_table(const std::vector<Record>& records) {
     rows.push_back(std::move(row));
   }
   return aligned(rows);
+}
+
+std::string status_counts(const std::vector<Record>& records) {
+  std::vector<std::string> parts;
+  for (Status status : kAllStatuses) {
+    const auto n = std::count_if(records.begin(), records.end(),
+                                 [status](const Record& r) { return r.status == status; });
+    if (n > 0) parts.push_back(fmt::format("{} {}", n, to_string(status)));
+  }
+  return fmt::format("statuses: {}\n",
+                     parts.empty() ? "none" : fmt::format("{}", fmt::join(parts, ", ")));
 }
 
 std::string deforming_table(const std::vector<Record>& records) {

@@ -11,6 +11,8 @@ namespace nurbs {
 
 // With a "trim" column when some record is on a trimmed scene (trim_text).
 std::string summary_table(const std::vector<Record>& records);
+// One line counting each status present, in the Status order: "statuses: 5 ok, 1 crashed".
+std::string status_counts(const std::vector<Record>& records);
 // A record's trimming as tables show it: "untrimmed", "N misclassified (rate), M boundary" for a
 // strategy that classified, "" on a scene without trims.
 std::string trim_text(const Record& r);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "harness/cli/parsing.h"
+#include "harness/isolation.h"
 #include "reference/reference_evaluator.h"
 #include "reference/sampling.h"
 #include "reference/scalar.h"
@@ -51,6 +52,14 @@ struct EvalOptions {
 };
 int eval_command(const EvalOptions& options);
 
+// --isolation, --timeout, --device-timeout: how `run` and `recommend` survive their strategies
+// (harness/isolation.h).
+struct IsolationOptions {
+  std::string isolation = "process";
+  double timeout_s = 600;
+  double device_timeout_s = 60;
+};
+
 struct RunOptions {
   std::string scenes = "default";
   std::string strategies = "all";
@@ -67,7 +76,8 @@ struct RunOptions {
   std::string gl;      // --gl osmesa|egl for the GL strategies (StrategyOptions.extra["gl"])
   std::string device;  // --device N for the OpenCL strategies (StrategyOptions.extra["device"])
   std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
-  std::optional<std::string> trim_band;       // --trim-band FRACTION (absent: kDefaultTrimBand)
+  IsolationOptions isolation;
+  std::optional<std::string> trim_band;  // --trim-band FRACTION (absent: kDefaultTrimBand)
 };
 int run_command(const RunOptions& options);
 
@@ -108,6 +118,7 @@ struct RecommendOptions {
   int degree = -1, surfaces = -1;  // -1: not given
   bool deforming = false, json = false;
   int repetitions = 3, threads = 0;
+  IsolationOptions isolation;
 };
 int recommend_command(const RecommendOptions& options);
 
@@ -116,5 +127,8 @@ struct GbenchOptions {
   std::string out;  // default: stdout
 };
 int gbench_command(const GbenchOptions& options);
+
+// Checks the isolation options and applies --device-timeout (process-wide, before any strategy).
+IsolationSettings isolation_settings(const IsolationOptions& options);
 
 }  // namespace nurbs::cli

@@ -13,6 +13,20 @@
 #include "reference/validation.h"
 
 namespace {
+
+void add_isolation_options(CLI::App* verb, nurbs::cli::IsolationOptions& options) {
+  verb->add_option("--isolation", options.isolation,
+                   "process (default: each measurement in its own process, so a crash or hang "
+                   "costs only its record) or none (in this process, for debugging)")
+      ->check(CLI::IsMember({"process", "none"}));
+  verb->add_option("--timeout", options.timeout_s,
+                   "seconds one measurement may take (setup, warm-up, repetitions) before its "
+                   "process group is killed and it is recorded timed_out (default 600)");
+  verb->add_option("--device-timeout", options.device_timeout_s,
+                   "seconds any single wait on a GL/Vulkan/OpenCL device may take before the "
+                   "strategy reports timed_out in that phase (default 60)");
+}
+
 constexpr const char* kTrimBandHelp =
     "trimmed scenes: samples nearer the trim boundary than FRACTION of the surface's (u,v) domain "
     "diagonal are boundary samples, not scored for classification (default 1e-7; recorded)";
@@ -110,6 +124,7 @@ int main(int argc, char** argv) {
                       "vk-mode=adaptive, vk-eye=x,y,z, vk-center=x,y,z, vk-mu=4 (vk-ksquad)");
   run_cmd->add_option("--trim-band", run.trim_band, kTrimBandHelp)->type_name("FRACTION");
   run_cmd->add_option("--out", run.out, "output directory (default results/latest)");
+  add_isolation_options(run_cmd, run.isolation);
 
   LodOptions lod;
   auto* lod_cmd = app.add_subcommand(
@@ -181,6 +196,12 @@ int main(int argc, char** argv) {
                             "repetitions of the quick run (default 3)");
   recommend_cmd->add_option("--threads", recommend.threads, "threads of the quick run (0: all)");
   recommend_cmd->add_flag("--json", recommend.json, "machine-readable output");
+  add_isolation_options(recommend_cmd, recommend.isolation);
+
+  // Hidden (no group): the process that forks isolated measurements, started by run/recommend.
+  int measure_server_fd = -1;
+  auto* measure_server_cmd = app.add_subcommand("measure-server", "")->group("");
+  measure_server_cmd->add_option("fd", measure_server_fd)->required();
 
   GbenchOptions gbench;
   auto* gbench_cmd = app.add_subcommand(
@@ -199,7 +220,8 @@ int main(int argc, char** argv) {
     const std::string first = argc > 1 ? argv[1] : "";
     // The verbs are the subcommands registered above: one list, never restated by hand.
     std::vector<std::string> verbs;
-    for (const CLI::App* verb : app.get_subcommands({})) verbs.push_back(verb->get_name());
+    for (const CLI::App* verb : app.get_subcommands({}))
+      if (!verb->get_group().empty()) verbs.push_back(verb->get_name());
     const bool known_verb = std::find(verbs.begin(), verbs.end(), first) != verbs.end();
     if (!first.empty() && first[0] != '-' && !known_verb) {
       std::cerr << "nurbsbench: error: unknown verb '" << argv[1]
@@ -225,6 +247,7 @@ int main(int argc, char** argv) {
     if (*report_cmd) return report_command(report);
     if (*recommend_cmd) return recommend_command(recommend);
     if (*gbench_cmd) return gbench_command(gbench);
+    if (*measure_server_cmd) return nurbs::measure_server(measure_server_fd);
   } catch (const std::exception& e) {
     std::string message = e.what();
     std::replace(message.begin(), message.end(), '\n', ' ');

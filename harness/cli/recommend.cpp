@@ -56,14 +56,17 @@ std::string scene_for_parameters(const RecommendOptions& o) {
 // The quick measurement: every registered strategy on the workload, a few repetitions.
 std::vector<Record> measure_workload(const RecommendOptions& o, const Scene& scene,
                                      const Sampling& sampling, Precision precision) {
+  const IsolationSettings isolation = isolation_settings(o.isolation);
   const int threads = apply_thread_setting(o.threads);
   ReferenceCache references;
   std::vector<Record> records;
   for (const StrategyEntry& entry : strategy_registry()) {
     std::cerr << fmt::format("measuring {} on {} ({})...\n", entry.name, scene.name,
                              sampling.label());
-    records.push_back(measure(entry, StrategyOptions{threads, {}}, scene,
-                              EvalRequest{sampling, precision, false}, o.repetitions, references));
+    records.push_back(measure_with(isolation,
+                                   {&entry, StrategyOptions{threads, {}},
+                                    EvalRequest{sampling, precision, false}, o.repetitions, 0},
+                                   scene, references));
   }
   return records;
 }

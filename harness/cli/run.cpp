@@ -9,9 +9,11 @@
 #include "harness/results_writer.h"
 #include "harness/runner.h"
 #include "harness/store_limit.h"
+#include "harness/strategy_guard.h"
 #include "harness/summary_table.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
+#include "strategies/device_wait.h"
 #include "strategies/registry.h"
 
 namespace nurbs::cli {
@@ -48,8 +50,25 @@ StrategySelection strategy_list(const std::string& text) {
 
 }  // namespace
 
+IsolationSettings isolation_settings(const IsolationOptions& options) {
+  IsolationSettings settings;
+  settings.mode = parse_isolation(options.isolation);
+  // !(x > 0) also refuses NaN.
+  if (!(options.timeout_s > 0) || options.timeout_s > 1e6)
+    throw InputError(fmt::format("--timeout = {}: must be in (0, 1e6] seconds", options.timeout_s));
+  if (!(options.device_timeout_s > 0) || options.device_timeout_s > 1e6)
+    throw InputError(fmt::format("--device-timeout = {}: must be in (0, 1e6] seconds",
+                                 options.device_timeout_s));
+  settings.timeout_s = options.timeout_s;
+  device_wait_limit_s() = options.device_timeout_s;
+  // A malformed test fault is bad input here, not a silent fault-free run.
+  injected_fault();
+  return settings;
+}
+
 int run_command(const RunOptions& options) {
   // Everything the run needs is checked before the output directory is touched.
+  const IsolationSettings isolation = isolation_settings(options.isolation);
   const int threads = apply_thread_setting(options.threads);
   if (options.repetitions < 1 || options.repetitions > 1000)
     throw InputError(fmt::format("--repetitions = {}: must be in 1..1000", options.repetitions));
@@ -82,7 +101,10 @@ int run_command(const RunOptions& options) {
                              {"gl", options.gl.empty() ? "egl" : options.gl},
                              {"strategy_options", options.strategy_options},
                              {"reference", std::string(to_string(reference_precision))},
-                             {"trim_band", trim_band}};
+                             {"trim_band", trim_band},
+                             {"isolation", to_string(isolation.mode)},
+                             {"timeout_s", isolation.timeout_s},
+                             {"device_timeout_s", device_wait_limit_s()}};
   for (const Scene& s : scenes) settings["scenes"].push_back(s.name);
   for (const StrategyEntry* e : strategies) settings["strategies"].push_back(e->name);
   if (selection.store_limit) settings["strategies"].push_back(kStoreLimitName);
@@ -109,15 +131,14 @@ int run_command(const RunOptions& options) {
         EvalRequest request{sampling, precision, options.normals};
         const StrategyOptions strategy_options{
             threads, backend_extra(options.gl, options.device, options.strategy_options)};
-        writer.append(deforming
-                          ? measure_deforming(*entry, strategy_options, scene, request,
-                                              options.deforming, reference_precision, trim_band)
-                          : measure(*entry, strategy_options, scene, request, options.repetitions,
-                                    references, trim_band));
+        writer.append(measure_with(
+            isolation,
+            {entry, strategy_options, request, options.repetitions, options.deforming, trim_band},
+            scene, references));
       }
     }
   if (progress) std::cerr << "\r\x1b[K";
-  std::cout << summary_table(writer.records());
+  std::cout << summary_table(writer.records()) << status_counts(writer.records());
   if (deforming)
     std::cout << "\ndeforming, " << options.deforming << " frames:\n"
               << deforming_table(writer.records());

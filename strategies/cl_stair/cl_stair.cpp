@@ -72,7 +72,7 @@ class ClStair final : public Strategy {
     opencl::check(clEnqueueNDRangeKernel(ctx_.queue(), kernel_, 1, nullptr, &global, &local, 0,
                                          nullptr, &done),
                   "clEnqueueNDRangeKernel");
-    opencl::check(clWaitForEvents(1, &done), "clWaitForEvents");
+    opencl::wait(done, "kernel evaluate_ksquads");
     kernel_s_ = opencl::event_seconds(done);
     clReleaseEvent(done);
   }
@@ -82,9 +82,11 @@ class ClStair final : public Strategy {
     std::vector<unsigned char> host(total_ * 3 * scalar);
     if (total_ > 0) {
       cl_event done = nullptr;
-      opencl::check(clEnqueueReadBuffer(ctx_.queue(), out_, CL_TRUE, 0, host.size(), host.data(), 0,
-                                        nullptr, &done),
+      // Non-blocking and a bounded wait (opencl::wait): a blocking read has no bound.
+      opencl::check(clEnqueueReadBuffer(ctx_.queue(), out_, CL_FALSE, 0, host.size(), host.data(),
+                                        0, nullptr, &done),
                     "clEnqueueReadBuffer");
+      opencl::wait(done, "clEnqueueReadBuffer");
       read_back_s_ = opencl::event_seconds(done);
       clReleaseEvent(done);
     }
@@ -157,7 +159,11 @@ class ClStair final : public Strategy {
     cl_mem args[] = {surfaces_, quads_buf_, knots_, points_, params_, out_};
     for (cl_uint k = 0; k < 6; ++k)
       opencl::check(clSetKernelArg(kernel_, k, sizeof(cl_mem), &args[k]), "clSetKernelArg");
-    opencl::check(clFinish(ctx_.queue()), "clFinish");
+    cl_event uploaded = nullptr;
+    opencl::check(clEnqueueMarkerWithWaitList(ctx_.queue(), 0, nullptr, &uploaded),
+                  "clEnqueueMarkerWithWaitList");
+    opencl::wait(uploaded, "upload");
+    clReleaseEvent(uploaded);
   }
 
   template <typename V>
@@ -166,9 +172,10 @@ class ClStair final : public Strategy {
     cl_mem mem = ctx_.buffer(CL_MEM_READ_ONLY, bytes, what);
     if (bytes > 0) {
       cl_event done = nullptr;
-      opencl::check(clEnqueueWriteBuffer(ctx_.queue(), mem, CL_TRUE, 0, bytes, data.data(), 0,
+      opencl::check(clEnqueueWriteBuffer(ctx_.queue(), mem, CL_FALSE, 0, bytes, data.data(), 0,
                                          nullptr, &done),
                     "clEnqueueWriteBuffer");
+      opencl::wait(done, "clEnqueueWriteBuffer");
       upload_s_ += opencl::event_seconds(done);
       clReleaseEvent(done);
     }

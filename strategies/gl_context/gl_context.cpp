@@ -6,6 +6,8 @@
 #include <cctype>
 #include <mutex>
 
+#include "strategies/device_wait.h"
+
 namespace nurbs::gl {
 namespace {
 
@@ -163,6 +165,18 @@ DeviceInfo Context::device_info() const {
       {"glsl_version", glsl_version_}, {"gl_max_texture_size", std::to_string(max_texture_size_)}};
   if (software()) d.details["note"] = "software rasterizer: the 'GPU' is the CPU";
   return d;
+}
+
+void Context::finish(std::string_view where) {
+  GLsync fence = gl_.FenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  if (!fence) throw Error(fmt::format("{} ({}): glFenceSync failed", where, description_));
+  const GLenum waited =
+      gl_.ClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, device_wait_limit_ns());
+  gl_.DeleteSync(fence);
+  if (waited == GL_TIMEOUT_EXPIRED)
+    throw device_timeout(fmt::format("{} ({}): glClientWaitSync", where, description_));
+  if (waited == GL_WAIT_FAILED)
+    throw Error(fmt::format("{} ({}): glClientWaitSync failed", where, description_));
 }
 
 void Context::check(std::string_view where) {

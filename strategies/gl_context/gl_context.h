@@ -84,6 +84,11 @@ class Context {
   // software rasterizer (with a note saying so), platform/renderer/vendor/version details.
   DeviceInfo device_info() const;
 
+  // glFinish with a bound: a fence sync object waited on with glClientWaitSync for at most
+  // device_wait_limit_s() (strategies/device_wait.h), so a device that never finishes throws
+  // DeviceTimeout naming `where` instead of hanging. Every GL strategy ends its device work here.
+  void finish(std::string_view where);
+
   // Throws Error if glGetError or (debug builds) debug output reported an error since the last
   // check; `where` names the step ("basis pass 2", "upload").
   void check(std::string_view where);

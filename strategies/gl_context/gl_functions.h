@@ -20,6 +20,9 @@ namespace nurbs::gl {
   X(PFNGLENABLEPROC, Enable)                                   \
   X(PFNGLDISABLEPROC, Disable)                                 \
   X(PFNGLFINISHPROC, Finish)                                   \
+  X(PFNGLFENCESYNCPROC, FenceSync)                             \
+  X(PFNGLCLIENTWAITSYNCPROC, ClientWaitSync)                   \
+  X(PFNGLDELETESYNCPROC, DeleteSync)                           \
   X(PFNGLVIEWPORTPROC, Viewport)                               \
   X(PFNGLCLEARCOLORPROC, ClearColor)                           \
   X(PFNGLCLEARPROC, Clear)                                     \

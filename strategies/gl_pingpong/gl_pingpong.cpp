@@ -91,7 +91,7 @@ class GlPingPong final : public Strategy {
     tile_count_ = 0;
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
       surfaces_.push_back(upload_surface(scene.surfaces[i], samples_[i]));
-    context_->gl().Finish();
+    context_->finish("gl-pingpong upload");
     context_->check("gl-pingpong upload");
   }
 
@@ -102,7 +102,7 @@ class GlPingPong final : public Strategy {
     gl.BeginQuery(GL_TIME_ELAPSED, query_);
     for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
     gl.EndQuery(GL_TIME_ELAPSED);
-    gl.Finish();
+    context_->finish("gl-pingpong evaluate");
     GLuint64 ns = 0;
     gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
     device_evaluate_s_ = static_cast<double>(ns) * 1e-9;

@@ -97,7 +97,7 @@ class GlslDeBoor final : public Strategy {
     view_ = orthographic_view(scene);
     context_->make_current();
     bytes_uploaded_ = evaluator_->prepare(scene, samples_);
-    context_->gl().Finish();
+    context_->finish("glsl-deboor upload");
   }
 
   void evaluate() override {
@@ -107,7 +107,7 @@ class GlslDeBoor final : public Strategy {
     gl.BeginQuery(GL_TIME_ELAPSED, query_);
     evaluator_->evaluate();
     gl.EndQuery(GL_TIME_ELAPSED);
-    gl.Finish();
+    context_->finish("glsl-deboor evaluate");
     GLuint64 ns = 0;
     gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
     device_evaluate_s_ = static_cast<double>(ns) * 1e-9;
@@ -119,7 +119,7 @@ class GlslDeBoor final : public Strategy {
   bool render() override {
     context_->make_current();
     renderer().draw_without_read_back(*evaluator_, view_.data());
-    context_->gl().Finish();
+    context_->finish("glsl-deboor render");
     context_->check("glsl-deboor render");
     return true;
   }
@@ -127,7 +127,7 @@ class GlslDeBoor final : public Strategy {
   bool render_via_read_back() override {
     context_->make_current();
     renderer().draw_with_read_back(*evaluator_, view_.data());
-    context_->gl().Finish();
+    context_->finish("glsl-deboor render via read-back");
     context_->check("glsl-deboor render via read-back");
     return true;
   }

@@ -20,12 +20,12 @@ namespace {
 // runs, each ended by glFinish so the device work is inside the time.
 std::vector<double> time_runs(gl::Context& context, int repetitions, const auto& work) {
   work();
-  context.gl().Finish();
+  context.finish("glsl-deboor lod");
   std::vector<double> seconds;
   for (int r = 0; r < repetitions; ++r) {
     const auto start = std::chrono::steady_clock::now();
     work();
-    context.gl().Finish();
+    context.finish("glsl-deboor lod");
     seconds.push_back(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }

@@ -1,6 +1,11 @@
 #include "strategies/opencl/cl_device.h"
 
+#include <condition_variable>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
+
+#include "strategies/device_wait.h"
 
 namespace nurbs::opencl {
 namespace {
@@ -158,6 +163,41 @@ cl_mem Context::buffer(cl_mem_flags flags, std::size_t bytes, const char* what) 
   cl_mem mem = clCreateBuffer(context_, flags, bytes == 0 ? 1 : bytes, nullptr, &status);
   check(status, "clCreateBuffer");
   return mem;
+}
+
+void wait(cl_event event, const char* what) {
+  cl_command_queue queue = nullptr;
+  check(clGetEventInfo(event, CL_EVENT_COMMAND_QUEUE, sizeof queue, &queue, nullptr),
+        "clGetEventInfo");
+  check(clFlush(queue), "clFlush");
+  // A completion callback and a timed condition wait, not polling: no latency is added to the
+  // timed phases. The callback may run after a timeout, so it owns a share of the state.
+  struct Waiter {
+    std::mutex mutex;
+    std::condition_variable done_cv;
+    bool done = false;
+    cl_int status = CL_COMPLETE;
+  };
+  auto waiter = std::make_shared<Waiter>();
+  auto* share = new std::shared_ptr<Waiter>(waiter);
+  const cl_int set = clSetEventCallback(
+      event, CL_COMPLETE,
+      [](cl_event, cl_int status, void* data) {
+        std::unique_ptr<std::shared_ptr<Waiter>> mine(static_cast<std::shared_ptr<Waiter>*>(data));
+        {
+          const std::lock_guard lock((*mine)->mutex);
+          (*mine)->done = true;
+          (*mine)->status = status;
+        }
+        (*mine)->done_cv.notify_all();
+      },
+      share);
+  if (set != CL_SUCCESS) delete share;
+  check(set, "clSetEventCallback");
+  std::unique_lock lock(waiter->mutex);
+  if (!waiter->done_cv.wait_until(lock, device_wait_deadline(), [&] { return waiter->done; }))
+    throw device_timeout(what);
+  if (waiter->status != CL_COMPLETE) check(waiter->status, what);
 }
 
 double event_seconds(cl_event event) {

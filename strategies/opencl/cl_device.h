@@ -54,6 +54,11 @@ class Context {
   std::size_t max_alloc_ = 0, max_work_group_ = 1;
 };
 
+// Flushes the event's queue and waits for the event at most device_wait_limit_s()
+// (strategies/device_wait.h): clWaitForEvents, clFinish and blocking transfers have no bound.
+// Throws DeviceTimeout naming `what` on expiry, std::runtime_error when the command failed.
+void wait(cl_event event, const char* what);
+
 // Seconds between CL_PROFILING_COMMAND_START and _END of a finished event.
 double event_seconds(cl_event event);
 

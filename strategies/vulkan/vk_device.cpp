@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "strategies/device_wait.h"
+
 namespace nurbs::vulkan {
 namespace {
 
@@ -212,6 +214,8 @@ Device::~Device() {
 
 void Device::destroy() {
   if (device_) {
+    // Teardown: Vulkan has no bounded device-idle wait. A device lost here hangs only the
+    // measurement's own process, which the run's watchdog kills (harness/isolation.h).
     vkDeviceWaitIdle(device_);
     if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
@@ -271,8 +275,21 @@ void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& command
   submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
   submit.commandBufferCount = 1;
   submit.pCommandBuffers = &cb;
-  check(vkQueueSubmit(queue_, 1, &submit, VK_NULL_HANDLE), "vkQueueSubmit");
-  check(vkQueueWaitIdle(queue_), "vkQueueWaitIdle");
+  // A fence waited on with a bound, not vkQueueWaitIdle (which has none): a device that never
+  // signals becomes DeviceTimeout, recorded as timed_out in its phase (strategies/device_wait.h).
+  VkFenceCreateInfo fence_info{};
+  fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+  VkFence fence = VK_NULL_HANDLE;
+  check(vkCreateFence(device_, &fence_info, nullptr, &fence), "vkCreateFence");
+  struct DestroyFence {
+    VkDevice d;
+    VkFence f;
+    ~DestroyFence() { vkDestroyFence(d, f, nullptr); }
+  } destroy_fence{device_, fence};
+  check(vkQueueSubmit(queue_, 1, &submit, fence), "vkQueueSubmit");
+  const VkResult waited = vkWaitForFences(device_, 1, &fence, VK_TRUE, device_wait_limit_ns());
+  if (waited == VK_TIMEOUT) throw device_timeout("vkWaitForFences");
+  check(waited, "vkWaitForFences");
 }
 
 VkShaderModule Device::shader_module(std::string_view spirv) const {
