@@ -89,6 +89,8 @@ int run_command(const RunOptions& options) {
   const double trim_band = parse_trim_band(options.trim_band);
   for (const Scene& scene : scenes)
     for (const Sampling& sampling : samplings) sample_parameters(scene, sampling);
+  const StrategyOptions strategy_options{
+      threads, backend_extra(options.gl, options.device, options.strategy_options)};
 
   nlohmann::json settings = {{"scenes", nlohmann::json::array()},
                              {"strategies", nlohmann::json::array()},
@@ -129,8 +131,6 @@ int run_command(const RunOptions& options) {
                                    scene.name, sampling.label())
                     << std::flush;
         EvalRequest request{sampling, precision, options.normals};
-        const StrategyOptions strategy_options{
-            threads, backend_extra(options.gl, options.device, options.strategy_options)};
         writer.append(measure_with(
             isolation,
             {entry, strategy_options, request, options.repetitions, options.deforming, trim_band},

@@ -438,6 +438,12 @@ TEST(CliRun, BadArgumentsLeaveNoOutputDirectory) {
     expect_usage_error(r, c.expect);
     EXPECT_FALSE(fs::exists(out));
   }
+  // A malformed --strategy-option is refused before the output directory is made (it was read
+  // only when the first measurement started, after the results files existed).
+  const CliResult r = run_cli({"run", "--scenes", "patch144", "--strategies", "cpu-coxdeboor",
+                               "--samples", "4x4", "--strategy-option", "=x", "--out", out});
+  expect_usage_error(r, {"--strategy-option", "KEY=VALUE"});
+  EXPECT_FALSE(fs::exists(out));
 }
 
 // ----------------------------------------------------------------------------------------- lod
