@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <omp.h>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -336,7 +337,8 @@ Rows rows_of(const SurfaceSamples& samples) {
 }
 
 template <typename T>
-TrimClassification classify(const Trim& trim, const SurfaceSamples& samples, bool with_distance) {
+TrimClassification classify(const Trim& trim, const SurfaceSamples& samples, bool with_distance,
+                            int threads) {
   const TrimPieces<T> pieces = trim_pieces<T>(trim);
   const Rows rows = rows_of(samples);
   TrimClassification out;
@@ -350,7 +352,7 @@ TrimClassification classify(const Trim& trim, const SurfaceSamples& samples, boo
       index.emplace(trim_pieces<double>(trim));
   }
   const std::ptrdiff_t row_count = static_cast<std::ptrdiff_t>(rows.v.size());
-#pragma omp parallel
+#pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads())
   {
     std::vector<T> events, scratch;
     DistanceScratch scratch_distance;
@@ -381,9 +383,9 @@ TrimClassification classify(const Trim& trim, const SurfaceSamples& samples, boo
 }  // namespace
 
 TrimClassification classify_trim_samples(const Trim& trim, const SurfaceSamples& samples,
-                                         bool with_distance, TrimScalar scalar) {
-  return scalar == TrimScalar::f64 ? classify<double>(trim, samples, with_distance)
-                                   : classify<long double>(trim, samples, with_distance);
+                                         bool with_distance, TrimScalar scalar, int threads) {
+  return scalar == TrimScalar::f64 ? classify<double>(trim, samples, with_distance, threads)
+                                   : classify<long double>(trim, samples, with_distance, threads);
 }
 
 }  // namespace nurbs

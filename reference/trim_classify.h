@@ -31,9 +31,10 @@ struct TrimClassification {
 };
 
 // Classifies every sample of `samples` against `trim`. Samples of a tensor grid share one
-// crossing list per distinct v (O(curves) per row, not per sample).
+// crossing list per distinct v (O(curves) per row, not per sample). Rows are spread over
+// `threads` OpenMP threads (0: OpenMP's default; a single-threaded strategy passes 1).
 TrimClassification classify_trim_samples(const Trim& trim, const SurfaceSamples& samples,
-                                         bool with_distance, TrimScalar scalar);
+                                         bool with_distance, TrimScalar scalar, int threads = 0);
 
 // The (u, v) domain diagonal of a surface: --trim-band is a fraction of it.
 double domain_diagonal(const Surface& surface);

@@ -49,7 +49,8 @@ class CpuCoxDeBoor final : public Strategy {
     for (std::size_t i = 0; i < trims_.size(); ++i)
       if (trims_[i])
         results_[i].inside =
-            classify_trim_samples(*trims_[i], samples_[i], /*with_distance=*/false, TrimScalar::f64)
+            classify_trim_samples(*trims_[i], samples_[i], /*with_distance=*/false, TrimScalar::f64,
+                                  /*threads=*/1)  // single-threaded, like its evaluation
                 .inside;
     return true;
   }
