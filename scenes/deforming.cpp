@@ -24,6 +24,10 @@ void deform_scene(const Scene& base, int frame, Scene& out) {
     to.knots_u = from.knots_u;
     to.knots_v = from.knots_v;
     to.weights = from.weights;
+    // The face stays the face: only control points move, the trim (in (u, v)) and orientation are
+    // the base scene's.
+    to.trim = from.trim;
+    to.reversed = from.reversed;
     to.points.resize(from.points.size());
     for (std::size_t k = 0; k < from.points.size(); ++k) {
       const Point3& p = from.points[k];

@@ -44,6 +44,23 @@ TEST(DeformingScene, PureFunctionOfSceneAndFrameMovingOnlyPoints) {
   EXPECT_NE(deformed_scene(base, 8).surfaces[0].points, a.surfaces[0].points);
 }
 
+// A trimmed, reversed face keeps its trim and orientation in every frame, also when deformed into
+// a scene that held another (untrimmed) surface.
+TEST(DeformingScene, KeepsTrimsAndOrientation) {
+  Scene base = *make_builtin_scene("trimmed-plate");
+  base.surfaces[0].reversed = true;
+  Scene reused = *make_builtin_scene("trimmed-plate");
+  reused.surfaces[0].trim.reset();
+  deform_scene(base, 5, reused);
+  for (const Scene& frame : {deformed_scene(base, 5), reused}) {
+    ASSERT_TRUE(frame.surfaces[0].trim.has_value());
+    EXPECT_EQ(frame.surfaces[0].trim->loops.size(), base.surfaces[0].trim->loops.size());
+    EXPECT_EQ(frame.surfaces[0].trim->loops[1].curves[0].points,
+              base.surfaces[0].trim->loops[1].curves[0].points);
+    EXPECT_TRUE(frame.surfaces[0].reversed);
+  }
+}
+
 // Wraps a real strategy; its update_control_points does nothing (the interface's default), and
 // its capabilities claim `claims_updates`.
 class StaleUpdate final : public Strategy {
