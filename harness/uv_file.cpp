@@ -49,8 +49,7 @@ class UvReader {
         fields[f] = trim_blanks(line.substr(start, comma - start));
         start = comma + 1;
       }
-      if (may_be_header && fields[0] == "surface" && fields[1] == "u" && fields[2] == "v")
-        continue;
+      if (may_be_header && fields[0] == "surface" && fields[1] == "u" && fields[2] == "v") continue;
 
       const std::size_t surface = surface_index(fields[0]);
       const Surface& s = scene_.surfaces[surface];

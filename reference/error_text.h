@@ -12,7 +12,9 @@
 namespace nurbs {
 
 // A byte that must not reach an error line raw (C0 controls and DEL).
-inline constexpr bool is_control_byte(unsigned char c) { return c < 0x20 || c == 0x7f; }
+inline constexpr bool is_control_byte(unsigned char c) {
+  return c < 0x20 || c == 0x7f;
+}
 
 // At most `max_bytes` of `text` (cut back to a UTF-8 character boundary, "..." appended).
 inline std::string printable(std::string_view text,

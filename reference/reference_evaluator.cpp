@@ -78,8 +78,8 @@ ReferenceSurface evaluate_surface(const Surface& surface, const SurfaceSamples& 
         for (double& c : normal) c = -c;
   }
   if (surface.trim) {
-    TrimClassification trim =
-        classify_trim_samples(*surface.trim, samples, /*with_distance=*/true, TrimScalar::long_double);
+    TrimClassification trim = classify_trim_samples(*surface.trim, samples, /*with_distance=*/true,
+                                                    TrimScalar::long_double);
     out.inside = std::move(trim.inside);
     out.trim_distance = std::move(trim.distance);
   }

@@ -20,7 +20,7 @@ std::string_view to_string(ReferencePrecision p);
 
 struct ReferenceSurface {
   std::vector<Point3> positions;  // one per sample, in SurfaceSamples order
-  std::vector<Point3> normals;    // unit normals (empty unless requested); flipped on a reversed face
+  std::vector<Point3> normals;  // unit normals (empty unless requested); flipped on a reversed face
   // Trimmed surfaces only (empty otherwise): the exact classification of every sample
   // (reference/trim_classify.h, in long double) and its distance to the trim boundary in (u, v).
   std::vector<std::uint8_t> inside;

@@ -98,9 +98,10 @@ std::vector<SurfaceSamples> sample_parameters(const Scene& scene, const Sampling
   }
   if (const double total = requested_samples(scene, sampling);
       total > static_cast<double>(kMaxSamplesPerRequest))
-    throw InputError(fmt::format("{:.0f} samples over {} surfaces: more than the limit of {} per "
-                                 "request",
-                                 total, scene.surfaces.size(), kMaxSamplesPerRequest));
+    throw InputError(
+        fmt::format("{:.0f} samples over {} surfaces: more than the limit of {} per "
+                    "request",
+                    total, scene.surfaces.size(), kMaxSamplesPerRequest));
 
   std::vector<SurfaceSamples> out(scene.surfaces.size());
   for (std::size_t i = 0; i < out.size(); ++i) {

@@ -1,8 +1,9 @@
 #include "reference/trim_classify.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
-#include <omp.h>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -43,7 +44,9 @@ struct DistancePiece {
 
 // sqrt of the sum of squares, not std::hypot: (u, v) are O(1) parameters (no overflow to guard
 // against) and hypot was a third of the distance search's time.
-double length(double du, double dv) { return std::sqrt(du * du + dv * dv); }
+double length(double du, double dv) {
+  return std::sqrt(du * du + dv * dv);
+}
 
 double box_distance(double u, double v, double lo_u, double hi_u, double lo_v, double hi_v) {
   const double du = std::max({lo_u - u, 0.0, u - hi_u});
@@ -119,8 +122,8 @@ double piece_distance(const DistancePiece& root, double u, double v, double best
     best = std::min({best, length(u - au, v - av), length(u - bu, v - bv)});
     double flatness = 0;
     for (int i = 1; i < n; ++i)
-      flatness = std::max(flatness, segment_distance(p.h[i][0] / p.h[i][2], p.h[i][1] / p.h[i][2],
-                                                     au, av, bu, bv));
+      flatness = std::max(
+          flatness, segment_distance(p.h[i][0] / p.h[i][2], p.h[i][1] / p.h[i][2], au, av, bu, bv));
     const double chord = segment_distance(u, v, au, av, bu, bv);
     if (chord - flatness >= best) continue;
     const double tolerance = tolerances.at(best);
@@ -131,10 +134,10 @@ double piece_distance(const DistancePiece& root, double u, double v, double best
     Node left{p, node.depth + 1}, right{p, node.depth + 1};
     split(p, left.piece, right.piece);
     // Depth first, the nearer half last on the stack so it is refined first (tightens `best`).
-    const double d_left = box_distance(u, v, left.piece.lo_u, left.piece.hi_u, left.piece.lo_v,
-                                       left.piece.hi_v);
-    const double d_right = box_distance(u, v, right.piece.lo_u, right.piece.hi_u,
-                                        right.piece.lo_v, right.piece.hi_v);
+    const double d_left =
+        box_distance(u, v, left.piece.lo_u, left.piece.hi_u, left.piece.lo_v, left.piece.hi_v);
+    const double d_right =
+        box_distance(u, v, right.piece.lo_u, right.piece.hi_u, right.piece.lo_v, right.piece.hi_v);
     if (d_left < d_right) {
       stack.push_back(std::move(right));
       stack.push_back(std::move(left));
@@ -183,7 +186,8 @@ class DistanceIndex {
     const double extent = std::max({hi_u - lo_u, hi_v - lo_v, std::fabs(lo_u), std::fabs(hi_u),
                                     std::fabs(lo_v), std::fabs(hi_v), 1e-300});
     tolerances_ = {kDistanceAbsoluteTolerance * extent, kDistanceNearFraction * extent};
-    for (const DistancePiece& p : pieces) add_leaves(p, kLeafFlatness * extent, kLeafLength * extent, 0);
+    for (const DistancePiece& p : pieces)
+      add_leaves(p, kLeafFlatness * extent, kLeafLength * extent, 0);
 
     const double width = std::max({hi_u - lo_u, hi_v - lo_v, 1e-300});
     const int side = std::clamp(static_cast<int>(std::ceil(std::sqrt(double(leaves_.size())))), 1,
@@ -251,12 +255,16 @@ class DistanceIndex {
 
   void add_leaves(const DistancePiece& p, double flatness_limit, double length_limit, int depth) {
     const int n = p.degree;
-    Leaf leaf{p, p.h[0][0] / p.h[0][2], p.h[0][1] / p.h[0][2], p.h[n][0] / p.h[n][2],
-              p.h[n][1] / p.h[n][2], 0};
+    Leaf leaf{p,
+              p.h[0][0] / p.h[0][2],
+              p.h[0][1] / p.h[0][2],
+              p.h[n][0] / p.h[n][2],
+              p.h[n][1] / p.h[n][2],
+              0};
     for (int i = 1; i < n; ++i)
-      leaf.flatness = std::max(leaf.flatness, segment_distance(p.h[i][0] / p.h[i][2],
-                                                               p.h[i][1] / p.h[i][2], leaf.au,
-                                                               leaf.av, leaf.bu, leaf.bv));
+      leaf.flatness =
+          std::max(leaf.flatness, segment_distance(p.h[i][0] / p.h[i][2], p.h[i][1] / p.h[i][2],
+                                                   leaf.au, leaf.av, leaf.bu, leaf.bv));
     const double size = std::max(p.hi_u - p.lo_u, p.hi_v - p.lo_v);
     if (depth >= kLeafMaxDepth || (leaf.flatness <= flatness_limit && size <= length_limit)) {
       leaves_.push_back(leaf);

@@ -243,8 +243,8 @@ void crossing_events(const TrimPieces<T>& trim, T v, std::vector<T>& events,
 // Inside by the even-odd rule: an odd number of events to the right of u.
 template <typename T>
 bool inside_by_events(const std::vector<T>& sorted_events, T u) {
-  const auto right = sorted_events.end() -
-                     std::upper_bound(sorted_events.begin(), sorted_events.end(), u);
+  const auto right =
+      sorted_events.end() - std::upper_bound(sorted_events.begin(), sorted_events.end(), u);
   return (right % 2) == 1;
 }
 

@@ -357,9 +357,10 @@ Scene load_scene(std::string_view name_or_path) {
   // A model file is imported here, once per load; its skipped faces are warned about.
   if (is_cad_model_path(path))
     return import_cad_model(path, {.strict = false,
-                                   .warn = [](const std::string& warning) {
-                                     std::cerr << "nurbsbench: warning: " << warning << "\n";
-                                   }})
+                                   .warn =
+                                       [](const std::string& warning) {
+                                         std::cerr << "nurbsbench: warning: " << warning << "\n";
+                                       }})
         .scene;
   std::error_code error;
   if (std::filesystem::is_regular_file(path, error)) return load_scene_file(path);

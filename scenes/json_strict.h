@@ -48,8 +48,8 @@ class JsonPathTracker {
         Container& object = open_.back();
         object.key = parsed.get<std::string>();
         if (!object.keys.insert(object.key).second)
-          throw InputError(fmt::format("{}: {}: duplicate key (each key may appear once)", printable(origin_),
-                                       path_text()));
+          throw InputError(fmt::format("{}: {}: duplicate key (each key may appear once)",
+                                       printable(origin_), path_text()));
         break;
       }
       case Event::object_end:
@@ -115,8 +115,8 @@ inline nlohmann::json parse_json_strictly(std::string_view text, std::string_vie
           return tracker(depth, event, parsed);
         });
   } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
-    throw InputError(fmt::format("{}: not valid JSON at {}: {}", printable(origin), tracker.path_text(),
-                                 json_error_text(e)));
+    throw InputError(fmt::format("{}: not valid JSON at {}: {}", printable(origin),
+                                 tracker.path_text(), json_error_text(e)));
   }
 }
 

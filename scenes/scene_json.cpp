@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <span>
 
-#include "reference/surface_checker.h"
 #include "reference/error_text.h"
+#include "reference/surface_checker.h"
 #include "reference/validation.h"
 #include "scenes/json_strict.h"
 
@@ -313,8 +313,7 @@ Scene load_scene_file(const std::filesystem::path& path) {
                     "file",
                     printable(path.string()), size, kMaxSceneFileBytes));
   std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw InputError(fmt::format("{}: cannot open scene file", printable(path.string())));
+  if (!in) throw InputError(fmt::format("{}: cannot open scene file", printable(path.string())));
   std::string text(static_cast<std::size_t>(size), '\0');
   in.read(text.data(), static_cast<std::streamsize>(size));
   text.resize(static_cast<std::size_t>(in.gcount()));

@@ -13,7 +13,9 @@ double TrimmedPlateShape::inside_area() const {
 
 namespace {
 
-TrimCurve line(Point2 a, Point2 b) { return {1, {0, 0, 1, 1}, {a, b}, {1, 1}}; }
+TrimCurve line(Point2 a, Point2 b) {
+  return {1, {0, 0, 1, 1}, {a, b}, {1, 1}};
+}
 
 // A quarter circle from a to b whose tangents meet at `corner`: rational quadratic, middle
 // weight cos(45°) (The NURBS Book §7.3).
@@ -54,10 +56,11 @@ Scene trimmed_plate_scene(const TrimmedPlateShape& shape) {
 
   const double lo = shape.low, hi = shape.high, r = shape.corner_radius;
   TrimLoop outer;
-  outer.curves = {line({lo + r, lo}, {hi - r, lo}), quarter_arc({hi - r, lo}, {hi, lo}, {hi, lo + r}),
-                  line({hi, lo + r}, {hi, hi - r}), quarter_arc({hi, hi - r}, {hi, hi}, {hi - r, hi}),
-                  line({hi - r, hi}, {lo + r, hi}), quarter_arc({lo + r, hi}, {lo, hi}, {lo, hi - r}),
-                  line({lo, hi - r}, {lo, lo + r}), quarter_arc({lo, lo + r}, {lo, lo}, {lo + r, lo})};
+  outer.curves = {
+      line({lo + r, lo}, {hi - r, lo}), quarter_arc({hi - r, lo}, {hi, lo}, {hi, lo + r}),
+      line({hi, lo + r}, {hi, hi - r}), quarter_arc({hi, hi - r}, {hi, hi}, {hi - r, hi}),
+      line({hi - r, hi}, {lo + r, hi}), quarter_arc({lo + r, hi}, {lo, hi}, {lo, hi - r}),
+      line({lo, hi - r}, {lo, lo + r}), quarter_arc({lo, lo + r}, {lo, lo}, {lo + r, lo})};
   TrimLoop hole;
   hole.curves = {circle(shape.hole_center_u, shape.hole_center_v, shape.hole_radius)};
   plate.trim = Trim{};

@@ -181,7 +181,8 @@ std::map<std::string, std::string> backend_extra(const std::string& gl, const st
                                    option_text("--strategy-option", option)));
     // The second value would silently win over the first.
     if (!extra.emplace(option.substr(0, eq), option.substr(eq + 1)).second)
-      throw InputError(fmt::format("{}: {} is given twice", option_text("--strategy-option", option),
+      throw InputError(fmt::format("{}: {} is given twice",
+                                   option_text("--strategy-option", option),
                                    printable(option.substr(0, eq), kQuotedValueBytes)));
   }
   if (!gl.empty()) extra["gl"] = gl;

@@ -25,9 +25,9 @@ void expect_refused(const CliResult& r, const std::vector<std::string>& substrin
 }
 
 CliResult eval_uv(const std::string& uv, const std::string& out) {
-  return run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor", "--uv", uv,
-                  "--out", out},
-                 {kRejectionMemoryLimit});
+  return run_cli(
+      {"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor", "--uv", uv, "--out", out},
+      {kRejectionMemoryLimit});
 }
 
 TEST(CliInput, UvFileWithoutLineBreaksIsRefusedAtTheLineBound) {
@@ -94,18 +94,18 @@ TEST(CliInput, ListValuesAreRefusedWithTheOption) {
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.expect.front());
-    std::vector<std::string> args = {"run", "--strategies", "cpu-coxdeboor", "--repetitions", "1",
-                                     "--out", out};
+    std::vector<std::string> args = {
+        "run", "--strategies", "cpu-coxdeboor", "--repetitions", "1", "--out", out};
     if (c.args.front() != "--scenes") args.insert(args.end(), {"--scenes", "patch144"});
     args.insert(args.end(), c.args.begin(), c.args.end());
     expect_refused(run_cli(args, {kRejectionMemoryLimit}), c.expect);
     EXPECT_FALSE(fs::exists(out));
   }
   const std::string csv = tmp / "out.csv";
-  expect_refused(run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor", "--samples",
-                          "4x4", "--strategy-option", "vk-mu=1", "--strategy-option", "vk-mu=2",
-                          "--out", csv}),
-                 {"--strategy-option = 'vk-mu=2'", "vk-mu is given twice"});
+  expect_refused(
+      run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor", "--samples", "4x4",
+               "--strategy-option", "vk-mu=1", "--strategy-option", "vk-mu=2", "--out", csv}),
+      {"--strategy-option = 'vk-mu=2'", "vk-mu is given twice"});
   EXPECT_FALSE(fs::exists(csv));
 }
 
@@ -116,8 +116,8 @@ TEST(CliInput, AbsurdSamplingsOfManySurfacesAreRefusedBeforeAllocating) {
   for (const std::vector<std::string>& sampling :
        {std::vector<std::string>{"--samples", "65536x65536"}, {"--span-samples", "4096"}}) {
     SCOPED_TRACE(sampling.front());
-    std::vector<std::string> args = {"eval", "--scene", "many-4096", "--strategy",
-                                     "cpu-coxdeboor", "--out", out};
+    std::vector<std::string> args = {"eval",          "--scene", "many-4096", "--strategy",
+                                     "cpu-coxdeboor", "--out",   out};
     args.insert(args.end(), sampling.begin(), sampling.end());
     expect_refused(run_cli(args, {kRejectionMemoryLimit}),
                    {"samples over 4096 surfaces: more than the limit of 134217728"});

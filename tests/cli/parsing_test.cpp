@@ -94,11 +94,13 @@ TEST(ParseSpanList, RefusesEmptyItemsRepeatsAndOverflow) {
             std::string::npos);
   EXPECT_NE(error_of([] { parse_span_list("--span-samples", "4,,8"); }).find("item 2 is empty"),
             std::string::npos);
-  EXPECT_NE(error_of([] { parse_span_list("--span-samples", "4097"); })
-                .find("'4097' must be an integer in 1..4096"),
+  EXPECT_NE(error_of([] {
+              parse_span_list("--span-samples", "4097");
+            }).find("'4097' must be an integer in 1..4096"),
             std::string::npos);
-  EXPECT_NE(error_of([] { parse_span_list("--span-samples", "2147483648"); })
-                .find("'2147483648' must be an integer in 1..4096"),
+  EXPECT_NE(error_of([] {
+              parse_span_list("--span-samples", "2147483648");
+            }).find("'2147483648' must be an integer in 1..4096"),
             std::string::npos);
 }
 
@@ -115,18 +117,21 @@ TEST(ParseTrimBand, DecimalsInZeroToOneOnly) {
   EXPECT_EQ(parse_trim_band("0.25"), 0.25);
   EXPECT_EQ(parse_trim_band("1e-7"), 1e-7);
   EXPECT_FALSE(std::signbit(parse_trim_band("-0")));
-  for (const std::string bad : {"0x1p-3", " 0.1", "0.1 ", "+0.1", "1", "-0.1", "nan", "1e-400", ""}) {
+  for (const std::string bad :
+       {"0x1p-3", " 0.1", "0.1 ", "+0.1", "1", "-0.1", "nan", "1e-400", ""}) {
     SCOPED_TRACE(bad);
-    EXPECT_NE(error_of([&] { parse_trim_band(bad); })
-                  .find("--trim-band = '" + bad + "': must be a number in [0, 1)"),
+    EXPECT_NE(error_of([&] {
+                parse_trim_band(bad);
+              }).find("--trim-band = '" + bad + "': must be a number in [0, 1)"),
               std::string::npos);
   }
 }
 
 TEST(SceneList, RefusesRepeatsAndEmptyItems) {
   EXPECT_EQ(scene_list(" patch144 , teapot"), (std::vector<std::string>{"patch144", "teapot"}));
-  EXPECT_NE(error_of([] { scene_list("patch144,teapot,patch144"); })
-                .find("--scenes = 'patch144,teapot,patch144': 'patch144' is given twice"),
+  EXPECT_NE(error_of([] {
+              scene_list("patch144,teapot,patch144");
+            }).find("--scenes = 'patch144,teapot,patch144': 'patch144' is given twice"),
             std::string::npos);
   EXPECT_NE(error_of([] { scene_list(","); }).find("--scenes = ',': item 1 is empty"),
             std::string::npos);
@@ -139,7 +144,9 @@ TEST(BackendExtra, RefusesARepeatedKey) {
   EXPECT_EQ(backend_extra("", "3", {"vk-mode=adaptive", "vk-mu=2"}),
             (std::map<std::string, std::string>{
                 {"device", "3"}, {"vk-mode", "adaptive"}, {"vk-mu", "2"}}));
-  EXPECT_EQ(error_of([] { backend_extra("", "", {"vk-mu=1", "vk-mu=2"}); }),
+  EXPECT_EQ(error_of([] {
+              backend_extra("", "", {"vk-mu=1", "vk-mu=2"});
+            }),
             "--strategy-option = 'vk-mu=2': vk-mu is given twice");
   EXPECT_NE(error_of([] { backend_extra("", "", {"=2"}); }).find("must be KEY=VALUE"),
             std::string::npos);
@@ -150,9 +157,8 @@ TEST(BackendExtra, RefusesARepeatedKey) {
 // Each side within bounds, the product not: refused from the sizes, before any list is built.
 TEST(SampleParameters, RefusesAbsurdRequestsFromTheSizes) {
   const Scene many = *make_builtin_scene("many-4096");
-  const std::string grid = error_of([&] {
-    sample_parameters(many, parse_grid_list("--samples", "65536x65536").front());
-  });
+  const std::string grid = error_of(
+      [&] { sample_parameters(many, parse_grid_list("--samples", "65536x65536").front()); });
   EXPECT_NE(grid.find("17592186044416 samples over 4096 surfaces: more than the limit of "
                       "134217728 per request"),
             std::string::npos)

@@ -28,8 +28,7 @@ inline void check_error_line(const InputError& e, std::string_view origin) {
   const std::string_view message = e.what();
   check(message.starts_with(origin), "error does not start with its origin", message);
   for (const unsigned char c : message)
-    check(!is_control_byte(c), "error message holds a control byte (not one clean line)",
-          message);
+    check(!is_control_byte(c), "error message holds a control byte (not one clean line)", message);
 }
 
 }  // namespace nurbs::fuzz

@@ -1,14 +1,14 @@
-// The CLI's value parsers (harness/cli/parsing.h). The first byte picks the parser (mod 7), the rest is the
-// option's text. What a parser accepts is checked against its contract (bounds, no repeats, no
-// empty items, labels that parse back to the same samplings); what it refuses must be InputError
-// with one line naming the option.
+// The CLI's value parsers (harness/cli/parsing.h). The first byte picks the parser (mod 7), the
+// rest is the option's text. What a parser accepts is checked against its contract (bounds, no
+// repeats, no empty items, labels that parse back to the same samplings); what it refuses must be
+// InputError with one line naming the option.
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdint>
 #include <set>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "fuzz_check.h"
 #include "harness/cli/parsing.h"
@@ -108,9 +108,8 @@ void run(std::uint8_t selector, std::string_view text) {
   }
 }
 
-constexpr const char* kOptions[] = {"--samples",   "--span-samples", "--scenes",
-                                    "--precision", "--reference",    "--strategy-option",
-                                    "--trim-band"};
+constexpr const char* kOptions[] = {"--samples",   "--span-samples",    "--scenes",   "--precision",
+                                    "--reference", "--strategy-option", "--trim-band"};
 
 }  // namespace
 }  // namespace nurbs::fuzz

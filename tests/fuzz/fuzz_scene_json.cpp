@@ -34,8 +34,7 @@ bool same_numbers(const std::vector<T>& a, const std::vector<T>& b) {
 bool same_trim(const std::optional<Trim>& a, const std::optional<Trim>& b) {
   if (a.has_value() != b.has_value()) return false;
   if (!a) return true;
-  if (a->rule != b->rule || !same(a->tolerance, b->tolerance) ||
-      a->loops.size() != b->loops.size())
+  if (a->rule != b->rule || !same(a->tolerance, b->tolerance) || a->loops.size() != b->loops.size())
     return false;
   for (std::size_t l = 0; l < a->loops.size(); ++l) {
     const auto &ca = a->loops[l].curves, &cb = b->loops[l].curves;

@@ -18,7 +18,9 @@
 namespace nurbs {
 namespace {
 
-const Scene& two_surfaces() { return fuzz::uv_test_scene(); }
+const Scene& two_surfaces() {
+  return fuzz::uv_test_scene();
+}
 
 Sampling read(const std::string& text) {
   std::istringstream in(text);
@@ -103,8 +105,7 @@ TEST(UvFile, SubnormalIsANumberButUnderflowIsRefused) {
 
 TEST(UvFile, HeaderIsOnlyTheFirstDataLineAndOnlyExact) {
   // A surface named like the header's first field is data, not a header.
-  EXPECT_NE(error_of("surface1,0.5,0.5\n").find("line 1: surface = 'surface1'"),
-            std::string::npos);
+  EXPECT_NE(error_of("surface1,0.5,0.5\n").find("line 1: surface = 'surface1'"), std::string::npos);
   EXPECT_NE(error_of("patch,0.5,0.5\nsurface,u,v\n").find("line 2: surface = 'surface'"),
             std::string::npos);
 }

@@ -2,13 +2,14 @@
 // in closed form: the built-in trimmed-plate (rounded rectangle of lines and rational quarter
 // circles, minus a rational circle), polygons whose vertices lie on sample rows, nested loops,
 // tangent rows, loops closed only within their tolerance.
+#include "reference/trim_classify.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
 #include "reference/reference_evaluator.h"
-#include "reference/trim_classify.h"
 #include "scenes/builtin_scenes.h"
 #include "scenes/trimmed_plate.h"
 #include "tests/scenes/trimmed_plate_closed_form.h"
@@ -30,7 +31,9 @@ Analytic analytic_plate(double u, double v) {
 
 // The distance's stated accuracy (reference/trim_classify.h): 1e-4 relative below 1e-3 of the
 // loops' extent (0.95 here), 1e-2 beyond; plus the double rounding of the points themselves.
-double distance_tolerance(double d) { return (d < 0.95e-3 ? 1e-4 : 1e-2) * d + 2e-12; }
+double distance_tolerance(double d) {
+  return (d < 0.95e-3 ? 1e-4 : 1e-2) * d + 2e-12;
+}
 
 SurfaceSamples grid(int n) {
   SurfaceSamples s;
@@ -115,8 +118,8 @@ INSTANTIATE_TEST_SUITE_P(Trim, BothScalars,
 TEST(TrimClassify, InsideFractionConvergesToTheClosedFormArea) {
   const double area = kShape.inside_area();
   const double side = kShape.high - kShape.low, r = kShape.corner_radius;
-  const double perimeter = 4 * (side - 2 * r) + 2 * std::numbers::pi * r +
-                           2 * std::numbers::pi * kShape.hole_radius;
+  const double perimeter =
+      4 * (side - 2 * r) + 2 * std::numbers::pi * r + 2 * std::numbers::pi * kShape.hole_radius;
   double previous_error = 1;
   for (int n : {33, 129, 513}) {
     const SurfaceSamples samples = grid(n);
@@ -155,7 +158,9 @@ TEST(TrimClassify, ReferenceEvaluatorFillsInsideAndDistance) {
 
 // ---- Polygons: vertices on the sample row, nesting, orientation, gaps --------------------------
 
-TrimCurve segment(Point2 a, Point2 b) { return {1, {0, 0, 1, 1}, {a, b}, {1, 1}}; }
+TrimCurve segment(Point2 a, Point2 b) {
+  return {1, {0, 0, 1, 1}, {a, b}, {1, 1}};
+}
 
 TrimLoop polygon(const std::vector<Point2>& corners) {
   TrimLoop loop;
@@ -231,8 +236,14 @@ TEST(TrimClassify, MultiSpanCurveAgreesWithItsDensePolyline) {
   // A closed cubic B-spline "blob": clamped, 8 control points, interior knots, first = last point.
   TrimCurve blob{3,
                  {0, 0, 0, 0, 0.2, 0.45, 0.6, 0.8, 1, 1, 1, 1},
-                 {{0.5, 0.1}, {0.9, 0.1}, {0.95, 0.6}, {0.7, 0.95}, {0.3, 0.9}, {0.05, 0.6},
-                  {0.1, 0.1}, {0.5, 0.1}},
+                 {{0.5, 0.1},
+                  {0.9, 0.1},
+                  {0.95, 0.6},
+                  {0.7, 0.95},
+                  {0.3, 0.9},
+                  {0.05, 0.6},
+                  {0.1, 0.1},
+                  {0.5, 0.1}},
                  {1, 1, 2, 1, 0.5, 1, 1, 1}};
   Trim trim;
   trim.loops = {TrimLoop{{blob}}};
@@ -271,8 +282,7 @@ TEST(TrimClassify, MultiSpanCurveAgreesWithItsDensePolyline) {
     return inside;
   };
   const SurfaceSamples samples = grid(61);
-  const TrimClassification c =
-      classify_trim_samples(trim, samples, true, TrimScalar::long_double);
+  const TrimClassification c = classify_trim_samples(trim, samples, true, TrimScalar::long_double);
   std::size_t compared = 0, inside = 0;
   for (std::size_t k = 0; k < samples.count(); ++k) {
     if (c.distance[k] < 1e-4) continue;  // the polyline is within ~1e-5 of the curve
