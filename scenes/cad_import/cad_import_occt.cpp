@@ -74,16 +74,6 @@ TrimCurve to_trim_curve(const Geom2d_BSplineCurve& c) {
   return t;
 }
 
-double control_point_diagonal(const Surface& s) {
-  Point3 lo = s.points.front(), hi = s.points.front();
-  for (const Point3& p : s.points)
-    for (int c = 0; c < 3; ++c) {
-      lo[c] = std::min(lo[c], p[c]);
-      hi[c] = std::max(hi[c], p[c]);
-    }
-  return std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-}
-
 struct Domain {
   double u0, u1, v0, v1;
   double excess(const gp_Pnt2d& p) const {
@@ -155,7 +145,7 @@ Surface face_surface(const TopoDS_Face& face, double& deviation) {
     const Point3& q = ours.positions[k];
     largest = std::max(largest, std::hypot(p.X() - q[0], p.Y() - q[1], p.Z() - q[2]));
   }
-  const double size = control_point_diagonal(surface);
+  const double size = one.bounding_box_diagonal();
   deviation = size > 0 ? largest / size : largest;
   if (!(deviation <= kMaxSurfaceDeviation))
     throw FaceSkip{"surface differs from OpenCASCADE's",
@@ -185,12 +175,17 @@ struct FaceTrimFigures {
   double largest_excess = 0;  // (u, v), bound of clamp_change
 };
 
+// A p-curve and its clamp_change bound.
+struct EdgeCurve {
+  Handle(Geom2d_BSplineCurve) curve;
+  double change;
+};
+
 // The p-curve of `edge` on `face` as a non-periodic 2D B-spline running in the wire's direction.
 // A curve inside the domain can have control points outside it (a circle's square of points):
 // knot insertion, which leaves the curve unchanged, pulls them onto the curve first.
-Handle(Geom2d_BSplineCurve)
-    edge_curve(const TopoDS_Edge& edge, const TopoDS_Face& face, const Domain& domain,
-               double tolerance, double repair, int loop, int index) {
+EdgeCurve edge_curve(const TopoDS_Edge& edge, const TopoDS_Face& face, const Domain& domain,
+                     double tolerance, double repair, int loop, int index) {
   double first = 0, last = 0;
   const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(edge, face, first, last);
   if (pcurve.IsNull())
@@ -214,7 +209,7 @@ Handle(Geom2d_BSplineCurve)
     curve = refined;
     change = refined_change;
   }
-  return curve;
+  return {curve, change};
 }
 
 // The face's wires as trimming loops, the outer wire first, each edge's p-curve in wire order
@@ -253,8 +248,8 @@ FaceTrimFigures face_trim(const TopoDS_Face& face, Surface& surface) {
     TrimLoop out;
     for (BRepTools_WireExplorer e(wire, face); e.More(); e.Next()) {
       const int index = static_cast<int>(out.curves.size());
-      const auto curve = edge_curve(e.Current(), face, domain, resolution, repair, loop, index);
-      const double change = clamp_change(*curve, domain, resolution);
+      const auto [curve, change] =
+          edge_curve(e.Current(), face, domain, resolution, repair, loop, index);
       if (!(change <= repair))
         throw FaceSkip{"p-curve outside the surface's domain",
                        fmt::format("loop {} curve {}: moving it onto the domain changes it by "
