@@ -78,6 +78,14 @@ struct EvalResult {
   std::vector<SurfaceResult> surfaces;
 };
 
+// The picture of the last render(), for `run --images DIR`: RGBA8, rows top to bottom (a GL
+// strategy flips what glReadPixels gives).
+struct RenderedImage {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgba;  // width * height * 4
+};
+
 // Device-side timings of the last evaluate(), where the API has timers.
 struct DeviceTimes {
   std::optional<double> evaluate_s;
@@ -106,6 +114,9 @@ class Strategy {
   // read_back(); returns false when the strategy does not trim.
   virtual bool classify() { return false; }
   virtual bool render_via_read_back() { return false; }
+  // What the last render() drew (outside-the-trim fragments discarded for trimmed surfaces), read
+  // back untimed; nullopt when the strategy does not draw or has not drawn yet.
+  virtual std::optional<RenderedImage> last_render() { return std::nullopt; }
 };
 
 // Options a user can pass to any strategy's factory; each strategy reads what concerns it.
