@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <optional>
+#include <type_traits>
 #include <variant>
 
 #include "reference/nurbs_math.h"
@@ -15,6 +17,8 @@ namespace {
 Capabilities horner_capabilities() {
   Capabilities c;
   c.max_degree = kMaxDegree;
+  // A deforming frame moves control points only: the basis tables stay (004).
+  c.updates_control_points = true;
   return c;
 }
 
@@ -49,14 +53,43 @@ struct PowerBasisTable {
   }
 };
 
+// The basis at every parameter of one direction of a tensor grid, computed once per tessellation
+// (004 "store these in an array ... If at some point we change the number of subdivisions we
+// want, we can just recalculate the stored arrays"): per parameter its span and p+1 values (and
+// derivatives when normals are asked), so a frame only looks them up. Explicit lists keep the
+// per-sample evaluation: their table would be as large as the output and never reused by rows.
+template <typename T>
+struct SampledBasis {
+  int order = 0;
+  std::vector<int> span;
+  std::vector<T> values, ders;
+
+  SampledBasis(const PowerBasisTable<T>& table, const std::vector<double>& parameters,
+               bool with_ders)
+      : order(table.degree + 1), span(parameters.size()) {
+    values.resize(parameters.size() * order);
+    if (with_ders) ders.resize(values.size());
+    for (std::size_t i = 0; i < parameters.size(); ++i)
+      span[i] = table.evaluate(T(parameters[i]), &values[i * order],
+                               with_ders ? &ders[i * order] : nullptr);
+  }
+  const T* values_at(std::size_t i) const { return &values[i * order]; }
+  const T* ders_at(std::size_t i) const { return ders.empty() ? nullptr : &ders[i * order]; }
+};
+
 template <typename T>
 struct HornerSurface {
   SurfaceNet<T> net;
   PowerBasisTable<T> u, v;
-  HornerSurface(const Surface& s, horner::Origin where)
+  std::optional<SampledBasis<T>> grid_u, grid_v;  // tensor grids only
+  HornerSurface(const Surface& s, horner::Origin where, const SurfaceSamples& samples, bool normals)
       : net(s),
         u(s.knots_u, s.degree_u, s.count_u, where),
-        v(s.knots_v, s.degree_v, s.count_v, where) {}
+        v(s.knots_v, s.degree_v, s.count_v, where) {
+    if (!samples.tensor) return;
+    grid_u.emplace(u, samples.u, normals);
+    grid_v.emplace(v, samples.v, normals);
+  }
 };
 
 class CpuHorner final : public Strategy {
@@ -85,9 +118,9 @@ class CpuHorner final : public Strategy {
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     if (request.precision == Precision::f32)
-      surfaces_ = make_surfaces<float>(scene);
+      surfaces_ = make_surfaces<float>(scene, request.normals);
     else
-      surfaces_ = make_surfaces<double>(scene);
+      surfaces_ = make_surfaces<double>(scene, request.normals);
     positions_.assign(scene.surfaces.size(), {});
     normals_.assign(scene.surfaces.size(), {});
     for (std::size_t i = 0; i < samples_.size(); ++i) {
@@ -100,6 +133,16 @@ class CpuHorner final : public Strategy {
     std::visit([this](const auto& s) { evaluate_all(s); }, surfaces_);
   }
 
+  void update_control_points(const Scene& scene) override {
+    std::visit(
+        [&](auto& surfaces) {
+          using Net = std::remove_reference_t<decltype(surfaces.front().net)>;
+          for (std::size_t i = 0; i < surfaces.size(); ++i)
+            surfaces[i].net = Net(scene.surfaces[i]);
+        },
+        surfaces_);
+  }
+
   EvalResult read_back() override {
     EvalResult out;
     out.surfaces.resize(samples_.size());
@@ -110,19 +153,19 @@ class CpuHorner final : public Strategy {
 
  private:
   template <typename T>
-  std::vector<HornerSurface<T>> make_surfaces(const Scene& scene) const {
+  std::vector<HornerSurface<T>> make_surfaces(const Scene& scene, bool normals) const {
     std::vector<HornerSurface<T>> out;
-    for (const Surface& s : scene.surfaces) out.emplace_back(s, origin_);
+    for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
+      out.emplace_back(scene.surfaces[i], origin_, samples_[i], normals);
     return out;
   }
 
   // One sample: the (p+1)(q+1) homogeneous sums of the point and its two first derivatives, the
   // four coordinates together (004: "do the same operations to all four at once").
   template <typename T>
-  void evaluate_sample(const HornerSurface<T>& s, int su, const T* nu, const T* dnu, T u, T v,
-                       std::size_t k, PointArray& positions, PointArray* normals) const {
-    T nv[kMaxOrder], dnv[kMaxOrder];
-    const int sv = s.v.evaluate(v, nv, normals ? dnv : nullptr);
+  void evaluate_sample(const HornerSurface<T>& s, int su, const T* nu, const T* dnu, int sv,
+                       const T* nv, const T* dnv, T u, T v, std::size_t k, PointArray& positions,
+                       PointArray* normals) const {
     const int p = s.net.degree_u, q = s.net.degree_v;
     Vec4<T> a{}, au{}, av{};
     for (int i = 0; i <= p; ++i) {
@@ -163,20 +206,23 @@ class CpuHorner final : public Strategy {
       const SurfaceSamples& samples = samples_[i];
       PointArray* normals = request_.normals ? &normals_[i] : nullptr;
       PointArray& positions = positions_[i];
-      const bool tensor = samples.tensor;
-      // Grid rows share their u basis; an explicit list evaluates both per sample.
-      const std::size_t rows = tensor ? samples.u.size() : samples.count();
-      const std::size_t columns = tensor ? samples.v.size() : 1;
+      if (s.grid_u) {
+        const std::size_t columns = samples.v.size();
 #pragma omp parallel for num_threads(threads_) schedule(static)
-      for (std::size_t r = 0; r < rows; ++r) {
-        T nu[kMaxOrder], dnu[kMaxOrder];
-        const T u = T(samples.u[r]);
+        for (std::size_t r = 0; r < samples.u.size(); ++r)
+          for (std::size_t b = 0; b < columns; ++b)
+            evaluate_sample(s, s.grid_u->span[r], s.grid_u->values_at(r), s.grid_u->ders_at(r),
+                            s.grid_v->span[b], s.grid_v->values_at(b), s.grid_v->ders_at(b),
+                            T(samples.u[r]), T(samples.v[b]), r * columns + b, positions, normals);
+        continue;
+      }
+#pragma omp parallel for num_threads(threads_) schedule(static)
+      for (std::size_t k = 0; k < samples.count(); ++k) {
+        T nu[kMaxOrder], dnu[kMaxOrder], nv[kMaxOrder], dnv[kMaxOrder];
+        const T u = T(samples.u[k]), v = T(samples.v[k]);
         const int su = s.u.evaluate(u, nu, normals ? dnu : nullptr);
-        for (std::size_t b = 0; b < columns; ++b) {
-          const std::size_t k = tensor ? r * columns + b : r;
-          const T v = T(tensor ? samples.v[b] : samples.v[r]);
-          evaluate_sample(s, su, nu, dnu, u, v, k, positions, normals);
-        }
+        const int sv = s.v.evaluate(v, nv, normals ? dnv : nullptr);
+        evaluate_sample(s, su, nu, dnu, sv, nv, dnv, u, v, k, positions, normals);
       }
     }
   }

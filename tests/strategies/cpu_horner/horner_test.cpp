@@ -1,10 +1,13 @@
 // cpu-horner (Macri 1999, 004): the power-basis coefficients reproduce the B-spline basis, and
 // the accuracy-versus-degree curve of both expansions (about the span's left knot, the default,
-// and about 0, Macri's literal A0 + A1 u + ...), measured against the reference and printed.
+// and about 0, Macri's literal A0 + A1 u + ...), measured against the reference, printed, and
+// held at every degree to an error bound derived from the coefficients (Horner's running error
+// bound carried to the rational point).
 #include <gtest/gtest.h>
 
 #include <cfloat>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 #include "harness/metrics.h"
@@ -62,40 +65,148 @@ Scene degree_scene(int degree) {
   return scene;
 }
 
-double max_ulp(const std::string& strategy, const Scene& scene, Precision precision,
-               const std::map<std::string, std::string>& extra) {
+// The grid of the accuracy tests: 33 x 33 on the degree scenes' [0, 1] domain, so every
+// parameter i/32 is exact in float and the error is Horner's, not the parameter's rounding.
+Sampling accuracy_grid() {
   Sampling grid;
   grid.grid_u = 33;
-  grid.grid_v = 29;
+  grid.grid_v = 33;
+  return grid;
+}
+
+// Max error in ulps of the scene's largest coordinate, in the precision's own ulps.
+double max_ulp(const std::string& strategy, const Scene& scene, Precision precision,
+               const std::map<std::string, std::string>& extra) {
   StrategyOptions options;
   options.extra = extra;
   auto s = find_strategy(strategy)->create(options);
-  s->prepare(scene, EvalRequest{grid, precision, false});
+  s->prepare(scene, EvalRequest{accuracy_grid(), precision, false});
   s->evaluate();
-  const auto reference = evaluate_reference(scene, sample_parameters(scene, grid), false);
+  const auto reference =
+      evaluate_reference(scene, sample_parameters(scene, accuracy_grid()), false);
   const double ulp = measure_accuracy(scene, s->read_back(), reference).max_ulp;
-  // f64 in double ulps of the largest coordinate, f32 in float ulps.
   return precision == Precision::f64 ? ulp * FLT_EPSILON / DBL_EPSILON : ulp;
 }
 
-TEST(CpuHornerPowerBasis, AccuracyVersusDegree) {
+// Per grid parameter, the sum over the p+1 non-zero basis functions of a bound on the error of
+// cpu-horner's value in T: Horner's running error bound (Higham, Accuracy and Stability of
+// Numerical Algorithms, Algorithm 5.1: mu_p = |y_p|/2, mu_j = |t| mu_(j+1) + |y_j|, error <=
+// u (2 mu_0 - |y_0|)), computed along the same recurrence in T as power_basis.h, plus the
+// coefficients' rounding to T (sum |c^_j - c_j| |t|^j) and the parameter's (t = u - origin in
+// T against the exact one: the exact polynomial's difference between the two), both in long
+// double. Computed from the coefficients alone, never from the strategy's output.
+template <typename T>
+std::vector<long double> basis_error_bounds(const Scene& scene, const std::vector<double>& knots,
+                                            int p, int count, horner::Origin origin) {
+  const long double unit = std::numeric_limits<T>::epsilon() / 2.0L;
+  std::vector<long double> out;
+  const auto samples = sample_parameters(scene, accuracy_grid());
+  for (double u : samples[0].u) {
+    const int span = find_span(p, count, knots.data(), u);
+    const long double o = origin == horner::Origin::span_start ? knots[span] : 0.0L;
+    const auto c = horner::power_basis_coefficients(knots, p, span, o);
+    const T t_rounded = T(u) - T(o);  // as PowerBasisTable::evaluate forms it
+    const long double t = u - o, tr = t_rounded;
+    long double total = 0;
+    for (int k = 0; k <= p; ++k) {
+      auto coefficient = [&](int j) { return c[j * (p + 1) + k]; };
+      T y = T(coefficient(p));
+      long double mu = std::fabs(static_cast<long double>(y)) / 2;
+      long double exact_at_t = coefficient(p), exact_at_tr = coefficient(p), stored = 0;
+      for (int j = p - 1; j >= 0; --j) {
+        y = y * t_rounded + T(coefficient(j));
+        mu = std::fabs(tr) * mu + std::fabs(static_cast<long double>(y));
+        exact_at_t = exact_at_t * t + coefficient(j);
+        exact_at_tr = exact_at_tr * tr + coefficient(j);
+      }
+      for (int j = 0; j <= p; ++j)
+        stored += std::fabs(static_cast<long double>(T(coefficient(j))) - coefficient(j)) *
+                  std::pow(std::fabs(tr), j);
+      total += unit * (2 * mu - std::fabs(static_cast<long double>(y))) + stored +
+               std::fabs(exact_at_tr - exact_at_t);
+    }
+    out.push_back(total);
+  }
+  return out;
+}
+
+// A bound on cpu-horner's error over the grid, in the same ulps as max_ulp, from the basis
+// bounds above: with unit weights the homogeneous sum of (p+1)(q+1) products errs by
+// max|P| (e_u + e_v + e_u e_v) plus its own rounding gamma(p+q+2) max|P| (1+e_u)(1+e_v), w by
+// the same expression without max|P|, and the divide by the computed w adds w's error relative to
+// the point; Euclidean over the three coordinates. The factor 1.01 covers dropped second-order
+// terms. Rounding the control points to T adds u max|P| (half an ulp), inside the 1.01.
+double horner_error_bound_ulps(const Scene& scene, horner::Origin origin, Precision precision) {
+  const Surface& s = scene.surfaces.at(0);
+  for (double w : s.weights) EXPECT_EQ(w, 1.0) << "the bound assumes unit weights";
+  const bool f32 = precision == Precision::f32;
+  const long double unit = f32 ? FLT_EPSILON / 2.0L : DBL_EPSILON / 2.0L;
+  auto gamma = [&](int n) { return n * unit / (1 - n * unit); };
+  auto basis_error = [&](const std::vector<double>& knots, int p, int count) {
+    return f32 ? basis_error_bounds<float>(scene, knots, p, count, origin)
+               : basis_error_bounds<double>(scene, knots, p, count, origin);
+  };
+  const auto eu = basis_error(s.knots_u, s.degree_u, s.count_u);
+  const auto ev = basis_error(s.knots_v, s.degree_v, s.count_v);
+  long double largest_point = 0;
+  for (const Point3& p : s.points)
+    for (double c : p) largest_point = std::max<long double>(largest_point, std::fabs(c));
+  long double worst = 0;
+  for (long double a : eu)
+    for (long double b : ev) {
+      const long double products = a + b + a * b;
+      const long double sum = gamma(s.degree_u + s.degree_v + 2) * (1 + a) * (1 + b);
+      const long double numerator = largest_point * (products + sum);  // per coordinate
+      const long double w_error = products + sum;                      // w = 1 exactly
+      // A computed w that may be 0 bounds nothing: Macri's expansion about 0 gets there in f32
+      // from degree 10 on (basis errors of hundreds), and the bound says "unbounded".
+      if (w_error >= 1) return std::numeric_limits<double>::infinity();
+      const long double point =
+          (numerator + largest_point * w_error) / (1 - w_error) + unit * largest_point;
+      worst = std::max(worst, std::sqrt(3.0L) * point);  // Euclidean over three coordinates
+    }
+  const double ulp =
+      (precision == Precision::f32 ? FLT_EPSILON : DBL_EPSILON) * scene.largest_coordinate();
+  return static_cast<double>(1.01L * worst / ulp);
+}
+
+// The accuracy-versus-degree curve of both expansions, printed, and each measured figure held to
+// its derived bound: span-local coefficients stay small, so their bound (and error) stays low;
+// Macri's expansion about 0 grows with the degree, and the bound says by how much it may.
+TEST(CpuHornerPowerBasis, AccuracyVersusDegreeWithinTheDerivedBound) {
   std::printf(
-      "degree | horner span f32 | horner zero f32 | coxdeboor f32 | horner span f64 | "
-      "horner zero f64 | coxdeboor f64   (f32: float ulps, f64: double ulps)\n");
+      "degree | horner span f32 (bound) | horner zero f32 (bound) | coxdeboor f32 | "
+      "horner span f64 (bound) | horner zero f64 (bound) | coxdeboor f64   (f32: float ulps, "
+      "f64: double ulps)\n");
+  const std::map<std::string, std::string> zero{{"horner-origin", "zero"}};
   for (int degree = 1; degree <= kMaxDegree; ++degree) {
     const Scene scene = degree_scene(degree);
-    const double span32 = max_ulp("cpu-horner", scene, Precision::f32, {});
-    const double zero32 = max_ulp("cpu-horner", scene, Precision::f32, {{"horner-origin", "zero"}});
+    struct Row {
+      double measured, bound;
+    };
+    auto row = [&](Precision precision, horner::Origin origin) {
+      const auto extra =
+          origin == horner::Origin::zero ? zero : std::map<std::string, std::string>{};
+      return Row{max_ulp("cpu-horner", scene, precision, extra),
+                 horner_error_bound_ulps(scene, origin, precision)};
+    };
+    const Row span32 = row(Precision::f32, horner::Origin::span_start);
+    const Row zero32 = row(Precision::f32, horner::Origin::zero);
+    const Row span64 = row(Precision::f64, horner::Origin::span_start);
+    const Row zero64 = row(Precision::f64, horner::Origin::zero);
     const double cox32 = max_ulp("cpu-coxdeboor", scene, Precision::f32, {});
-    const double span64 = max_ulp("cpu-horner", scene, Precision::f64, {});
-    const double zero64 = max_ulp("cpu-horner", scene, Precision::f64, {{"horner-origin", "zero"}});
     const double cox64 = max_ulp("cpu-coxdeboor", scene, Precision::f64, {});
-    std::printf("%6d | %15.3g | %15.3g | %13.3g | %15.3g | %15.3g | %13.3g\n", degree, span32,
-                zero32, cox32, span64, zero64, cox64);
+    std::printf(
+        "%6d | %9.3g (%9.3g) | %9.3g (%9.3g) | %13.3g | %9.3g (%9.3g) | %9.3g (%9.3g) | %13.3g\n",
+        degree, span32.measured, span32.bound, zero32.measured, zero32.bound, cox32,
+        span64.measured, span64.bound, zero64.measured, zero64.bound, cox64);
+    for (const auto& [name, r] : {std::pair{"span f32", span32}, std::pair{"zero f32", zero32},
+                                  std::pair{"span f64", span64}, std::pair{"zero f64", zero64}})
+      EXPECT_LE(r.measured, r.bound) << name << ", degree " << degree;
     // The default (span-local) expansion stays within the CPU bound over the builtin degrees.
     if (degree <= 9) {
-      EXPECT_LE(span32, 32.0) << "degree " << degree;
-      EXPECT_LE(span64, 64.0) << "degree " << degree;
+      EXPECT_LE(span32.measured, 32.0) << "degree " << degree;
+      EXPECT_LE(span64.measured, 64.0) << "degree " << degree;
     }
   }
 }
