@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <optional>
 #include <type_traits>
 #include <variant>
@@ -29,24 +30,44 @@ struct PowerBasisTable {
   std::vector<T> knots;
   std::vector<T> origin;        // per span index
   std::vector<T> coefficients;  // per span index, (p+1)^2, see power_basis.h
+  // Per span index, the p+1 basis values and derivatives at the span's right knot, rounded once
+  // from long double. The span search gives a parameter on an interior knot to the next span
+  // (t = 0: the constant coefficients, exact), but the domain's end stays in the last span at
+  // t = b - a, where Horner's sum of rounded coefficients misses the exact end basis by ulps --
+  // and the neighbouring surface that starts there evaluates the same edge at t = 0: a crack
+  // (tests/strategies/shared_edge_test.cpp measured 1e-15 in f64). The end uses these instead.
+  std::vector<T> end_values, end_ders;
 
   PowerBasisTable(const std::vector<double>& k, int p, int n, horner::Origin where)
       : degree(p), count(n), knots(k.begin(), k.end()) {
     const std::size_t order = static_cast<std::size_t>(p) + 1;
     origin.assign(n, T(0));
     coefficients.assign(n * order * order, T(0));
+    end_values.assign(n * order, T(0));
+    end_ders.assign(n * order, T(0));
     for (int s = p; s < n; ++s) {
       if (!(k[s] < k[s + 1])) continue;
       const long double o = where == horner::Origin::span_start ? k[s] : 0.0L;
       origin[s] = T(o);
       const auto c = horner::power_basis_coefficients(k, p, s, o);
       for (std::size_t i = 0; i < c.size(); ++i) coefficients[s * order * order + i] = T(c[i]);
+      // About the right knot, the constant and linear coefficients are the value and slope there.
+      const auto at_end = horner::power_basis_coefficients(k, p, s, k[s + 1]);
+      for (std::size_t i = 0; i < order; ++i) {
+        end_values[s * order + i] = T(at_end[i]);
+        end_ders[s * order + i] = T(at_end[order + i]);
+      }
     }
   }
   // Span search (A2.1), then Horner from the span's coefficients.
   int evaluate(T u, T* values, T* ders) const {
     const int s = find_span(degree, count, knots.data(), u);
     const std::size_t order = static_cast<std::size_t>(degree) + 1;
+    if (u == knots[s + 1]) {
+      std::copy_n(&end_values[s * order], order, values);
+      if (ders) std::copy_n(&end_ders[s * order], order, ders);
+      return s;
+    }
     horner::horner_basis(coefficients.data() + s * order * order, degree, u - origin[s], values,
                          ders);
     return s;
