@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 #include <omp.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <algorithm>
 #include <optional>
@@ -113,6 +116,55 @@ struct HornerSurface {
   }
 };
 
+// 004's TessellateSurfaceSSE keeps the x, y, z, w of a control point in one SSE register and does
+// "the same operations to all four at once". Xyzw<T, true> is that register, in intrinsics (float:
+// one __m128; double: two __m128d, SSE2 having no four-wide double); Xyzw<T, false> is the plain
+// loop the compiler vectorises as it sees fit (the default). Both round the same products and
+// sums in the same order, so their results are identical (tests/strategies/cpu_horner).
+template <typename T, bool kExplicit>
+struct Xyzw {
+  Vec4<T> v{};
+  static Xyzw load(const Vec4<T>& p) { return {p}; }
+  void add_scaled(T s, const Xyzw& x) {
+    for (int c = 0; c < 4; ++c) v[c] += s * x.v[c];
+  }
+  Vec4<T> get() const { return v; }
+};
+#if defined(__SSE2__)
+inline constexpr bool kHaveExplicitSimd = true;
+template <>
+struct Xyzw<float, true> {
+  __m128 v = _mm_setzero_ps();
+  static Xyzw load(const Vec4<float>& p) { return {_mm_loadu_ps(p.data())}; }
+  void add_scaled(float s, const Xyzw& x) { v = _mm_add_ps(v, _mm_mul_ps(_mm_set1_ps(s), x.v)); }
+  Vec4<float> get() const {
+    Vec4<float> out;
+    _mm_storeu_ps(out.data(), v);
+    return out;
+  }
+};
+template <>
+struct Xyzw<double, true> {
+  __m128d xy = _mm_setzero_pd(), zw = _mm_setzero_pd();
+  static Xyzw load(const Vec4<double>& p) {
+    return {_mm_loadu_pd(p.data()), _mm_loadu_pd(p.data() + 2)};
+  }
+  void add_scaled(double s, const Xyzw& x) {
+    const __m128d scale = _mm_set1_pd(s);
+    xy = _mm_add_pd(xy, _mm_mul_pd(scale, x.xy));
+    zw = _mm_add_pd(zw, _mm_mul_pd(scale, x.zw));
+  }
+  Vec4<double> get() const {
+    Vec4<double> out;
+    _mm_storeu_pd(out.data(), xy);
+    _mm_storeu_pd(out.data() + 2, zw);
+    return out;
+  }
+};
+#else
+inline constexpr bool kHaveExplicitSimd = false;
+#endif
+
 class CpuHorner final : public Strategy {
  public:
   explicit CpuHorner(const StrategyOptions& options) : threads_(openmp_threads(options)) {
@@ -124,6 +176,16 @@ class CpuHorner final : public Strategy {
         throw RefusedError(
             fmt::format("horner-origin = '{}': must be 'span' or 'zero'", it->second));
     }
+    const auto simd = options.extra.find("horner-simd");
+    if (simd != options.extra.end()) {
+      if (simd->second == "explicit")
+        explicit_simd_ = true;
+      else if (simd->second != "auto")
+        throw RefusedError(
+            fmt::format("horner-simd = '{}': must be 'auto' or 'explicit'", simd->second));
+      if (explicit_simd_ && !kHaveExplicitSimd)
+        throw RefusedError("horner-simd = 'explicit': this build has no SSE2 (004's path is x86)");
+    }
   }
 
   std::string_view name() const override { return "cpu-horner"; }
@@ -132,7 +194,8 @@ class CpuHorner final : public Strategy {
     return {fmt::format("host CPU, {} thread{} (OpenMP)", threads_, threads_ == 1 ? "" : "s"),
             "cpu",
             {{"threads", std::to_string(threads_)},
-             {"horner-origin", origin_ == horner::Origin::zero ? "zero" : "span"}}};
+             {"horner-origin", origin_ == horner::Origin::zero ? "zero" : "span"},
+             {"horner-simd", explicit_simd_ ? "explicit" : "auto"}}};
   }
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
@@ -151,7 +214,14 @@ class CpuHorner final : public Strategy {
   }
 
   void evaluate() override {
-    std::visit([this](const auto& s) { evaluate_all(s); }, surfaces_);
+    std::visit(
+        [this](const auto& s) {
+          if (explicit_simd_)
+            evaluate_all<true>(s);
+          else
+            evaluate_all<false>(s);
+        },
+        surfaces_);
   }
 
   void update_control_points(const Scene& scene) override {
@@ -183,28 +253,28 @@ class CpuHorner final : public Strategy {
 
   // One sample: the (p+1)(q+1) homogeneous sums of the point and its two first derivatives, the
   // four coordinates together (004: "do the same operations to all four at once").
-  template <typename T>
+  template <typename T, bool kExplicit>
   void evaluate_sample(const HornerSurface<T>& s, int su, const T* nu, const T* dnu, int sv,
                        const T* nv, const T* dnv, T u, T v, std::size_t k, PointArray& positions,
                        PointArray* normals) const {
+    using Register = Xyzw<T, kExplicit>;
     const int p = s.net.degree_u, q = s.net.degree_v;
-    Vec4<T> a{}, au{}, av{};
+    Register sum, sum_u, sum_v;
     for (int i = 0; i <= p; ++i) {
-      Vec4<T> row{}, row_v{};
+      Register row, row_v;
       const Vec4<T>* cp = &s.net.at(su - p + i, sv - q);
-      for (int l = 0; l <= q; ++l)
-        for (int c = 0; c < 4; ++c) {
-          row[c] += nv[l] * cp[l][c];
-          if (normals) row_v[c] += dnv[l] * cp[l][c];
-        }
-      for (int c = 0; c < 4; ++c) {
-        a[c] += nu[i] * row[c];
-        if (normals) {
-          au[c] += dnu[i] * row[c];
-          av[c] += nu[i] * row_v[c];
-        }
+      for (int l = 0; l <= q; ++l) {
+        const Register point = Register::load(cp[l]);
+        row.add_scaled(nv[l], point);
+        if (normals) row_v.add_scaled(dnv[l], point);
+      }
+      sum.add_scaled(nu[i], row);
+      if (normals) {
+        sum_u.add_scaled(dnu[i], row);
+        sum_v.add_scaled(nu[i], row_v);
       }
     }
+    const Vec4<T> a = sum.get(), au = sum_u.get(), av = sum_v.get();
     const T w = a[3];
     const Vec3<T> point{a[0] / w, a[1] / w, a[2] / w};
     positions.set(k, point);
@@ -220,7 +290,7 @@ class CpuHorner final : public Strategy {
     normals->set(k, n);
   }
 
-  template <typename T>
+  template <bool kExplicit, typename T>
   void evaluate_all(const std::vector<HornerSurface<T>>& surfaces) {
     for (std::size_t i = 0; i < surfaces.size(); ++i) {
       const HornerSurface<T>& s = surfaces[i];
@@ -232,24 +302,27 @@ class CpuHorner final : public Strategy {
 #pragma omp parallel for num_threads(threads_) schedule(static)
         for (std::size_t r = 0; r < samples.u.size(); ++r)
           for (std::size_t b = 0; b < columns; ++b)
-            evaluate_sample(s, s.grid_u->span[r], s.grid_u->values_at(r), s.grid_u->ders_at(r),
-                            s.grid_v->span[b], s.grid_v->values_at(b), s.grid_v->ders_at(b),
-                            T(samples.u[r]), T(samples.v[b]), r * columns + b, positions, normals);
+            evaluate_sample<T, kExplicit>(
+                s, s.grid_u->span[r], s.grid_u->values_at(r), s.grid_u->ders_at(r),
+                s.grid_v->span[b], s.grid_v->values_at(b), s.grid_v->ders_at(b), T(samples.u[r]),
+                T(samples.v[b]), r * columns + b, positions, normals);
         continue;
       }
 #pragma omp parallel for num_threads(threads_) schedule(static)
       for (std::size_t k = 0; k < samples.count(); ++k) {
-        T nu[kMaxOrder], dnu[kMaxOrder], nv[kMaxOrder], dnv[kMaxOrder];
+        T nu[kMaxOrder], dnu[kMaxOrder]{}, nv[kMaxOrder],
+            dnv[kMaxOrder]{};  // ders: read only with normals
         const T u = T(samples.u[k]), v = T(samples.v[k]);
         const int su = s.u.evaluate(u, nu, normals ? dnu : nullptr);
         const int sv = s.v.evaluate(v, nv, normals ? dnv : nullptr);
-        evaluate_sample(s, su, nu, dnu, sv, nv, dnv, u, v, k, positions, normals);
+        evaluate_sample<T, kExplicit>(s, su, nu, dnu, sv, nv, dnv, u, v, k, positions, normals);
       }
     }
   }
 
   int threads_;
   horner::Origin origin_ = horner::Origin::span_start;
+  bool explicit_simd_ = false;
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;
   std::variant<std::vector<HornerSurface<float>>, std::vector<HornerSurface<double>>> surfaces_;
