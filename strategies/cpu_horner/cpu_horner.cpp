@@ -31,6 +31,8 @@ template <typename T>
 struct PowerBasisTable {
   int degree = 0, count = 0;
   std::vector<T> knots;
+  std::vector<double> exact_knots;  // as given: forward-difference seeds are formed from them
+  horner::Origin origin_rule;
   std::vector<T> origin;        // per span index
   std::vector<T> coefficients;  // per span index, (p+1)^2, see power_basis.h
   // Per span index, the p+1 basis values and derivatives at the span's right knot, rounded once
@@ -42,7 +44,7 @@ struct PowerBasisTable {
   std::vector<T> end_values, end_ders;
 
   PowerBasisTable(const std::vector<double>& k, int p, int n, horner::Origin where)
-      : degree(p), count(n), knots(k.begin(), k.end()) {
+      : degree(p), count(n), knots(k.begin(), k.end()), exact_knots(k), origin_rule(where) {
     const std::size_t order = static_cast<std::size_t>(p) + 1;
     origin.assign(n, T(0));
     coefficients.assign(n * order * order, T(0));
@@ -77,6 +79,11 @@ struct PowerBasisTable {
   }
 };
 
+// How the basis tables at a grid's parameters are built (once per tessellation): Horner at every
+// parameter, or Horner at the first p+1 of each span's run of parameters and forward differences
+// after (004's alternative, worth it where tessellations change often).
+enum class TableMethod { horner, forward_differences };
+
 // The basis at every parameter of one direction of a tensor grid, computed once per tessellation
 // (004 "store these in an array ... If at some point we change the number of subdivisions we
 // want, we can just recalculate the stored arrays"): per parameter its span and p+1 values (and
@@ -89,13 +96,44 @@ struct SampledBasis {
   std::vector<T> values, ders;
 
   SampledBasis(const PowerBasisTable<T>& table, const std::vector<double>& parameters,
-               bool with_ders)
+               bool with_ders, TableMethod method)
       : order(table.degree + 1), span(parameters.size()) {
     values.resize(parameters.size() * order);
     if (with_ders) ders.resize(values.size());
+    const int p = table.degree;
+    auto by_horner = [&](std::size_t i) {
+      table.evaluate(T(parameters[i]), &values[i * order], with_ders ? &ders[i * order] : nullptr);
+    };
     for (std::size_t i = 0; i < parameters.size(); ++i)
-      span[i] = table.evaluate(T(parameters[i]), &values[i * order],
-                               with_ders ? &ders[i * order] : nullptr);
+      span[i] = find_span(p, table.count, table.knots.data(), T(parameters[i]));
+    // Per run of parameters in one span. Forward differences over the run's uniform spacing
+    // (from its ends: a grid's parameters are uniform up to their rounding,
+    // reference/sampling.h), from the span's exact coefficients (horner::forward_differences). The
+    // end of the domain keeps its exact end basis (see PowerBasisTable), so a forward-differenced
+    // edge still meets its neighbour.
+    for (std::size_t start = 0, end; start < parameters.size(); start = end) {
+      for (end = start + 1; end < parameters.size() && span[end] == span[start];) ++end;
+      const int run = static_cast<int>(end - start);
+      if (method == TableMethod::horner || run <= p + 1) {
+        for (std::size_t i = start; i < end; ++i) by_horner(i);
+        continue;
+      }
+      const int s = span[start];
+      const long double o =
+          table.origin_rule == horner::Origin::span_start ? table.exact_knots[s] : 0.0L;
+      const auto c = horner::power_basis_coefficients(table.exact_knots, p, s, o);
+      const long double first = parameters[start],
+                        step = (static_cast<long double>(parameters[end - 1]) - first) / (run - 1);
+      horner::forward_differences(c.data(), p, order, first - o, step, run, &values[start * order]);
+      if (with_ders) {
+        std::vector<long double> slopes(static_cast<std::size_t>(p) * order);
+        for (int j = 0; j < p; ++j)
+          for (int k = 0; k < order; ++k) slopes[j * order + k] = (j + 1) * c[(j + 1) * order + k];
+        horner::forward_differences(slopes.data(), p - 1, order, first - o, step, run,
+                                    &ders[start * order]);
+      }
+      if (T(parameters[end - 1]) == table.knots[span[end - 1] + 1]) by_horner(end - 1);
+    }
   }
   const T* values_at(std::size_t i) const { return &values[i * order]; }
   const T* ders_at(std::size_t i) const { return ders.empty() ? nullptr : &ders[i * order]; }
@@ -106,13 +144,14 @@ struct HornerSurface {
   SurfaceNet<T> net;
   PowerBasisTable<T> u, v;
   std::optional<SampledBasis<T>> grid_u, grid_v;  // tensor grids only
-  HornerSurface(const Surface& s, horner::Origin where, const SurfaceSamples& samples, bool normals)
+  HornerSurface(const Surface& s, horner::Origin where, const SurfaceSamples& samples, bool normals,
+                TableMethod method)
       : net(s),
         u(s.knots_u, s.degree_u, s.count_u, where),
         v(s.knots_v, s.degree_v, s.count_v, where) {
     if (!samples.tensor) return;
-    grid_u.emplace(u, samples.u, normals);
-    grid_v.emplace(v, samples.v, normals);
+    grid_u.emplace(u, samples.u, normals, method);
+    grid_v.emplace(v, samples.v, normals, method);
   }
 };
 
@@ -186,6 +225,14 @@ class CpuHorner final : public Strategy {
       if (explicit_simd_ && !kHaveExplicitSimd)
         throw RefusedError("horner-simd = 'explicit': this build has no SSE2 (004's path is x86)");
     }
+    const auto tables = options.extra.find("horner-tables");
+    if (tables != options.extra.end()) {
+      if (tables->second == "forward-differences")
+        tables_ = TableMethod::forward_differences;
+      else if (tables->second != "horner")
+        throw RefusedError(fmt::format(
+            "horner-tables = '{}': must be 'horner' or 'forward-differences'", tables->second));
+    }
   }
 
   std::string_view name() const override { return "cpu-horner"; }
@@ -195,7 +242,8 @@ class CpuHorner final : public Strategy {
             "cpu",
             {{"threads", std::to_string(threads_)},
              {"horner-origin", origin_ == horner::Origin::zero ? "zero" : "span"},
-             {"horner-simd", explicit_simd_ ? "explicit" : "auto"}}};
+             {"horner-simd", explicit_simd_ ? "explicit" : "auto"},
+             {"horner-tables", tables_ == TableMethod::horner ? "horner" : "forward-differences"}}};
   }
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
@@ -247,7 +295,7 @@ class CpuHorner final : public Strategy {
   std::vector<HornerSurface<T>> make_surfaces(const Scene& scene, bool normals) const {
     std::vector<HornerSurface<T>> out;
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
-      out.emplace_back(scene.surfaces[i], origin_, samples_[i], normals);
+      out.emplace_back(scene.surfaces[i], origin_, samples_[i], normals, tables_);
     return out;
   }
 
@@ -323,6 +371,7 @@ class CpuHorner final : public Strategy {
   int threads_;
   horner::Origin origin_ = horner::Origin::span_start;
   bool explicit_simd_ = false;
+  TableMethod tables_ = TableMethod::horner;
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;
   std::variant<std::vector<HornerSurface<float>>, std::vector<HornerSurface<double>>> surfaces_;
