@@ -90,6 +90,15 @@ Recommendation recommend(const std::vector<Record>& records, const Workload& w) 
           c.excluded = fmt::format("no accuracy measured on {} {}", r->scene, r->samples);
         continue;
       }
+      // A trimmed scene sampled where no face is scores 0 error over nothing: not a perfect
+      // score, no score.
+      if (no_inside_samples(*r->accuracy)) {
+        if (c.excluded.empty())
+          c.excluded =
+              fmt::format("no sample inside a trimmed face on {} {}: its errors are over nothing",
+                          r->scene, r->samples);
+        continue;
+      }
       // !(x <= max) keeps NaN as the worst.
       if (!(r->accuracy->max_ulp <= c.max_ulp)) c.max_ulp = r->accuracy->max_ulp;
       if (!(r->accuracy->max_abs <= c.max_abs)) c.max_abs = r->accuracy->max_abs;

@@ -391,6 +391,27 @@ TEST_F(CliRecommend, OnlyOneStrategyAvailable) {
   EXPECT_EQ(j["excluded"][0]["excluded"], "unavailable on patch144 256x256: device lost");
 }
 
+// A trimmed scene none of whose samples is inside a face: 0 error over nothing is no score.
+TEST_F(CliRecommend, NoSampleInsideATrimmedFaceIsExcludedNotPerfect) {
+  std::vector<Record> records = standard();
+  TrimAccuracy nothing_inside;
+  nothing_inside.inside = 0;
+  records[0].accuracy->max_ulp = records[0].accuracy->max_abs = 0;
+  records[0].accuracy->trim = nothing_inside;  // fast-but-rough
+  const CliResult r =
+      run_cli({"recommend", "--results", write_results(records), "--tolerance", "4ulp", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json j = json::parse(r.out);
+  ASSERT_EQ(j["ranked"].size(), 2u) << r.out;
+  EXPECT_EQ(j["ranked"][0]["strategy"], "middle");
+  bool said_why = false;
+  for (const json& e : j["excluded"])
+    if (e["strategy"] == "fast-but-rough")
+      said_why = e["excluded"] ==
+                 "no sample inside a trimmed face on patch144 256x256: its errors are over nothing";
+  EXPECT_TRUE(said_why) << r.out;
+}
+
 TEST_F(CliRecommend, DeformingRanksByFrameTime) {
   std::vector<Record> records = standard();
   records[2].extra_phases["frame"] = PhaseStats{0.001, 0.001, 0.001};  // slow-and-exact
