@@ -69,7 +69,14 @@ int main(int argc, char** argv) {
       eval_cmd->add_option("--samples", eval.samples, "grid NUxNV (default 64x64)");
   auto* eval_span =
       eval_cmd->add_option("--span-samples", eval.span_samples, "T steps per non-empty knot span");
-  auto* eval_uv = eval_cmd->add_option("--uv", eval.uv_file, "CSV file of surface,u,v samples");
+  // An empty name would read as "no --uv" and evaluate the default grid instead: refuse it.
+  auto* eval_uv =
+      eval_cmd->add_option("--uv", eval.uv_file, "CSV file of surface,u,v samples")
+          ->check(CLI::Validator(
+              [](std::string& name) {
+                return name.empty() ? std::string("the file name is empty") : std::string();
+              },
+              "FILE"));
   eval_samples->excludes(eval_span)->excludes(eval_uv);
   eval_span->excludes(eval_uv);
   eval_cmd->add_flag("--normals", eval.normals, "also output unit normals");

@@ -340,6 +340,10 @@ TEST(CliEval, UvFileErrorsNameFileLineAndValue) {
   expect_usage_error(
       run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor", "--uv", missing}),
       {missing, "cannot open"});
+  // An empty name is an error, not "no --uv" (which would evaluate the default grid).
+  expect_usage_error(
+      run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-coxdeboor", "--uv", ""}),
+      {"--uv", "the file name is empty"});
 }
 
 // ----------------------------------------------------------------------------------------- run
