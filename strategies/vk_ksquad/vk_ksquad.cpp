@@ -46,7 +46,9 @@
 #include "strategies/strategy_options.h"
 #include "strategies/vk_ksquad/patches.h"
 #include "strategies/vk_ksquad/vk_ksquad_strategy.h"
+#include "strategies/trim_direct/trim_tables.h"
 #include "strategies/vulkan/vk_device.h"
+#include "strategies/vulkan/vk_trim_classify.h"
 
 namespace nurbs::embedded {
 extern const std::string_view vk_ksquad_vert;
@@ -208,16 +210,22 @@ Capabilities ksquad_capabilities() {
   // In adaptive mode the tessellator chooses the samples (uniform mode returns the requested ones).
   c.chooses_own_samples = true;
   c.updates_control_points = true;  // re-uploads only the control points (and corners)
+  // Uniform mode: direct trimming of the requested samples in a compute pass (the shared
+  // vulkan::TrimClassifier); render() discards outside fragments with the same GLSL.
+  c.trims = true;
   return c;
 }
 
 class VkKsquad final : public Strategy {
  public:
-  VkKsquad(int device_index, const KsquadSettings& settings)
+  VkKsquad(int device_index, const KsquadSettings& settings, const trim_direct::Settings& trim)
       : device_(device_index, ksquad_requirements()),
         queries_(device_, kStatistics),
+        classifier_(device_),
+        trim_settings_(trim),
         settings_(settings) {
     record_ = device_.record();
+    trim_direct::record_settings(trim_settings_, record_);
     const int cap = static_cast<int>(device_.limits().maxTessellationGenerationLevel);
     if (settings_.max_level == 0) settings_.max_level = cap;
     if (settings_.max_level > cap)
@@ -249,11 +257,38 @@ class VkKsquad final : public Strategy {
     refuse_unsupported(name(), capabilities(), scene, request);
     if (settings_.adaptive && request.normals)
       throw RefusedError("vk-ksquad: normals are computed in uniform mode only");
+    const bool trimmed = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
+                                     [](const Surface& s) { return s.trim.has_value(); });
+    if (settings_.adaptive && trimmed)
+      throw RefusedError(
+          "vk-ksquad: trimmed scenes are classified in uniform mode only (adaptive samples are "
+          "the tessellator's, known only after evaluate())");
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     build_tables(scene);
     upload_tables(scene);
     for (const Draw& draw : draws_) pipeline_for(capture_pipelines_, false, draw);
+    classified_ = false;
+    classifier_.prepare(scene, samples_, trim_settings_);
+    // The harness records device() once, after the first prepare (setup): one untimed
+    // classification there puts the device's own cost counter into that record.
+    if (!cost_probed_ && classifier_.trims()) {
+      classify();
+      trim_direct::Cost cost;
+      classifier_.read_masks(cost);
+      trim_direct::record_cost(cost, record_);
+      classified_ = false;
+      cost_probed_ = true;
+    }
+  }
+
+  // Direct trimming of the requested samples (uniform mode): one compute dispatch per trimmed
+  // surface; the masks stay on the device until read_back().
+  bool classify() override {
+    if (classifier_.trims())
+      device_.submit_and_wait([&](VkCommandBuffer cb) { classifier_.record(cb); });
+    classified_ = true;
+    return true;
   }
 
   void evaluate() override {
@@ -311,6 +346,13 @@ class VkKsquad final : public Strategy {
       }
       base += s.count();
       out.surfaces.push_back(std::move(r));
+    }
+    if (classified_ && classifier_.trims()) {
+      trim_direct::Cost cost;
+      auto masks = classifier_.read_masks(cost);
+      trim_direct::record_cost(cost, record_);
+      for (std::size_t i = 0; i < out.surfaces.size(); ++i)
+        out.surfaces[i].inside = std::move(masks[i]);
     }
     return out;
   }
@@ -948,6 +990,9 @@ class VkKsquad final : public Strategy {
 
   vulkan::Device device_;
   vulkan::QueryPools queries_;
+  vulkan::TrimClassifier classifier_;
+  trim_direct::Settings trim_settings_;
+  bool classified_ = false, cost_probed_ = false;
   DeviceInfo record_;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
@@ -980,7 +1025,8 @@ class VkKsquad final : public Strategy {
 
 std::unique_ptr<Strategy> make_vk_ksquad(const StrategyOptions& options) {
   try {
-    return std::make_unique<VkKsquad>(vulkan::device_option(options), ksquad_settings(options));
+    return std::make_unique<VkKsquad>(vulkan::device_option(options), ksquad_settings(options),
+                                      trim_direct::settings_from(options, "vk-ksquad"));
   } catch (const vulkan::MissingFeature& e) {
     throw std::runtime_error(std::string("unavailable: ") + e.what());
   }
