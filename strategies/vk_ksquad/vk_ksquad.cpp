@@ -67,7 +67,11 @@ constexpr int kSlotFloats = 5;                      // ksquad_tables.glsl: SLOT_
 constexpr int kConstantFloats = 119;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
               "stair_basis.glsl reads StairConstants<float> as 119 packed floats");
-constexpr int kBuffers = 9;
+constexpr int kBuffers = 12;
+// Bindings 9..11 are the fragment stage's trim test (ksquad.frag): the classifier's tables and
+// one row of kTrimSurfaceInts per surface.
+constexpr int kFirstTrimBinding = 9;
+constexpr int kTrimSurfaceInts = 5;
 
 // ksquad_tables.glsl: Mode (push constants).
 struct ModeConstants {
@@ -266,10 +270,11 @@ class VkKsquad final : public Strategy {
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     build_tables(scene);
-    upload_tables(scene);
-    for (const Draw& draw : draws_) pipeline_for(capture_pipelines_, false, draw);
     classified_ = false;
     classifier_.prepare(scene, samples_, trim_settings_);
+    trim_surfaces_buf_ = storage(trim_surface_rows(), "trim surface table");
+    upload_tables(scene);
+    for (const Draw& draw : draws_) pipeline_for(capture_pipelines_, false, draw);
     // The harness records device() once, after the first prepare (setup): one untimed
     // classification there puts the device's own cost counter into that record.
     if (!cost_probed_ && classifier_.trims()) {
@@ -398,7 +403,21 @@ class VkKsquad final : public Strategy {
 
   // Tests: pixels of the last render() that are not the clear colour.
   std::size_t rendered_pixels() const {
-    if (!color_) return 0;
+    const std::optional<RenderedImage> image = read_image();
+    if (!image) return 0;
+    std::size_t covered = 0;
+    for (std::size_t p = 0; p < image->rgba.size(); p += 4)
+      covered += image->rgba[p] != 0 || image->rgba[p + 1] != 0 || image->rgba[p + 2] != 0 ||
+                 image->rgba[p + 3] != 0;
+    return covered;
+  }
+
+  std::optional<RenderedImage> last_render() override { return read_image(); }
+
+  // The colour image of the last render(). Row 0 of a Vulkan framebuffer is its top row, so the
+  // rows are already top to bottom (the camera is vk-ksquad's: clip-space +y is down in Vulkan).
+  std::optional<RenderedImage> read_image() const {
+    if (!color_) return std::nullopt;
     const std::size_t pixels = std::size_t{image_width()} * image_height();
     vulkan::Buffer staging(device_, pixels * 4, 0, "rendered image");
     device_.submit_and_wait([&](VkCommandBuffer cb) {
@@ -408,10 +427,12 @@ class VkKsquad final : public Strategy {
       vkCmdCopyImageToBuffer(cb, color_->handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                              staging.handle(), 1, &region);
     });
-    std::vector<std::uint32_t> rgba(pixels);
-    staging.read(rgba.data(), pixels * 4);
-    return static_cast<std::size_t>(
-        std::count_if(rgba.begin(), rgba.end(), [](std::uint32_t p) { return p != 0; }));
+    RenderedImage image;
+    image.width = static_cast<int>(image_width());
+    image.height = static_cast<int>(image_height());
+    image.rgba.resize(pixels * 4);
+    staging.read(image.rgba.data(), pixels * 4);
+    return image;
   }
 
   // Adaptive mode: the levels the control stage chose, read back from its storage buffer.
@@ -478,6 +499,18 @@ class VkKsquad final : public Strategy {
       for (const Vec4<float>& h : net.homogeneous) points.insert(points.end(), h.begin(), h.end());
     }
     return points;
+  }
+
+  // ksquad.frag's per-surface trim row: tables base (-1: untrimmed), the local frame's origin and
+  // ε as float bits, the iteration limit.
+  std::vector<std::int32_t> trim_surface_rows() const {
+    std::vector<std::int32_t> rows;
+    for (const auto& st : classifier_.tables().surfaces)
+      rows.insert(rows.end(), {st.base, std::bit_cast<std::int32_t>(static_cast<float>(st.origin_u)),
+                               std::bit_cast<std::int32_t>(static_cast<float>(st.origin_v)),
+                               std::bit_cast<std::int32_t>(st.epsilon), trim_settings_.iterations});
+    static_assert(kTrimSurfaceInts == 5);
+    return rows;
   }
 
   std::vector<float> read_slots() const {
@@ -740,9 +773,10 @@ class VkKsquad final : public Strategy {
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output positions");
     normals_ = vulkan::Buffer(device_, (request_.normals ? total_ * 3 : 0) * sizeof(float),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output normals");
-    const vulkan::Buffer* buffers[kBuffers] = {&surfaces_buf_, &patches_buf_, &constants_buf_,
-                                               &points_,       &params_buf_,  &positions_,
-                                               &corners_buf_,  &levels_,      &normals_};
+    const vulkan::Buffer* buffers[kBuffers] = {
+        &surfaces_buf_, &patches_buf_,       &constants_buf_,     &points_,
+        &params_buf_,   &positions_,         &corners_buf_,       &levels_,
+        &normals_,      &classifier_.reals(), &classifier_.ints(), &trim_surfaces_buf_};
     std::array<VkDescriptorBufferInfo, kBuffers> infos{};
     std::array<VkWriteDescriptorSet, kBuffers> writes{};
     for (int k = 0; k < kBuffers; ++k) {
@@ -763,10 +797,10 @@ class VkKsquad final : public Strategy {
     const VkDevice d = device_.handle();
     std::array<VkDescriptorSetLayoutBinding, kBuffers> bindings{};
     for (int k = 0; k < kBuffers; ++k)
-      bindings[k] = {
-          static_cast<std::uint32_t>(k), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
-          VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT,
-          nullptr};
+      bindings[k] = {static_cast<std::uint32_t>(k), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
+                     k < kFirstTrimBinding ? kModeStages
+                                           : VkShaderStageFlags{VK_SHADER_STAGE_FRAGMENT_BIT},
+                     nullptr};
     VkDescriptorSetLayoutCreateInfo set_info{};
     set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
     set_info.bindingCount = kBuffers;
@@ -1011,6 +1045,7 @@ class VkKsquad final : public Strategy {
   std::vector<int> surfaces_, patches_;
   std::vector<float> constants_, params_;
   std::vector<float> corners_;
+  vulkan::Buffer trim_surfaces_buf_;
   vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_,
       corners_buf_, levels_, normals_;
   std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
