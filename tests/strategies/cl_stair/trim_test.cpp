@@ -19,18 +19,18 @@ Sampling span_grid(int steps) {
   return s;
 }
 
-TEST(ClStairTrim, TrimmedPlateExact) {
+TEST(cl_stair_trim, TrimmedPlateExact) {
   test::expect_strategy_trims_exactly("cl-stair", "trimmed-plate", grid(97), Precision::f32);
   test::expect_strategy_trims_exactly("cl-stair", "trimmed-plate", span_grid(16), Precision::f32);
   test::expect_strategy_trims_exactly("cl-stair", "trimmed-plate", grid(64), Precision::f64);
 }
 
-TEST(ClStairTrim, HammerExact) {
+TEST(cl_stair_trim, HammerExact) {
   test::expect_strategy_trims_exactly("cl-stair", "hammer", grid(33), Precision::f32);
   test::expect_strategy_trims_exactly("cl-stair", "hammer", span_grid(3), Precision::f32);
 }
 
-TEST(ClStairTrim, OptionsRefused) { test::expect_trim_options_refused("cl-stair"); }
+TEST(cl_stair_trim, OptionsRefused) { test::expect_trim_options_refused("cl-stair"); }
 
 }  // namespace
 }  // namespace nurbs

@@ -1,7 +1,9 @@
 // The C++ compile of the single-source direct-trimming classifier (strategies/trim_direct/
 // trim_direct.h, the same text the OpenCL kernel and the GLSL shaders compile) against the
 // reference classifier, which isolates the roots of the whole pieces on its own: the gate is the
-// issue's, 0 misclassified samples outside the band.
+// issue's, 0 misclassified samples outside the band. Suites are named after the strategies
+// (trim_direct, cl_stair_trim, vk_ksquad_trim) so that `ctest -R "vk_ksquad|cl_stair|trim"`
+// selects them.
 #include "tests/strategies/trim_direct/trim_direct_check.h"
 
 #include <gtest/gtest.h>
@@ -48,17 +50,17 @@ Sampling grid(int n) {
   return s;
 }
 
-TEST(TrimDirect, TrimmedPlateFloatAndDouble) {
+TEST(trim_direct, TrimmedPlateFloatAndDouble) {
   expect_exact_on<float>("trimmed-plate", grid(97));
   expect_exact_on<double>("trimmed-plate", grid(97));
 }
 
-TEST(TrimDirect, HammerFloatAndDouble) {
+TEST(trim_direct, HammerFloatAndDouble) {
   expect_exact_on<float>("hammer", grid(33));
   expect_exact_on<double>("hammer", grid(33));
 }
 
-TEST(TrimDirect, PiecesAreMonotone) {
+TEST(trim_direct, PiecesAreMonotone) {
   const Scene scene = *make_builtin_scene("hammer");
   for (const Surface& s : scene.surfaces) {
     const auto pieces = trim_direct::monotone_pieces(*s.trim, 0, 0);
@@ -94,7 +96,7 @@ TEST(TrimDirect, PiecesAreMonotone) {
 
 // The gate can fail: stopping the bisection at 5% of the diagonal misclassifies samples well
 // outside the band.
-TEST(TrimDirect, CoarseEpsilonMisclassifies) {
+TEST(trim_direct, CoarseEpsilonMisclassifies) {
   const Scene scene = *make_builtin_scene("trimmed-plate");
   trim_direct::Settings coarse;
   coarse.epsilon = 0.05;
@@ -104,7 +106,7 @@ TEST(TrimDirect, CoarseEpsilonMisclassifies) {
   EXPECT_GT(test::compare_with_reference(scene.surfaces[0], samples[0], inside).misclassified, 0u);
 }
 
-TEST(TrimDirect, OptionsAreValidated) {
+TEST(trim_direct, OptionsAreValidated) {
   StrategyOptions o;
   EXPECT_EQ(trim_direct::settings_from(o, "x").iterations, trim_direct::Settings{}.iterations);
   o.extra = {{"trim-epsilon", "1e-6"}, {"trim-iterations", "12"}};

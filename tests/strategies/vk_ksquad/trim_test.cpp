@@ -19,19 +19,19 @@ Sampling span_grid(int steps) {
   return s;
 }
 
-TEST(VkKsquadTrim, TrimmedPlateExact) {
+TEST(vk_ksquad_trim, TrimmedPlateExact) {
   test::expect_strategy_trims_exactly("vk-ksquad", "trimmed-plate", grid(97), Precision::f32);
   test::expect_strategy_trims_exactly("vk-ksquad", "trimmed-plate", span_grid(16), Precision::f32);
 }
 
-TEST(VkKsquadTrim, HammerExact) {
+TEST(vk_ksquad_trim, HammerExact) {
   test::expect_strategy_trims_exactly("vk-ksquad", "hammer", grid(33), Precision::f32);
   test::expect_strategy_trims_exactly("vk-ksquad", "hammer", span_grid(3), Precision::f32);
 }
 
-TEST(VkKsquadTrim, OptionsRefused) { test::expect_trim_options_refused("vk-ksquad"); }
+TEST(vk_ksquad_trim, OptionsRefused) { test::expect_trim_options_refused("vk-ksquad"); }
 
-TEST(VkKsquadTrim, AdaptiveModeRefusesTrimmedScenes) {
+TEST(vk_ksquad_trim, AdaptiveModeRefusesTrimmedScenes) {
   StrategyOptions o;
   o.extra["vk-mode"] = "adaptive";
   auto s = find_strategy("vk-ksquad")->create(o);
@@ -48,7 +48,7 @@ namespace {
 // render() discards fragments outside the trim (ksquad.frag): seen from above, the centre of the
 // image is trimmed-plate's hole centre, where the background shows through; the same plate
 // untrimmed covers it. A pixel over the frame (u about 0.18, v = 0.5) is covered in both.
-TEST(VkKsquadTrim, RenderShowsBackgroundThroughTheHole) {
+TEST(vk_ksquad_trim, RenderShowsBackgroundThroughTheHole) {
   StrategyOptions o;
   o.extra = {{"vk-eye", "5,5,30"}, {"vk-center", "5,5,0"}, {"vk-viewport", "256x256"}};
   const auto alpha_at = [](const RenderedImage& image, int x, int y) {
