@@ -55,9 +55,10 @@ cl_program build_stair(const opencl::Context& ctx, Precision precision) {
 // precision of the request.
 cl_program build_classify(const opencl::Context& ctx, Precision precision) {
   const bool f64 = precision == Precision::f64;
-  const std::string source = std::string(f64 ? "#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n" : "") +
-                             std::string(embedded::cl_trim_direct_header) + "\n" +
-                             std::string(embedded::cl_stair_classify_kernel);
+  const std::string source =
+      std::string(f64 ? "#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n" : "") +
+      std::string(embedded::cl_trim_direct_header) + "\n" +
+      std::string(embedded::cl_stair_classify_kernel);
   return ctx.build(source, f64 ? "-DTD_REAL=double" : "-DTD_REAL=float");
 }
 
@@ -292,9 +293,9 @@ class ClStair final : public Strategy {
           std::tuple{reads_, reads.size() * sizeof(cl_int), static_cast<void*>(reads.data())}}) {
       if (bytes == 0) continue;
       cl_event done = nullptr;
-      opencl::check(clEnqueueReadBuffer(ctx_.queue(), mem, CL_FALSE, 0, bytes, host, 0, nullptr,
-                                        &done),
-                    "clEnqueueReadBuffer (trim)");
+      opencl::check(
+          clEnqueueReadBuffer(ctx_.queue(), mem, CL_FALSE, 0, bytes, host, 0, nullptr, &done),
+          "clEnqueueReadBuffer (trim)");
       opencl::wait(done, "clEnqueueReadBuffer (trim)");
       clReleaseEvent(done);
     }
@@ -303,9 +304,9 @@ class ClStair final : public Strategy {
     trim_direct::record_cost(cost, record_);
     if (!result) return;
     for (const TrimLaunch& t : trim_launches_)
-      result->surfaces[t.surface].inside.assign(mask.begin() + static_cast<std::ptrdiff_t>(t.out),
-                                               mask.begin() + static_cast<std::ptrdiff_t>(
-                                                                  t.out + t.nu * t.nv));
+      result->surfaces[t.surface].inside.assign(
+          mask.begin() + static_cast<std::ptrdiff_t>(t.out),
+          mask.begin() + static_cast<std::ptrdiff_t>(t.out + t.nu * t.nv));
   }
 
   template <typename V>

@@ -4,8 +4,8 @@
 // cl_stair.cpp (TD_REAL is a build option). `local_u`/`local_v` are the surface's grid
 // parameters in the trim's local frame; inside[k] and reads[k] (the cost counter) per sample in
 // SurfaceSamples order (a * nv + b).
-__kernel void classify_trim(__global const TD_REAL* td_reals, __global const int* td_ints,
-                            int base, __global const TD_REAL* local_u, int nu,
+__kernel void classify_trim(__global const TD_REAL* td_reals, __global const int* td_ints, int base,
+                            __global const TD_REAL* local_u, int nu,
                             __global const TD_REAL* local_v, int nv, TD_REAL epsilon,
                             int iterations, int out_base, __global uchar* inside,
                             __global int* reads) {

@@ -107,7 +107,8 @@ TD_FN int td_piece_crosses_right(TD_REALS_PARAM int piece, int degree, TD_REAL u
     const TD_REAL um = wu[0] / ww[0];
     const TD_REAL vm = wv[0] / ww[0];
     // Rising: the state turns "above" at the first t with v(t) >= v; falling: "below" at the
-    // first t with v(t) < v. The change lies in [t0, tm] when the state at tm is already the new one.
+    // first t with v(t) < v. The change lies in [t0, tm] when the state at tm is already the new
+    // one.
     const int changed = rising == 1 ? (vm >= v ? 1 : 0) : (vm < v ? 1 : 0);
     if (changed == 1) {
       t1 = tm;

@@ -91,9 +91,9 @@ std::vector<MonotonePiece> monotone_pieces(const Trim& trim, double origin_u, do
     for (const TrimPiece<double>& piece : loop) {
       const int n = piece.degree;
       if (n > kMaxPieceDegree)
-        throw RefusedError(fmt::format(
-            "direct trimming: a trim curve of degree {} (at most {} supported)", n,
-            kMaxPieceDegree));
+        throw RefusedError(
+            fmt::format("direct trimming: a trim curve of degree {} (at most {} supported)", n,
+                        kMaxPieceDegree));
       Homogeneous h{};
       for (int i = 0; i <= n; ++i)
         h[i] = {piece.h[i][0] - origin_u * piece.h[i][2], piece.h[i][1] - origin_v * piece.h[i][2],
@@ -287,8 +287,7 @@ template int classify_packed<float>(const TrimTables<float>&, std::size_t, float
 template int classify_packed<double>(const TrimTables<double>&, std::size_t, double, double, int);
 template std::vector<std::uint8_t> classify_samples<float>(const TrimTables<float>&, std::size_t,
                                                            const SurfaceSamples&, int, Cost*);
-template std::vector<std::uint8_t> classify_samples<double>(const TrimTables<double>&,
-                                                            std::size_t, const SurfaceSamples&,
-                                                            int, Cost*);
+template std::vector<std::uint8_t> classify_samples<double>(const TrimTables<double>&, std::size_t,
+                                                            const SurfaceSamples&, int, Cost*);
 
 }  // namespace nurbs::trim_direct

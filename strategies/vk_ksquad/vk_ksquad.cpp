@@ -44,9 +44,9 @@
 #include "strategies/cl_stair/stair_basis.h"
 #include "strategies/ksquad/ksquad_table.h"
 #include "strategies/strategy_options.h"
+#include "strategies/trim_direct/trim_tables.h"
 #include "strategies/vk_ksquad/patches.h"
 #include "strategies/vk_ksquad/vk_ksquad_strategy.h"
-#include "strategies/trim_direct/trim_tables.h"
 #include "strategies/vulkan/vk_device.h"
 #include "strategies/vulkan/vk_trim_classify.h"
 
@@ -506,9 +506,10 @@ class VkKsquad final : public Strategy {
   std::vector<std::int32_t> trim_surface_rows() const {
     std::vector<std::int32_t> rows;
     for (const auto& st : classifier_.tables().surfaces)
-      rows.insert(rows.end(), {st.base, std::bit_cast<std::int32_t>(static_cast<float>(st.origin_u)),
-                               std::bit_cast<std::int32_t>(static_cast<float>(st.origin_v)),
-                               std::bit_cast<std::int32_t>(st.epsilon), trim_settings_.iterations});
+      rows.insert(rows.end(),
+                  {st.base, std::bit_cast<std::int32_t>(static_cast<float>(st.origin_u)),
+                   std::bit_cast<std::int32_t>(static_cast<float>(st.origin_v)),
+                   std::bit_cast<std::int32_t>(st.epsilon), trim_settings_.iterations});
     static_assert(kTrimSurfaceInts == 5);
     return rows;
   }
@@ -774,8 +775,8 @@ class VkKsquad final : public Strategy {
     normals_ = vulkan::Buffer(device_, (request_.normals ? total_ * 3 : 0) * sizeof(float),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output normals");
     const vulkan::Buffer* buffers[kBuffers] = {
-        &surfaces_buf_, &patches_buf_,       &constants_buf_,     &points_,
-        &params_buf_,   &positions_,         &corners_buf_,       &levels_,
+        &surfaces_buf_, &patches_buf_,        &constants_buf_,     &points_,
+        &params_buf_,   &positions_,          &corners_buf_,       &levels_,
         &normals_,      &classifier_.reals(), &classifier_.ints(), &trim_surfaces_buf_};
     std::array<VkDescriptorBufferInfo, kBuffers> infos{};
     std::array<VkWriteDescriptorSet, kBuffers> writes{};
@@ -797,10 +798,10 @@ class VkKsquad final : public Strategy {
     const VkDevice d = device_.handle();
     std::array<VkDescriptorSetLayoutBinding, kBuffers> bindings{};
     for (int k = 0; k < kBuffers; ++k)
-      bindings[k] = {static_cast<std::uint32_t>(k), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
-                     k < kFirstTrimBinding ? kModeStages
-                                           : VkShaderStageFlags{VK_SHADER_STAGE_FRAGMENT_BIT},
-                     nullptr};
+      bindings[k] = {
+          static_cast<std::uint32_t>(k), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
+          k < kFirstTrimBinding ? kModeStages : VkShaderStageFlags{VK_SHADER_STAGE_FRAGMENT_BIT},
+          nullptr};
     VkDescriptorSetLayoutCreateInfo set_info{};
     set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
     set_info.bindingCount = kBuffers;

@@ -53,7 +53,8 @@ TrimClassifier::TrimClassifier(const Device& device) : device_(device) {
   info.stage.module = module;
   info.stage.pName = "main";
   info.layout = layout_;
-  const VkResult created = vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+  const VkResult created =
+      vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
   vkDestroyShaderModule(d, module, nullptr);
   check(created, "vkCreateComputePipelines (trim_classify.comp)");
 }

@@ -30,7 +30,9 @@ TEST(cl_stair_trim, HammerExact) {
   test::expect_strategy_trims_exactly("cl-stair", "hammer", span_grid(3), Precision::f32);
 }
 
-TEST(cl_stair_trim, OptionsRefused) { test::expect_trim_options_refused("cl-stair"); }
+TEST(cl_stair_trim, OptionsRefused) {
+  test::expect_trim_options_refused("cl-stair");
+}
 
 }  // namespace
 }  // namespace nurbs

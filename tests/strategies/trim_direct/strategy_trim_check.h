@@ -13,8 +13,9 @@
 
 namespace nurbs::test {
 
-inline void expect_strategy_trims_exactly(const std::string& strategy, const std::string& scene_name,
-                                          const Sampling& sampling, Precision precision,
+inline void expect_strategy_trims_exactly(const std::string& strategy,
+                                          const std::string& scene_name, const Sampling& sampling,
+                                          Precision precision,
                                           const StrategyOptions& options = {}) {
   SCOPED_TRACE(strategy + " on " + scene_name);
   const Scene scene = *make_builtin_scene(scene_name);
@@ -50,10 +51,11 @@ inline void expect_strategy_trims_exactly(const std::string& strategy, const std
   EXPECT_GE(mean_reads, 1.0);
   EXPECT_LE(mean_reads, max_reads);
   EXPECT_LE(max_reads, bound);
-  std::printf("%s %s: %zu of %zu outside the band misclassified (%zu in it); reads per sample "
-              "mean %.2f max %d (bound %d)\n",
-              strategy.c_str(), scene_name.c_str(), total.misclassified, total.compared,
-              total.in_band, mean_reads, max_reads, bound);
+  std::printf(
+      "%s %s: %zu of %zu outside the band misclassified (%zu in it); reads per sample "
+      "mean %.2f max %d (bound %d)\n",
+      strategy.c_str(), scene_name.c_str(), total.misclassified, total.compared, total.in_band,
+      mean_reads, max_reads, bound);
 }
 
 inline void expect_trim_options_refused(const std::string& strategy) {

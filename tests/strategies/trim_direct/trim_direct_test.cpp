@@ -4,12 +4,11 @@
 // issue's, 0 misclassified samples outside the band. Suites are named after the strategies
 // (trim_direct, cl_stair_trim, vk_ksquad_trim) so that `ctest -R "vk_ksquad|cl_stair|trim"`
 // selects them.
-#include "tests/strategies/trim_direct/trim_direct_check.h"
-
 #include <gtest/gtest.h>
 
 #include "scenes/builtin_scenes.h"
 #include "strategies/trim_direct/trim_tables.h"
+#include "tests/strategies/trim_direct/trim_direct_check.h"
 
 namespace nurbs {
 namespace {
@@ -29,11 +28,12 @@ void expect_exact_on(const std::string& scene_name, const Sampling& sampling) {
         trim_direct::classify_samples(tables, i, samples[i], settings.iterations, &cost);
     total += test::compare_with_reference(scene->surfaces[i], samples[i], inside);
   }
-  std::printf("%s (%s, %zu pieces, %zu rows, %zu row entries): %zu of %zu samples outside the "
-              "band misclassified (%zu in it), reads per sample mean %.2f max %d\n",
-              scene_name.c_str(), sizeof(T) == 4 ? "float" : "double", tables.pieces, tables.rows,
-              tables.entries, total.misclassified, total.compared, total.in_band,
-              static_cast<double>(cost.reads) / cost.samples, cost.max_reads);
+  std::printf(
+      "%s (%s, %zu pieces, %zu rows, %zu row entries): %zu of %zu samples outside the "
+      "band misclassified (%zu in it), reads per sample mean %.2f max %d\n",
+      scene_name.c_str(), sizeof(T) == 4 ? "float" : "double", tables.pieces, tables.rows,
+      tables.entries, total.misclassified, total.compared, total.in_band,
+      static_cast<double>(cost.reads) / cost.samples, cost.max_reads);
   EXPECT_EQ(total.misclassified, 0u) << scene_name;
   EXPECT_GT(total.inside, 0u) << "not all one answer";
   EXPECT_LT(total.inside, total.compared) << "not all one answer";

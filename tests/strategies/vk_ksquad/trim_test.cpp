@@ -29,7 +29,9 @@ TEST(vk_ksquad_trim, HammerExact) {
   test::expect_strategy_trims_exactly("vk-ksquad", "hammer", span_grid(3), Precision::f32);
 }
 
-TEST(vk_ksquad_trim, OptionsRefused) { test::expect_trim_options_refused("vk-ksquad"); }
+TEST(vk_ksquad_trim, OptionsRefused) {
+  test::expect_trim_options_refused("vk-ksquad");
+}
 
 TEST(vk_ksquad_trim, AdaptiveModeRefusesTrimmedScenes) {
   StrategyOptions o;
