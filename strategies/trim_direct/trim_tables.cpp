@@ -150,7 +150,7 @@ Settings settings_from(const StrategyOptions& options, std::string_view strategy
   if (const int n = positive_option(options, "trim-iterations", strategy); n > 0) {
     if (n > 64)
       throw std::invalid_argument(fmt::format(
-          "{} option trim-iterations = {}: at most 64 (a double halves to nothing by then)",
+          "{} option trim-iterations = '{}': at most 64 (a double halves to nothing by then)",
           strategy, n));
     s.iterations = n;
   }

@@ -249,8 +249,6 @@ class VkKsquad final : public Strategy {
     if (framebuffer_) vkDestroyFramebuffer(d, framebuffer_, nullptr);
     if (render_pass_) vkDestroyRenderPass(d, render_pass_, nullptr);
     if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
-    if (pool_) vkDestroyDescriptorPool(d, pool_, nullptr);
-    if (set_layout_) vkDestroyDescriptorSetLayout(d, set_layout_, nullptr);
   }
 
   std::string_view name() const override { return "vk-ksquad"; }
@@ -774,57 +772,21 @@ class VkKsquad final : public Strategy {
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output positions");
     normals_ = vulkan::Buffer(device_, (request_.normals ? total_ * 3 : 0) * sizeof(float),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output normals");
-    const vulkan::Buffer* buffers[kBuffers] = {
-        &surfaces_buf_, &patches_buf_,        &constants_buf_,     &points_,
-        &params_buf_,   &positions_,          &corners_buf_,       &levels_,
-        &normals_,      &classifier_.reals(), &classifier_.ints(), &trim_surfaces_buf_};
-    std::array<VkDescriptorBufferInfo, kBuffers> infos{};
-    std::array<VkWriteDescriptorSet, kBuffers> writes{};
-    for (int k = 0; k < kBuffers; ++k) {
-      infos[k] = {buffers[k]->handle(), 0, VK_WHOLE_SIZE};
-      writes[k] = {};
-      writes[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-      writes[k].dstSet = set_;
-      writes[k].dstBinding = static_cast<std::uint32_t>(k);
-      writes[k].descriptorCount = 1;
-      writes[k].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      writes[k].pBufferInfo = &infos[k];
-    }
-    vkUpdateDescriptorSets(device_.handle(), kBuffers, writes.data(), 0, nullptr);
+    set_->write({&surfaces_buf_, &patches_buf_, &constants_buf_, &points_, &params_buf_,
+                 &positions_, &corners_buf_, &levels_, &normals_, &classifier_.reals(),
+                 &classifier_.ints(), &trim_surfaces_buf_});
   }
 
   // Once per strategy (STYLE.md: compiled shaders are created once, never in evaluate()).
   void create_pipeline() {
     const VkDevice d = device_.handle();
-    std::array<VkDescriptorSetLayoutBinding, kBuffers> bindings{};
-    for (int k = 0; k < kBuffers; ++k)
-      bindings[k] = {
-          static_cast<std::uint32_t>(k), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
-          k < kFirstTrimBinding ? kModeStages : VkShaderStageFlags{VK_SHADER_STAGE_FRAGMENT_BIT},
-          nullptr};
-    VkDescriptorSetLayoutCreateInfo set_info{};
-    set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-    set_info.bindingCount = kBuffers;
-    set_info.pBindings = bindings.data();
-    vulkan::check(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &set_layout_),
-                  "vkCreateDescriptorSetLayout");
-    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBuffers};
-    VkDescriptorPoolCreateInfo pool_info{};
-    pool_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    pool_info.maxSets = 1;
-    pool_info.poolSizeCount = 1;
-    pool_info.pPoolSizes = &size;
-    vulkan::check(vkCreateDescriptorPool(d, &pool_info, nullptr, &pool_), "vkCreateDescriptorPool");
-    VkDescriptorSetAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    alloc.descriptorPool = pool_;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &set_layout_;
-    vulkan::check(vkAllocateDescriptorSets(d, &alloc, &set_), "vkAllocateDescriptorSets");
+    std::vector<VkShaderStageFlags> stages(kBuffers, kModeStages);
+    for (int k = kFirstTrimBinding; k < kBuffers; ++k) stages[k] = VK_SHADER_STAGE_FRAGMENT_BIT;
+    set_ = std::make_unique<vulkan::StorageSet>(device_, stages);
     VkPipelineLayoutCreateInfo layout_info{};
     layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
     layout_info.setLayoutCount = 1;
-    layout_info.pSetLayouts = &set_layout_;
+    layout_info.pSetLayouts = &set_->layout();
     const VkPushConstantRange push{kModeStages, 0, sizeof(ModeConstants)};
     layout_info.pushConstantRangeCount = 1;
     layout_info.pPushConstantRanges = &push;
@@ -863,7 +825,8 @@ class VkKsquad final : public Strategy {
   }
 
   void record_draws(VkCommandBuffer cb, const Pipelines& pipelines) {
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_->handle(), 0,
+                            nullptr);
     for (const Draw& draw : draws_) {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.at({draw.du, draw.dv}));
       ModeConstants mode = mode_;
@@ -1029,9 +992,7 @@ class VkKsquad final : public Strategy {
   trim_direct::Settings trim_settings_;
   bool classified_ = false, cost_probed_ = false;
   DeviceInfo record_;
-  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-  VkDescriptorPool pool_ = VK_NULL_HANDLE;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;
+  std::unique_ptr<vulkan::StorageSet> set_;  // created once, in create_pipeline()
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkRenderPass render_pass_ = VK_NULL_HANDLE;
   VkFramebuffer framebuffer_ = VK_NULL_HANDLE;

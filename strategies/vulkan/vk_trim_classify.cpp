@@ -1,6 +1,7 @@
 #include "strategies/vulkan/vk_trim_classify.h"
 
-#include <array>
+#include <memory>
+#include <vector>
 
 namespace nurbs::embedded {
 extern const std::string_view vk_trim_classify_comp;
@@ -15,33 +16,13 @@ constexpr std::uint32_t kGroupSize = 64;
 
 TrimClassifier::TrimClassifier(const Device& device) : device_(device) {
   const VkDevice d = device_.handle();
-  std::array<VkDescriptorSetLayoutBinding, kBindings> bindings{};
-  for (std::uint32_t k = 0; k < kBindings; ++k)
-    bindings[k] = {k, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
-  VkDescriptorSetLayoutCreateInfo set_info{};
-  set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-  set_info.bindingCount = kBindings;
-  set_info.pBindings = bindings.data();
-  check(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &set_layout_),
-        "vkCreateDescriptorSetLayout");
-  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings};
-  VkDescriptorPoolCreateInfo pool_info{};
-  pool_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-  pool_info.maxSets = 1;
-  pool_info.poolSizeCount = 1;
-  pool_info.pPoolSizes = &size;
-  check(vkCreateDescriptorPool(d, &pool_info, nullptr, &pool_), "vkCreateDescriptorPool");
-  VkDescriptorSetAllocateInfo alloc{};
-  alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-  alloc.descriptorPool = pool_;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &set_layout_;
-  check(vkAllocateDescriptorSets(d, &alloc, &set_), "vkAllocateDescriptorSets");
+  set_ = std::make_unique<StorageSet>(
+      device_, std::vector<VkShaderStageFlags>(kBindings, VK_SHADER_STAGE_COMPUTE_BIT));
   const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Launch)};
   VkPipelineLayoutCreateInfo layout_info{};
   layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
   layout_info.setLayoutCount = 1;
-  layout_info.pSetLayouts = &set_layout_;
+  layout_info.pSetLayouts = &set_->layout();
   layout_info.pushConstantRangeCount = 1;
   layout_info.pPushConstantRanges = &push;
   check(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_), "vkCreatePipelineLayout");
@@ -63,8 +44,6 @@ TrimClassifier::~TrimClassifier() {
   const VkDevice d = device_.handle();
   if (pipeline_) vkDestroyPipeline(d, pipeline_, nullptr);
   if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
-  if (pool_) vkDestroyDescriptorPool(d, pool_, nullptr);
-  if (set_layout_) vkDestroyDescriptorSetLayout(d, set_layout_, nullptr);
 }
 
 void TrimClassifier::prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples,
@@ -107,26 +86,14 @@ void TrimClassifier::prepare(const Scene& scene, const std::vector<SurfaceSample
                    "trim mask");
   reads_ = Buffer(device_, total_ * sizeof(std::int32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                   "trim cost counter");
-  const Buffer* buffers[kBindings] = {&reals_, &ints_, &coords_, &inside_, &reads_};
-  std::array<VkDescriptorBufferInfo, kBindings> infos{};
-  std::array<VkWriteDescriptorSet, kBindings> writes{};
-  for (std::uint32_t k = 0; k < kBindings; ++k) {
-    infos[k] = {buffers[k]->handle(), 0, VK_WHOLE_SIZE};
-    writes[k] = {};
-    writes[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-    writes[k].dstSet = set_;
-    writes[k].dstBinding = k;
-    writes[k].descriptorCount = 1;
-    writes[k].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    writes[k].pBufferInfo = &infos[k];
-  }
-  vkUpdateDescriptorSets(device_.handle(), kBindings, writes.data(), 0, nullptr);
+  set_->write({&reals_, &ints_, &coords_, &inside_, &reads_});
 }
 
 void TrimClassifier::record(VkCommandBuffer cb) const {
   if (launches_.empty()) return;
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
-  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_->handle(), 0,
+                          nullptr);
   for (const Launch& l : launches_) {
     const std::uint32_t count = static_cast<std::uint32_t>(l.nu) * static_cast<std::uint32_t>(l.nv);
     if (count == 0) continue;

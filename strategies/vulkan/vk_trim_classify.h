@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "strategies/trim_direct/trim_tables.h"
@@ -42,9 +43,7 @@ class TrimClassifier {
     std::int32_t iterations;
   };
   const Device& device_;
-  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-  VkDescriptorPool pool_ = VK_NULL_HANDLE;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;
+  std::unique_ptr<StorageSet> set_;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
   trim_direct::TrimTables<float> tables_;

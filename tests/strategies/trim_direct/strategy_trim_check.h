@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
@@ -58,21 +61,63 @@ inline void expect_strategy_trims_exactly(const std::string& strategy,
       mean_reads, max_reads, bound);
 }
 
-inline void expect_trim_options_refused(const std::string& strategy) {
-  for (const auto& [key, value] : {std::pair<std::string, std::string>{"trim-epsilon", "0"},
-                                   {"trim-epsilon", "abc"},
-                                   {"trim-iterations", "0"},
-                                   {"trim-iterations", "100"}}) {
+// Every invalid trim-epsilon / trim-iterations is refused by `create` (a strategy's factory, or
+// trim_direct::settings_from) with an error naming `strategy`, the option and the value.
+inline void expect_trim_options_refused(const std::function<void(const StrategyOptions&)>& create,
+                                        const std::string& strategy) {
+  for (const auto& [key, value] :
+       std::vector<std::pair<std::string, std::string>>{{"trim-epsilon", "0"},
+                                                        {"trim-epsilon", "-1e-3"},
+                                                        {"trim-epsilon", "2"},
+                                                        {"trim-epsilon", "1e-6x"},
+                                                        {"trim-epsilon", "nan"},
+                                                        {"trim-iterations", "0"},
+                                                        {"trim-iterations", "65"},
+                                                        {"trim-iterations", "ten"}}) {
     StrategyOptions o;
     o.extra[key] = value;
     try {
-      find_strategy(strategy)->create(o);
+      create(o);
       ADD_FAILURE() << key << "=" << value << " accepted";
-    } catch (const std::exception& e) {
-      EXPECT_NE(std::string(e.what()).find(strategy + " option " + key), std::string::npos)
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(strategy + " option " + key + " = '" + value + "'"),
+                std::string::npos)
           << e.what();
     }
   }
+}
+
+inline Sampling trim_grid(int n) {
+  Sampling s;
+  s.grid_u = n;
+  s.grid_v = n + 3;  // not square: rows and columns differ
+  return s;
+}
+
+inline Sampling trim_span_grid(int steps) {
+  Sampling s;
+  s.mode = SamplingMode::span_grid;
+  s.span_steps = steps;
+  return s;
+}
+
+// The device tests of a trimming strategy: trimmed-plate (grid, span grid, and f64 where the
+// strategy has it) and the hammer (grid, span grid), then its options.
+inline void expect_trimmed_plate_exact(const std::string& strategy) {
+  expect_strategy_trims_exactly(strategy, "trimmed-plate", trim_grid(97), Precision::f32);
+  expect_strategy_trims_exactly(strategy, "trimmed-plate", trim_span_grid(16), Precision::f32);
+  if (find_strategy(strategy)->capabilities().fp64)
+    expect_strategy_trims_exactly(strategy, "trimmed-plate", trim_grid(64), Precision::f64);
+}
+
+inline void expect_hammer_exact(const std::string& strategy) {
+  expect_strategy_trims_exactly(strategy, "hammer", trim_grid(33), Precision::f32);
+  expect_strategy_trims_exactly(strategy, "hammer", trim_span_grid(3), Precision::f32);
+}
+
+inline void expect_strategy_refuses_trim_options(const std::string& strategy) {
+  expect_trim_options_refused([&](const StrategyOptions& o) { find_strategy(strategy)->create(o); },
+                              strategy);
 }
 
 }  // namespace nurbs::test

@@ -8,7 +8,7 @@
 
 #include "scenes/builtin_scenes.h"
 #include "strategies/trim_direct/trim_tables.h"
-#include "tests/strategies/trim_direct/trim_direct_check.h"
+#include "tests/strategies/trim_direct/strategy_trim_check.h"
 
 namespace nurbs {
 namespace {
@@ -43,21 +43,16 @@ void expect_exact_on(const std::string& scene_name, const Sampling& sampling) {
   EXPECT_LE(cost.max_reads, test::max_reads_bound(tables)) << scene_name;
 }
 
-Sampling grid(int n) {
-  Sampling s;
-  s.grid_u = n;
-  s.grid_v = n + 3;  // not square: rows and columns differ
-  return s;
-}
+using test::trim_grid;
 
 TEST(trim_direct, TrimmedPlateFloatAndDouble) {
-  expect_exact_on<float>("trimmed-plate", grid(97));
-  expect_exact_on<double>("trimmed-plate", grid(97));
+  expect_exact_on<float>("trimmed-plate", trim_grid(97));
+  expect_exact_on<double>("trimmed-plate", trim_grid(97));
 }
 
 TEST(trim_direct, HammerFloatAndDouble) {
-  expect_exact_on<float>("hammer", grid(33));
-  expect_exact_on<double>("hammer", grid(33));
+  expect_exact_on<float>("hammer", trim_grid(33));
+  expect_exact_on<double>("hammer", trim_grid(33));
 }
 
 TEST(trim_direct, PiecesAreMonotone) {
@@ -101,7 +96,7 @@ TEST(trim_direct, CoarseEpsilonMisclassifies) {
   trim_direct::Settings coarse;
   coarse.epsilon = 0.05;
   const auto tables = trim_direct::build_tables<float>(scene, coarse);
-  const auto samples = sample_parameters(scene, grid(97));
+  const auto samples = sample_parameters(scene, trim_grid(97));
   const auto inside = trim_direct::classify_samples(tables, 0, samples[0], coarse.iterations);
   EXPECT_GT(test::compare_with_reference(scene.surfaces[0], samples[0], inside).misclassified, 0u);
 }
@@ -113,25 +108,9 @@ TEST(trim_direct, OptionsAreValidated) {
   const auto s = trim_direct::settings_from(o, "x");
   EXPECT_EQ(s.epsilon, 1e-6);
   EXPECT_EQ(s.iterations, 12);
-  for (const auto& [key, value] :
-       std::vector<std::pair<std::string, std::string>>{{"trim-epsilon", "0"},
-                                                        {"trim-epsilon", "-1e-3"},
-                                                        {"trim-epsilon", "2"},
-                                                        {"trim-epsilon", "1e-6x"},
-                                                        {"trim-epsilon", "nan"},
-                                                        {"trim-iterations", "0"},
-                                                        {"trim-iterations", "65"},
-                                                        {"trim-iterations", "ten"}}) {
-    StrategyOptions bad;
-    bad.extra[key] = value;
-    try {
-      trim_direct::settings_from(bad, "vk-ksquad");
-      ADD_FAILURE() << key << "=" << value << " accepted";
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find("vk-ksquad option " + key), std::string::npos)
-          << e.what();
-    }
-  }
+  test::expect_trim_options_refused(
+      [](const StrategyOptions& bad) { trim_direct::settings_from(bad, "vk-ksquad"); },
+      "vk-ksquad");
 }
 
 }  // namespace

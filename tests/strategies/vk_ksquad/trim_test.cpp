@@ -5,47 +5,25 @@
 namespace nurbs {
 namespace {
 
-Sampling grid(int n) {
-  Sampling s;
-  s.grid_u = n;
-  s.grid_v = n + 3;
-  return s;
-}
-
-Sampling span_grid(int steps) {
-  Sampling s;
-  s.mode = SamplingMode::span_grid;
-  s.span_steps = steps;
-  return s;
-}
+using test::trim_grid;
 
 TEST(vk_ksquad_trim, TrimmedPlateExact) {
-  test::expect_strategy_trims_exactly("vk-ksquad", "trimmed-plate", grid(97), Precision::f32);
-  test::expect_strategy_trims_exactly("vk-ksquad", "trimmed-plate", span_grid(16), Precision::f32);
+  test::expect_trimmed_plate_exact("vk-ksquad");
 }
-
 TEST(vk_ksquad_trim, HammerExact) {
-  test::expect_strategy_trims_exactly("vk-ksquad", "hammer", grid(33), Precision::f32);
-  test::expect_strategy_trims_exactly("vk-ksquad", "hammer", span_grid(3), Precision::f32);
+  test::expect_hammer_exact("vk-ksquad");
 }
-
 TEST(vk_ksquad_trim, OptionsRefused) {
-  test::expect_trim_options_refused("vk-ksquad");
+  test::expect_strategy_refuses_trim_options("vk-ksquad");
 }
 
 TEST(vk_ksquad_trim, AdaptiveModeRefusesTrimmedScenes) {
   StrategyOptions o;
   o.extra["vk-mode"] = "adaptive";
   auto s = find_strategy("vk-ksquad")->create(o);
-  EXPECT_THROW(s->prepare(*make_builtin_scene("trimmed-plate"), EvalRequest{grid(8)}),
+  EXPECT_THROW(s->prepare(*make_builtin_scene("trimmed-plate"), EvalRequest{trim_grid(8)}),
                RefusedError);
 }
-
-}  // namespace
-}  // namespace nurbs
-
-namespace nurbs {
-namespace {
 
 // render() discards fragments outside the trim (ksquad.frag): seen from above, the centre of the
 // image is trimmed-plate's hole centre, where the background shows through; the same plate
@@ -62,7 +40,7 @@ TEST(vk_ksquad_trim, RenderShowsBackgroundThroughTheHole) {
     if (!trimmed) scene.surfaces[0].trim.reset();
     auto s = find_strategy("vk-ksquad")->create(o);
     EXPECT_FALSE(s->last_render()) << "nothing drawn yet";
-    s->prepare(scene, EvalRequest{grid(64)});
+    s->prepare(scene, EvalRequest{test::trim_grid(64)});
     s->evaluate();
     ASSERT_TRUE(s->render());
     const std::optional<RenderedImage> image = s->last_render();
