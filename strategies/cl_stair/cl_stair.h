@@ -6,7 +6,14 @@
 // lists are refused (not separable). float32 by default, float64 where the device has
 // cl_khr_fp64. Degree <= 9 (the kernel's local arrays).
 //
-// Options (StrategyOptions.extra): "device" = N, the N-th OpenCL device over all platforms.
+// Trims (Capabilities::trims): classify() runs direct trimming (Schollmeyer & Fröhlich 2009) on
+// the device, classify.cl with the single-source strategies/trim_direct/trim_direct.h, one
+// work-item per grid sample, in the request's precision; the cost counter (buffer elements read
+// per sample, mean and max) goes to DeviceInfo::details after read_back().
+//
+// Options (StrategyOptions.extra): "device" = N, the N-th OpenCL device over all platforms;
+// "trim-epsilon" = E (bisection width, a fraction of the domain diagonal; default 1e-9) and
+// "trim-iterations" = N (1..64, default 40).
 #pragma once
 
 #include "strategies/registry.h"

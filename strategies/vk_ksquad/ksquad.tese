@@ -24,6 +24,9 @@ layout(constant_id = 2) const int kDegreeV = 0;
 #define DEGREE_V(s) (kDegreeV > 0 ? kDegreeV : surfaces[(s) + 1])
 #include "ksquad_tables.glsl"
 #include "stair_basis.glsl"
+// Raster: the fragment stage's trim test (ksquad.frag) classifies the interpolated (u, v).
+layout(location = 0) out vec2 trim_uv;
+layout(location = 1) flat out int trim_surface;
 
 bool normalize_if_resolved(vec3 n, vec3 a, vec3 b, out vec3 unit) {
   // reference/nurbs_math.h detail::normalize_if_resolved with float's epsilon
@@ -140,6 +143,8 @@ void main() {
   }
   if (kRaster != 0) {
     gl_Position = mode.view_projection * vec4(position, 1.0);
+    trim_uv = vec2(u, v);
+    trim_surface = patches[row];
   } else if (mode.adaptive == 0) {
     const int o = 3 * (surfaces[s + 8] + a * surfaces[s + 7] + b);
     positions[o] = position.x;

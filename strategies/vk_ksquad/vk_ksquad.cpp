@@ -44,9 +44,11 @@
 #include "strategies/cl_stair/stair_basis.h"
 #include "strategies/ksquad/ksquad_table.h"
 #include "strategies/strategy_options.h"
+#include "strategies/trim_direct/trim_tables.h"
 #include "strategies/vk_ksquad/patches.h"
 #include "strategies/vk_ksquad/vk_ksquad_strategy.h"
 #include "strategies/vulkan/vk_device.h"
+#include "strategies/vulkan/vk_trim_classify.h"
 
 namespace nurbs::embedded {
 extern const std::string_view vk_ksquad_vert;
@@ -65,7 +67,11 @@ constexpr int kSlotFloats = 5;                      // ksquad_tables.glsl: SLOT_
 constexpr int kConstantFloats = 119;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
               "stair_basis.glsl reads StairConstants<float> as 119 packed floats");
-constexpr int kBuffers = 9;
+constexpr int kBuffers = 12;
+// Bindings 9..11 are the fragment stage's trim test (ksquad.frag): the classifier's tables and
+// one row of kTrimSurfaceInts per surface.
+constexpr int kFirstTrimBinding = 9;
+constexpr int kTrimSurfaceInts = 5;
 
 // ksquad_tables.glsl: Mode (push constants).
 struct ModeConstants {
@@ -208,16 +214,22 @@ Capabilities ksquad_capabilities() {
   // In adaptive mode the tessellator chooses the samples (uniform mode returns the requested ones).
   c.chooses_own_samples = true;
   c.updates_control_points = true;  // re-uploads only the control points (and corners)
+  // Uniform mode: direct trimming of the requested samples in a compute pass (the shared
+  // vulkan::TrimClassifier); render() discards outside fragments with the same GLSL.
+  c.trims = true;
   return c;
 }
 
 class VkKsquad final : public Strategy {
  public:
-  VkKsquad(int device_index, const KsquadSettings& settings)
+  VkKsquad(int device_index, const KsquadSettings& settings, const trim_direct::Settings& trim)
       : device_(device_index, ksquad_requirements()),
         queries_(device_, kStatistics),
+        classifier_(device_),
+        trim_settings_(trim),
         settings_(settings) {
     record_ = device_.record();
+    trim_direct::record_settings(trim_settings_, record_);
     const int cap = static_cast<int>(device_.limits().maxTessellationGenerationLevel);
     if (settings_.max_level == 0) settings_.max_level = cap;
     if (settings_.max_level > cap)
@@ -237,8 +249,6 @@ class VkKsquad final : public Strategy {
     if (framebuffer_) vkDestroyFramebuffer(d, framebuffer_, nullptr);
     if (render_pass_) vkDestroyRenderPass(d, render_pass_, nullptr);
     if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
-    if (pool_) vkDestroyDescriptorPool(d, pool_, nullptr);
-    if (set_layout_) vkDestroyDescriptorSetLayout(d, set_layout_, nullptr);
   }
 
   std::string_view name() const override { return "vk-ksquad"; }
@@ -249,11 +259,39 @@ class VkKsquad final : public Strategy {
     refuse_unsupported(name(), capabilities(), scene, request);
     if (settings_.adaptive && request.normals)
       throw RefusedError("vk-ksquad: normals are computed in uniform mode only");
+    const bool trimmed = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
+                                     [](const Surface& s) { return s.trim.has_value(); });
+    if (settings_.adaptive && trimmed)
+      throw RefusedError(
+          "vk-ksquad: trimmed scenes are classified in uniform mode only (adaptive samples are "
+          "the tessellator's, known only after evaluate())");
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     build_tables(scene);
+    classified_ = false;
+    classifier_.prepare(scene, samples_, trim_settings_);
+    trim_surfaces_buf_ = storage(trim_surface_rows(), "trim surface table");
     upload_tables(scene);
     for (const Draw& draw : draws_) pipeline_for(capture_pipelines_, false, draw);
+    // The harness records device() once, after the first prepare (setup): one untimed
+    // classification there puts the device's own cost counter into that record.
+    if (!cost_probed_ && classifier_.trims()) {
+      classify();
+      trim_direct::Cost cost;
+      classifier_.read_masks(cost);
+      trim_direct::record_cost(cost, record_);
+      classified_ = false;
+      cost_probed_ = true;
+    }
+  }
+
+  // Direct trimming of the requested samples (uniform mode): one compute dispatch per trimmed
+  // surface; the masks stay on the device until read_back().
+  bool classify() override {
+    if (classifier_.trims())
+      device_.submit_and_wait([&](VkCommandBuffer cb) { classifier_.record(cb); });
+    classified_ = true;
+    return true;
   }
 
   void evaluate() override {
@@ -312,6 +350,13 @@ class VkKsquad final : public Strategy {
       base += s.count();
       out.surfaces.push_back(std::move(r));
     }
+    if (classified_ && classifier_.trims()) {
+      trim_direct::Cost cost;
+      auto masks = classifier_.read_masks(cost);
+      trim_direct::record_cost(cost, record_);
+      for (std::size_t i = 0; i < out.surfaces.size(); ++i)
+        out.surfaces[i].inside = std::move(masks[i]);
+    }
     return out;
   }
 
@@ -356,7 +401,21 @@ class VkKsquad final : public Strategy {
 
   // Tests: pixels of the last render() that are not the clear colour.
   std::size_t rendered_pixels() const {
-    if (!color_) return 0;
+    const std::optional<RenderedImage> image = read_image();
+    if (!image) return 0;
+    std::size_t covered = 0;
+    for (std::size_t p = 0; p < image->rgba.size(); p += 4)
+      covered += image->rgba[p] != 0 || image->rgba[p + 1] != 0 || image->rgba[p + 2] != 0 ||
+                 image->rgba[p + 3] != 0;
+    return covered;
+  }
+
+  std::optional<RenderedImage> last_render() override { return read_image(); }
+
+  // The colour image of the last render(). Row 0 of a Vulkan framebuffer is its top row, so the
+  // rows are already top to bottom (the camera is vk-ksquad's: clip-space +y is down in Vulkan).
+  std::optional<RenderedImage> read_image() const {
+    if (!color_) return std::nullopt;
     const std::size_t pixels = std::size_t{image_width()} * image_height();
     vulkan::Buffer staging(device_, pixels * 4, 0, "rendered image");
     device_.submit_and_wait([&](VkCommandBuffer cb) {
@@ -366,10 +425,12 @@ class VkKsquad final : public Strategy {
       vkCmdCopyImageToBuffer(cb, color_->handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                              staging.handle(), 1, &region);
     });
-    std::vector<std::uint32_t> rgba(pixels);
-    staging.read(rgba.data(), pixels * 4);
-    return static_cast<std::size_t>(
-        std::count_if(rgba.begin(), rgba.end(), [](std::uint32_t p) { return p != 0; }));
+    RenderedImage image;
+    image.width = static_cast<int>(image_width());
+    image.height = static_cast<int>(image_height());
+    image.rgba.resize(pixels * 4);
+    staging.read(image.rgba.data(), pixels * 4);
+    return image;
   }
 
   // Adaptive mode: the levels the control stage chose, read back from its storage buffer.
@@ -436,6 +497,19 @@ class VkKsquad final : public Strategy {
       for (const Vec4<float>& h : net.homogeneous) points.insert(points.end(), h.begin(), h.end());
     }
     return points;
+  }
+
+  // ksquad.frag's per-surface trim row: tables base (-1: untrimmed), the local frame's origin and
+  // ε as float bits, the iteration limit.
+  std::vector<std::int32_t> trim_surface_rows() const {
+    std::vector<std::int32_t> rows;
+    for (const auto& st : classifier_.tables().surfaces)
+      rows.insert(rows.end(),
+                  {st.base, std::bit_cast<std::int32_t>(static_cast<float>(st.origin_u)),
+                   std::bit_cast<std::int32_t>(static_cast<float>(st.origin_v)),
+                   std::bit_cast<std::int32_t>(st.epsilon), trim_settings_.iterations});
+    static_assert(kTrimSurfaceInts == 5);
+    return rows;
   }
 
   std::vector<float> read_slots() const {
@@ -698,56 +772,21 @@ class VkKsquad final : public Strategy {
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output positions");
     normals_ = vulkan::Buffer(device_, (request_.normals ? total_ * 3 : 0) * sizeof(float),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output normals");
-    const vulkan::Buffer* buffers[kBuffers] = {&surfaces_buf_, &patches_buf_, &constants_buf_,
-                                               &points_,       &params_buf_,  &positions_,
-                                               &corners_buf_,  &levels_,      &normals_};
-    std::array<VkDescriptorBufferInfo, kBuffers> infos{};
-    std::array<VkWriteDescriptorSet, kBuffers> writes{};
-    for (int k = 0; k < kBuffers; ++k) {
-      infos[k] = {buffers[k]->handle(), 0, VK_WHOLE_SIZE};
-      writes[k] = {};
-      writes[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-      writes[k].dstSet = set_;
-      writes[k].dstBinding = static_cast<std::uint32_t>(k);
-      writes[k].descriptorCount = 1;
-      writes[k].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      writes[k].pBufferInfo = &infos[k];
-    }
-    vkUpdateDescriptorSets(device_.handle(), kBuffers, writes.data(), 0, nullptr);
+    set_->write({&surfaces_buf_, &patches_buf_, &constants_buf_, &points_, &params_buf_,
+                 &positions_, &corners_buf_, &levels_, &normals_, &classifier_.reals(),
+                 &classifier_.ints(), &trim_surfaces_buf_});
   }
 
   // Once per strategy (STYLE.md: compiled shaders are created once, never in evaluate()).
   void create_pipeline() {
     const VkDevice d = device_.handle();
-    std::array<VkDescriptorSetLayoutBinding, kBuffers> bindings{};
-    for (int k = 0; k < kBuffers; ++k)
-      bindings[k] = {
-          static_cast<std::uint32_t>(k), VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
-          VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT,
-          nullptr};
-    VkDescriptorSetLayoutCreateInfo set_info{};
-    set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
-    set_info.bindingCount = kBuffers;
-    set_info.pBindings = bindings.data();
-    vulkan::check(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &set_layout_),
-                  "vkCreateDescriptorSetLayout");
-    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBuffers};
-    VkDescriptorPoolCreateInfo pool_info{};
-    pool_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
-    pool_info.maxSets = 1;
-    pool_info.poolSizeCount = 1;
-    pool_info.pPoolSizes = &size;
-    vulkan::check(vkCreateDescriptorPool(d, &pool_info, nullptr, &pool_), "vkCreateDescriptorPool");
-    VkDescriptorSetAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-    alloc.descriptorPool = pool_;
-    alloc.descriptorSetCount = 1;
-    alloc.pSetLayouts = &set_layout_;
-    vulkan::check(vkAllocateDescriptorSets(d, &alloc, &set_), "vkAllocateDescriptorSets");
+    std::vector<VkShaderStageFlags> stages(kBuffers, kModeStages);
+    for (int k = kFirstTrimBinding; k < kBuffers; ++k) stages[k] = VK_SHADER_STAGE_FRAGMENT_BIT;
+    set_ = std::make_unique<vulkan::StorageSet>(device_, stages);
     VkPipelineLayoutCreateInfo layout_info{};
     layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
     layout_info.setLayoutCount = 1;
-    layout_info.pSetLayouts = &set_layout_;
+    layout_info.pSetLayouts = &set_->layout();
     const VkPushConstantRange push{kModeStages, 0, sizeof(ModeConstants)};
     layout_info.pushConstantRangeCount = 1;
     layout_info.pPushConstantRanges = &push;
@@ -786,7 +825,8 @@ class VkKsquad final : public Strategy {
   }
 
   void record_draws(VkCommandBuffer cb, const Pipelines& pipelines) {
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_, 0, nullptr);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_->handle(), 0,
+                            nullptr);
     for (const Draw& draw : draws_) {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.at({draw.du, draw.dv}));
       ModeConstants mode = mode_;
@@ -948,10 +988,11 @@ class VkKsquad final : public Strategy {
 
   vulkan::Device device_;
   vulkan::QueryPools queries_;
+  vulkan::TrimClassifier classifier_;
+  trim_direct::Settings trim_settings_;
+  bool classified_ = false, cost_probed_ = false;
   DeviceInfo record_;
-  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
-  VkDescriptorPool pool_ = VK_NULL_HANDLE;
-  VkDescriptorSet set_ = VK_NULL_HANDLE;
+  std::unique_ptr<vulkan::StorageSet> set_;  // created once, in create_pipeline()
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkRenderPass render_pass_ = VK_NULL_HANDLE;
   VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
@@ -966,6 +1007,7 @@ class VkKsquad final : public Strategy {
   std::vector<int> surfaces_, patches_;
   std::vector<float> constants_, params_;
   std::vector<float> corners_;
+  vulkan::Buffer trim_surfaces_buf_;
   vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_,
       corners_buf_, levels_, normals_;
   std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
@@ -980,7 +1022,8 @@ class VkKsquad final : public Strategy {
 
 std::unique_ptr<Strategy> make_vk_ksquad(const StrategyOptions& options) {
   try {
-    return std::make_unique<VkKsquad>(vulkan::device_option(options), ksquad_settings(options));
+    return std::make_unique<VkKsquad>(vulkan::device_option(options), ksquad_settings(options),
+                                      trim_direct::settings_from(options, "vk-ksquad"));
   } catch (const vulkan::MissingFeature& e) {
     throw std::runtime_error(std::string("unavailable: ") + e.what());
   }

@@ -6,7 +6,14 @@
 // control points and parameters live in storage buffers (003 Fig 8's two-level indirection), so
 // the degree is not bounded by maxTessellationPatchSize. f32 positions; grid and span grid.
 //
-// Options (StrategyOptions.extra): "device" = N, the N-th Vulkan physical device.
+// Trims (Capabilities::trims, uniform mode): classify() is direct trimming (Schollmeyer &
+// Fröhlich 2009) in a compute pass over the requested samples (vulkan::TrimClassifier, the
+// single-source strategies/trim_direct/trim_direct.h as GLSL, float); adaptive mode refuses
+// trimmed scenes. The cost counter (buffer elements read per sample) is in DeviceInfo::details.
+//
+// Options (StrategyOptions.extra): "device" = N, the N-th Vulkan physical device;
+// "trim-epsilon" = E (bisection width, a fraction of the domain diagonal; default 1e-9) and
+// "trim-iterations" = N (1..64, default 40).
 #pragma once
 
 #include "strategies/registry.h"

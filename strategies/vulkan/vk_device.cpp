@@ -526,4 +526,55 @@ std::vector<std::uint64_t> QueryPools::statistics() const {
   return values;
 }
 
+StorageSet::StorageSet(const Device& device, const std::vector<VkShaderStageFlags>& stages)
+    : device_(device) {
+  const VkDevice d = device_.handle();
+  const auto count = static_cast<std::uint32_t>(stages.size());
+  std::vector<VkDescriptorSetLayoutBinding> bindings(count);
+  for (std::uint32_t k = 0; k < count; ++k)
+    bindings[k] = {k, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages[k], nullptr};
+  VkDescriptorSetLayoutCreateInfo set_info{};
+  set_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+  set_info.bindingCount = count;
+  set_info.pBindings = bindings.data();
+  check(vkCreateDescriptorSetLayout(d, &set_info, nullptr, &layout_),
+        "vkCreateDescriptorSetLayout");
+  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, count};
+  VkDescriptorPoolCreateInfo pool_info{};
+  pool_info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+  pool_info.maxSets = 1;
+  pool_info.poolSizeCount = 1;
+  pool_info.pPoolSizes = &size;
+  check(vkCreateDescriptorPool(d, &pool_info, nullptr, &pool_), "vkCreateDescriptorPool");
+  VkDescriptorSetAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+  alloc.descriptorPool = pool_;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &layout_;
+  check(vkAllocateDescriptorSets(d, &alloc, &set_), "vkAllocateDescriptorSets");
+}
+
+StorageSet::~StorageSet() {
+  const VkDevice d = device_.handle();
+  if (pool_) vkDestroyDescriptorPool(d, pool_, nullptr);
+  if (layout_) vkDestroyDescriptorSetLayout(d, layout_, nullptr);
+}
+
+void StorageSet::write(const std::vector<const Buffer*>& buffers) const {
+  std::vector<VkDescriptorBufferInfo> infos(buffers.size());
+  std::vector<VkWriteDescriptorSet> writes(buffers.size());
+  for (std::size_t k = 0; k < buffers.size(); ++k) {
+    infos[k] = {buffers[k]->handle(), 0, VK_WHOLE_SIZE};
+    writes[k] = {};
+    writes[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+    writes[k].dstSet = set_;
+    writes[k].dstBinding = static_cast<std::uint32_t>(k);
+    writes[k].descriptorCount = 1;
+    writes[k].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[k].pBufferInfo = &infos[k];
+  }
+  vkUpdateDescriptorSets(device_.handle(), static_cast<std::uint32_t>(writes.size()), writes.data(),
+                         0, nullptr);
+}
+
 }  // namespace nurbs::vulkan

@@ -134,6 +134,28 @@ class Device {
   bool validation_ = false;
 };
 
+// One descriptor set of storage buffers (binding k visible to stages[k]), with its layout and
+// pool: what every pipeline here binds. Created once per strategy; write() points the bindings at
+// buffers (again after each prepare()).
+class StorageSet {
+ public:
+  StorageSet(const Device& device, const std::vector<VkShaderStageFlags>& stages);
+  ~StorageSet();
+  StorageSet(const StorageSet&) = delete;
+  StorageSet& operator=(const StorageSet&) = delete;
+
+  const VkDescriptorSetLayout& layout() const { return layout_; }
+  const VkDescriptorSet& handle() const { return set_; }
+  // buffers[k] to binding k; as many buffers as bindings.
+  void write(const std::vector<const Buffer*>& buffers) const;
+
+ private:
+  const Device& device_;
+  VkDescriptorSetLayout layout_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet set_ = VK_NULL_HANDLE;
+};
+
 // Two timestamps around the measured work, and optionally the pipeline statistics of it.
 class QueryPools {
  public:
