@@ -178,6 +178,9 @@ std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
     r.upload = PhaseStats::of(upload_s);
     r.read_back = PhaseStats::of(read_back_s);
     r.end_to_end = PhaseStats::of(end_to_end_s);
+    // Again after the last read-back: details a strategy learns by running (the direct trimming
+    // cost counter) belong in the record too; the first read (after setup) stays if a phase fails.
+    r.device = strategy->device();
     if (!device_evaluate_s.empty())
       r.device_evaluate_median_s = PhaseStats::of(device_evaluate_s).median_s;
     last = std::move(result);
@@ -247,6 +250,7 @@ std::optional<EvalResult> time_deforming(const StrategyEntry& entry, const Strat
     r.end_to_end = PhaseStats::of(frame_s);
     r.extra_phases["frame"] = r.end_to_end;
     r.extra_phases[updates ? "frame_update" : "frame_prepare"] = r.upload;
+    r.device = strategy->device();  // as time_measurement: what the frames taught the strategy
     last = std::move(result);
   });
   return last;

@@ -273,16 +273,6 @@ class VkKsquad final : public Strategy {
     trim_surfaces_buf_ = storage(trim_surface_rows(), "trim surface table");
     upload_tables(scene);
     for (const Draw& draw : draws_) pipeline_for(capture_pipelines_, false, draw);
-    // The harness records device() once, after the first prepare (setup): one untimed
-    // classification there puts the device's own cost counter into that record.
-    if (!cost_probed_ && classifier_.trims()) {
-      classify();
-      trim_direct::Cost cost;
-      classifier_.read_masks(cost);
-      trim_direct::record_cost(cost, record_);
-      classified_ = false;
-      cost_probed_ = true;
-    }
   }
 
   // Direct trimming of the requested samples (uniform mode): one compute dispatch per trimmed
@@ -990,7 +980,7 @@ class VkKsquad final : public Strategy {
   vulkan::QueryPools queries_;
   vulkan::TrimClassifier classifier_;
   trim_direct::Settings trim_settings_;
-  bool classified_ = false, cost_probed_ = false;
+  bool classified_ = false;
   DeviceInfo record_;
   std::unique_ptr<vulkan::StorageSet> set_;  // created once, in create_pipeline()
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
