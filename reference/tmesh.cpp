@@ -91,7 +91,66 @@ void cast_ray(const Segments& perpendicular, const std::vector<double>& knots, i
   for (; found < count; ++found) out[found * step] = knots[last];
 }
 
+// Index of the `count`-th line met stepping from `start` by `step` on perpendicular segments
+// covering `at`; the last line (0 or lines-1) if the mesh ends first; `start` for count 0.
+int nth_crossing(const Segments& perpendicular, int lines, int start, int step, int at, int count) {
+  const int last = step > 0 ? lines - 1 : 0;
+  int x = start;
+  for (int found = 0; found < count && x != last;) {
+    x += step;
+    if (covers(perpendicular, x, at)) ++found;
+  }
+  return x;
+}
+
 }  // namespace
+
+std::string analysis_suitability_violation(const TMesh& m) {
+  const EdgeLines lines = edge_lines(m);
+  const int columns = static_cast<int>(m.knots_s.size());
+  const int rows = static_cast<int>(m.knots_t.size());
+  struct Extension {
+    int vertex, line, from, to;  // on row/column `line`, index range [from, to]
+  };
+  std::vector<Extension> horizontal, vertical;
+  for (std::size_t k = 0; k < m.vertices.size(); ++k) {
+    const auto [i, j] = m.vertices[k];
+    if (i == 0 || j == 0 || i == columns - 1 || j == rows - 1) continue;
+    // Which directions have an edge: a segment of the row/column through the vertex beyond it.
+    auto has = [](const Segments& segments, int line, int x, int step) {
+      const auto it = segments.find(line);
+      if (it == segments.end()) return false;
+      for (const auto& seg : it->second)
+        if (step > 0 ? seg[0] == x : seg[1] == x) return true;
+      return false;
+    };
+    const bool east = has(lines.horizontal, j, i, +1), west = has(lines.horizontal, j, i, -1);
+    const bool north = has(lines.vertical, i, j, +1), south = has(lines.vertical, i, j, -1);
+    if (east + west + north + south != 3) continue;
+    const int k_face_s = (m.degree_s + 1) / 2, k_edge_s = (m.degree_s - 1) / 2;
+    const int k_face_t = (m.degree_t + 1) / 2, k_edge_t = (m.degree_t - 1) / 2;
+    if (!east || !west) {
+      const int step = east ? -1 : +1;  // toward the missing edge
+      const int a = nth_crossing(lines.vertical, columns, i, step, j, k_face_s);
+      const int b = nth_crossing(lines.vertical, columns, i, -step, j, k_edge_s);
+      horizontal.push_back({static_cast<int>(k), j, std::min(a, b), std::max(a, b)});
+    } else {
+      const int step = north ? -1 : +1;
+      const int a = nth_crossing(lines.horizontal, rows, j, step, i, k_face_t);
+      const int b = nth_crossing(lines.horizontal, rows, j, -step, i, k_edge_t);
+      vertical.push_back({static_cast<int>(k), i, std::min(a, b), std::max(a, b)});
+    }
+  }
+  for (const Extension& h : horizontal)
+    for (const Extension& v : vertical)
+      if (h.from <= v.line && v.line <= h.to && v.from <= h.line && h.line <= v.to)
+        return fmt::format(
+            "the extension of T-junction vertex {} (row {}, columns {}..{}) meets that of vertex "
+            "{} "
+            "(column {}, rows {}..{})",
+            h.vertex, h.line, h.from, h.to, v.vertex, v.line, v.from, v.to);
+  return "";
+}
 
 void validate_tmesh(const TMesh& m, std::string_view origin) {
   for (const auto& [field, degree] : {std::pair{"degree_s", m.degree_s}, {"degree_t", m.degree_t}})

@@ -17,9 +17,9 @@
 // control points are interpolated. The domain is the rectangle between the index lines
 // (degree-1)/2 in from each side (for a tensor mesh: the NURBS domain [knots[p], knots[count]]).
 //
-// Not done: the analysis-suitability check (Li, Zheng, Sederberg, Hughes, Scott 2012: no horizontal
-// T-junction extension meets a vertical one). Partition of unity is tested on meshes that are
-// analysis-suitable by construction, not checked here.
+// Analysis-suitability (Li, Zheng, Sederberg, Hughes, Scott 2012): no horizontal T-junction
+// extension meets a vertical one. On such meshes the blending functions sum to one; elsewhere the
+// rational form still defines the surface (Rhino's meshes need not be analysis-suitable).
 #pragma once
 
 #include <array>
@@ -56,6 +56,13 @@ struct TMesh {
 // vertex inside, the four sides covered by edges, every vertex on at least two edges, one point
 // (and weight) per vertex.
 void validate_tmesh(const TMesh& mesh, std::string_view origin);
+
+// A T-junction is a vertex with exactly one of its four directions missing an edge (boundary
+// vertices excepted: their missing direction points out of the mesh). Its extension is the closed
+// index-space segment from the ((degree+1)/2)-th perpendicular edge met in the missing direction
+// (face extension) to the ((degree-1)/2)-th met the opposite way (edge extension). Returns "" when
+// analysis-suitable, else which two T-junctions' extensions meet. The mesh must be valid.
+std::string analysis_suitability_violation(const TMesh& mesh);
 
 // The point-based T-spline of the mesh: point k = vertex k, its local knot vectors by the ray rule
 // above, the domain as stated above. Validates the mesh first and the result after.

@@ -111,7 +111,7 @@ void local_basis(int degree, const double* local, int span, T t, int order, T ou
     out[1] = out[2] = T(0);
     return;
   }
-  T ders[3][kMaxOrder];
+  T ders[3][kMaxOrder]{};  // zeroed only to quiet -Wmaybe-uninitialized
   basis_function_derivatives(padded_span, t, degree, order, padded, ders);
   for (int k = 0; k < 3; ++k) out[k] = k <= order ? ders[k][degree - span] : T(0);
 }
