@@ -94,15 +94,22 @@ class TSplineInfluence {
 // Tiller's convention: the end parameter belongs to the last non-empty span).
 int local_span(int degree, const double* local, double t, bool closed_right);
 
+// The local knot vector (degree+2 knots) with degree copies of each end knot added: 3*degree+2
+// knots, clamped at both ends, on which the local function is basis function number `degree` of
+// 2*degree+1 (the padding changes the neighbours, never it).
+template <typename T>
+void padded_local_knots(int degree, const double* local, T* padded) {
+  for (int i = 0; i < 3 * degree + 2; ++i)
+    padded[i] = T(local[std::clamp(i - degree, 0, degree + 1)]);
+}
+
 // Value (and derivatives up to `order` <= 2) at t of the one B-spline basis function on the local
-// knot vector `local` (degree+2 knots), whose span holding t is `span`: A2.2 / A2.3 on the local
-// vector padded with degree copies of each end knot, where the function is basis function number
-// `degree` (the padding changes the neighbours, never it).
+// knot vector `local` (degree+2 knots), whose span holding t is `span`: A2.2 / A2.3 on the padded
+// local vector.
 template <typename T>
 void local_basis(int degree, const double* local, int span, T t, int order, T out[3]) {
   T padded[3 * kMaxOrder];
-  for (int i = 0; i < 3 * degree + 2; ++i)
-    padded[i] = T(local[std::clamp(i - degree, 0, degree + 1)]);
+  padded_local_knots(degree, local, padded);
   const int padded_span = degree + span;
   if (order == 0) {
     T basis[kMaxOrder];
