@@ -6,7 +6,6 @@
 #include <cmath>
 #include <map>
 
-#include "reference/error_text.h"
 #include "reference/validation.h"
 
 namespace nurbs {
@@ -15,9 +14,7 @@ namespace {
 
 [[noreturn]] void fail(std::string_view origin, const TMesh& m, const std::string& where,
                        const std::string& value, const std::string& rule) {
-  throw InputError(fmt::format("{}: tmesh '{}': {} = {}: {}", printable(origin),
-                               printable(m.name, kQuotedValueBytes), where,
-                               printable(value, kQuotedValueBytes), rule));
+  throw_tspline_error(origin, "tmesh", m.name, where, value, rule);
 }
 
 // Edges of one orientation grouped by the line they lie on: line -> [(from, to)] sorted.

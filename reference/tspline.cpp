@@ -9,13 +9,19 @@
 
 namespace nurbs {
 
+void throw_tspline_error(std::string_view origin, std::string_view kind, std::string_view name,
+                         const std::string& where, const std::string& value,
+                         const std::string& rule) {
+  throw InputError(fmt::format("{}: {} '{}': {} = {}: {}", printable(origin), kind,
+                               printable(name, kQuotedValueBytes), where,
+                               printable(value, kQuotedValueBytes), rule));
+}
+
 namespace {
 
 [[noreturn]] void fail(std::string_view origin, const TSplineSurface& s, const std::string& where,
                        const std::string& value, const std::string& rule) {
-  throw InputError(fmt::format("{}: tspline '{}': {} = {}: {}", printable(origin),
-                               printable(s.name, kQuotedValueBytes), where,
-                               printable(value, kQuotedValueBytes), rule));
+  throw_tspline_error(origin, "tspline", s.name, where, value, rule);
 }
 
 void check_local_knots(std::string_view origin, const TSplineSurface& s, std::size_t k,

@@ -48,6 +48,12 @@ struct TSplineSurface {
   const double* local_knots_v(std::size_t k) const { return knots_v.data() + k * (degree_v + 2); }
 };
 
+// The one-line shape of every T-spline and T-mesh error, as an InputError (the CLI's exit 2):
+// "<origin>: <kind> '<name>': <where> = <value>: <rule>", file-provided parts escaped.
+[[noreturn]] void throw_tspline_error(std::string_view origin, std::string_view kind,
+                                      std::string_view name, const std::string& where,
+                                      const std::string& value, const std::string& rule);
+
 // Throws InputError "<origin>: tspline '<name>': point 17 knots_u[2] = nan: <rule>" for the first
 // violated rule: odd degree in 1..kMaxDegree, 1..kMaxTSplineControlPoints points, one weight and
 // degree+2 knots per point in each direction, knots finite and non-decreasing with a non-empty

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <map>
 #include <optional>
+#include <type_traits>
 #include <vector>
 
 #include "reference/error_text.h"
@@ -88,6 +89,8 @@ class TsmParser {
   }
 
   void split_lines(std::string_view bytes);
+  template <typename T>
+  T number(const Record& r, std::size_t token, const std::string& field) const;
   int integer(const Record& r, std::size_t token, const std::string& field) const;
   double real(const Record& r, std::size_t token, const std::string& field) const;
   void expect_tokens(const Record& r, std::size_t count, const char* layout) const;
@@ -150,26 +153,27 @@ void TsmParser::split_lines(std::string_view bytes) {
   if (number == 0) fail_file("empty file: not a Rhino T-Splines #TS0200 file");
 }
 
-int TsmParser::integer(const Record& r, std::size_t token, const std::string& field) const {
+template <typename T>
+T TsmParser::number(const Record& r, std::size_t token, const std::string& field) const {
   if (token >= r.tokens.size())
     fail(r.line, fmt::format("{} {}", r.tokens[0], field), "(missing)", "truncated record");
   const std::string_view t = r.tokens[token];
-  int value = 0;
+  T value{};
   const auto [end, error] = std::from_chars(t.data(), t.data() + t.size(), value);
-  if (error != std::errc() || end != t.data() + t.size())
-    fail(r.line, fmt::format("{} {}", r.tokens[0], field), t, "not an integer");
+  bool ok = error == std::errc() && end == t.data() + t.size();
+  if constexpr (std::is_floating_point_v<T>) ok = ok && std::isfinite(value);
+  if (!ok)
+    fail(r.line, fmt::format("{} {}", r.tokens[0], field), t,
+         std::is_floating_point_v<T> ? "not a finite number" : "not an integer");
   return value;
 }
 
+int TsmParser::integer(const Record& r, std::size_t token, const std::string& field) const {
+  return number<int>(r, token, field);
+}
+
 double TsmParser::real(const Record& r, std::size_t token, const std::string& field) const {
-  if (token >= r.tokens.size())
-    fail(r.line, fmt::format("{} {}", r.tokens[0], field), "(missing)", "truncated record");
-  const std::string_view t = r.tokens[token];
-  double value = 0;
-  const auto [end, error] = std::from_chars(t.data(), t.data() + t.size(), value);
-  if (error != std::errc() || end != t.data() + t.size() || !std::isfinite(value))
-    fail(r.line, fmt::format("{} {}", r.tokens[0], field), t, "not a finite number");
-  return value;
+  return number<double>(r, token, field);
 }
 
 void TsmParser::expect_tokens(const Record& r, std::size_t count, const char* layout) const {

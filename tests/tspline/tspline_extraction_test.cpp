@@ -31,13 +31,25 @@ void bernstein(int degree, double a, double b, LD t, LD* out) {
   basis_functions(degree, t, degree, knots.data(), out);
 }
 
-std::vector<TSplineSurface> test_surfaces(Rng& rng) {
-  std::vector<TSplineSurface> out;
-  for (const auto& [p, q] : {std::pair{3, 3}, {1, 3}, {5, 3}, {3, 5}})
-    for (int trial = 0; trial < 4; ++trial)
-      out.push_back(infer_tspline(
-          test::random_vertical_tmesh(rng, p, q, p + 4 + trial, q + 3 + trial % 2, true), "test"));
-  out.push_back(infer_tspline(
+// A T-spline with its influence index and extraction.
+struct Extracted {
+  explicit Extracted(TSplineSurface s)
+      : surface(std::move(s)),
+        index(surface, surface.name),
+        extraction(extract_bezier_elements(surface, index)) {}
+  TSplineSurface surface;
+  TSplineInfluence index;
+  TSplineExtraction extraction;
+};
+
+// Random analysis-suitable meshes of several degrees (cells cut functions' spans where columns
+// stop) and simple.tsm.
+std::vector<Extracted> test_surfaces(Rng& rng) {
+  std::vector<Extracted> out;
+  for (const TMesh& mesh :
+       test::random_vertical_tmeshes(rng, {{3, 3}, {1, 3}, {5, 3}, {3, 5}}, 4, true))
+    out.emplace_back(infer_tspline(mesh, "test"));
+  out.emplace_back(infer_tspline(
       load_tsm_file(std::string(NURBSBENCH_SOURCE_DIR) + "/../shared/data/tsplines/simple.tsm"),
       "simple.tsm"));
   return out;
@@ -46,9 +58,9 @@ std::vector<TSplineSurface> test_surfaces(Rng& rng) {
 TEST(TSplineExtraction, OperatorTimesBernsteinIsTheBlendingFunctions) {
   Rng rng(2011);
   test::Worst worst("max |C_e B - N|");
-  for (const TSplineSurface& s : test_surfaces(rng)) {
-    const TSplineInfluence index(s, s.name);
-    const TSplineExtraction x = extract_bezier_elements(s, index);
+  for (const Extracted& t : test_surfaces(rng)) {
+    const TSplineSurface& s = t.surface;
+    const TSplineExtraction& x = t.extraction;
     const int p = s.degree_u, q = s.degree_v;
     for (const BezierElement& e : x.elements)
       for (int sample = 0; sample < 4; ++sample) {
@@ -81,9 +93,9 @@ TEST(TSplineExtraction, OperatorTimesBernsteinIsTheBlendingFunctions) {
 TEST(TSplineExtraction, PatchesReproduceTheDirectEvaluation) {
   Rng rng(2012);
   test::Worst worst("max |S_patch - S_tspline| / scale");
-  for (const TSplineSurface& s : test_surfaces(rng)) {
-    const TSplineInfluence index(s, s.name);
-    const TSplineExtraction x = extract_bezier_elements(s, index);
+  for (const Extracted& t : test_surfaces(rng)) {
+    const TSplineSurface& s = t.surface;
+    const TSplineExtraction& x = t.extraction;
     double scale = 0;
     for (const Point3& p : s.points)
       for (double c : p) scale = std::max(scale, std::fabs(c));

@@ -87,6 +87,19 @@ inline TMesh random_vertical_tmesh(Rng& rng, int degree_s, int degree_t, int col
   return m;
 }
 
+// `trials` random_vertical_tmesh meshes per degree pair, with 3 + trial % 4 columns and
+// 3 + trial % 3 rows beyond the degree.
+inline std::vector<TMesh> random_vertical_tmeshes(Rng& rng,
+                                                  const std::vector<std::pair<int, int>>& degrees,
+                                                  int trials, bool rational) {
+  std::vector<TMesh> meshes;
+  for (const auto& [p, q] : degrees)
+    for (int trial = 0; trial < trials; ++trial)
+      meshes.push_back(
+          random_vertical_tmesh(rng, p, q, p + 3 + trial % 4, q + 3 + trial % 3, rational));
+  return meshes;
+}
+
 // (u, v) pairs to test over a T-spline's domain: the corners, every cell break pair of a coarse
 // set, and uniformly random ones.
 inline std::vector<std::array<double, 2>> domain_samples(Rng& rng, const TSplineSurface& s,
