@@ -9,6 +9,10 @@
 // This form is used rather than per-edge intervals because the paper's consistency rule (opposite
 // sides of a face sum to the same interval) then holds by construction.
 //
+// T-junctions need no special case: a T-junction's stem is an edge whose end touches the ray's
+// line, so it is met; the missing edge is not. Faces are implied by the edges (every face is an
+// index-space rectangle) and not stored.
+//
 // Boundary: the T-mesh is the index rectangle [0, knots_s.size()-1] x [0, knots_t.size()-1], its
 // four sides covered by edges. A ray that leaves it before meeting enough edges takes the boundary
 // line's knot for every missing one: the boundary is a knot line of full multiplicity beyond what

@@ -16,8 +16,9 @@
 //   counter-clockwise in (s, t) (sure on simple.tsm, whose control net shows the layout).
 // - `0g X Y Z W`: control points, in the order of the grip records `0m gvp VERTEX` (the vertex's
 //   own point) / `0m gv VERTEX` (an extra point of that vertex; -1 with an empty `0g` = deleted).
-//   X Y Z are taken as Cartesian, not pre-multiplied by W (likely: all but two files have W = 1;
-//   Bike.tsm and face.tsm have W within 2e-4 of 1, which cannot tell the two readings apart).
+//   X Y Z are taken as Cartesian, not pre-multiplied by W (likely: GrapeTec's evaluator,
+//   BlendingEquation::computePoint, sums w N (X, Y, Z) / sum w N over these values; the files
+//   cannot tell, all but two having W = 1 and Bike.tsm, face.tsm W within 2e-4 of 1).
 // - `0m cg VERTEX VALENCE D0..D3 GRIP...`: a vertex carrying extra control points on D_k repeated
 //   (zero-interval) knot lines toward compass direction k of its frame (N, W, S, E for k = 0..3);
 //   the grips fill the wedges k = 0..3 in order, wedge k stepping 1..D_k along direction k (outer)
@@ -35,8 +36,9 @@
 // or inconsistent mesh); any malformed record (file, line, field, value).
 //
 // The six samples: simple.tsm (analysis-suitable), fan.tsm and gearbox2-9.tsm import; mouse.tsm
-// and Bike.tsm have concave boundary corners (L-shaped domains), face.tsm has holes (its boundary
-// loops turn 8 concave corners). None has an interior star point. gearbox2-9.tsm is not
+// and Bike.tsm have one boundary loop with two concave corners (notched domains), face.tsm three
+// boundary loops (two holes, 8 concave corners). None has an interior star point (every interior
+// vertex's face corners add up to 360 degrees). gearbox2-9.tsm is not
 // analysis-suitable and its blending functions do not sum to one (the rational form still
 // defines it); whether Rhino evaluates it the same way could not be checked here.
 #pragma once
