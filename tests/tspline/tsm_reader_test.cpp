@@ -266,5 +266,27 @@ TEST(TsmReader, MalformedFilesAreRefusedWithTheReason) {
   EXPECT_THROW(parse_tsm("", "empty.tsm"), InputError);
 }
 
+// Every truncation of simple.tsm, and every single-byte corruption of a stretch of it, is read or
+// refused with an InputError: never another exception, never a crash.
+TEST(TsmReader, TruncatedAndCorruptedFilesNeverCrash) {
+  const std::string simple = file_text("simple.tsm");
+  int refused = 0;
+  auto read = [&](const std::string& text) {
+    try {
+      infer_tspline(parse_tsm(text, "cut.tsm"), "cut.tsm");
+    } catch (const InputError&) {
+      ++refused;
+    }
+  };
+  for (std::size_t size = 0; size < simple.size(); size += 3) read(simple.substr(0, size));
+  for (std::size_t at = 200; at < simple.size(); at += 5)
+    for (const char c : {'9', '-', ' ', '\n', 'x'}) {
+      std::string text = simple;
+      text[at] = c;
+      read(text);
+    }
+  EXPECT_GT(refused, 0);
+}
+
 }  // namespace
 }  // namespace nurbs
