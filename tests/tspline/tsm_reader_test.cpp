@@ -23,7 +23,8 @@ namespace {
 
 using LD = long double;
 
-const std::string kData = std::string(NURBSBENCH_SOURCE_DIR) + "/../shared/data/tsplines/";
+// Copies of ../shared/data/tsplines (tests/tspline/data/README.md).
+const std::string kData = std::string(NURBSBENCH_SOURCE_DIR) + "/tests/tspline/data/";
 
 std::string file_text(const std::string& name) {
   std::ifstream in(kData + name, std::ios::binary);
