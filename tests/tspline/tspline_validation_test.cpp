@@ -2,6 +2,7 @@
 // surface or mesh, the point/vertex/edge, the field and index, and the value.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -102,6 +103,45 @@ TEST(TSplineValidation, MeshErrorsNameTheElement) {
   ASSERT_GE(c, 0);
   skipping.edges.push_back({a, c});
   expect_error([&] { validate_tmesh(skipping, "mesh"); }, "lies inside an edge");
+}
+
+// A 7x7 bicubic grid with the vertical edge (3,3)-(3,4) and the horizontal edge (3,2)-(4,2)
+// removed: the first leaves T-junctions (3,3), (3,4) whose extensions run along column 3 over rows
+// 2..5 (face extension: two crossings toward the missing edge; edge extension: one the other way),
+// the second T-junctions (3,2), (4,2) with extensions along row 2 over columns 2..5 (from (3,2))
+// and 2..5 (from (4,2)): they meet at (3, 2), so the mesh is not analysis-suitable. Without the
+// second removal it is.
+TEST(TSplineValidation, AnalysisSuitabilityFindsMeetingExtensions) {
+  TMesh m;
+  m.name = "grid";
+  for (int k = 0; k < 7; ++k) {
+    m.knots_s.push_back(k < 2 ? 0 : k > 4 ? 4 : k - 1);
+    m.knots_t.push_back(k < 2 ? 0 : k > 4 ? 4 : k - 1);
+  }
+  for (int i = 0; i < 7; ++i)
+    for (int j = 0; j < 7; ++j) {
+      m.vertices.push_back({i, j});
+      m.points.push_back({double(i), double(j), 0});
+    }
+  auto id = [](int i, int j) { return i * 7 + j; };
+  auto grid_without = [&](std::vector<std::array<int, 2>> removed) {
+    TMesh out = m;
+    for (int i = 0; i < 7; ++i)
+      for (int j = 0; j < 7; ++j) {
+        const std::array<int, 2> right{id(i, j), id(i + 1, j)}, up{id(i, j), id(i, j + 1)};
+        if (i + 1 < 7 && std::find(removed.begin(), removed.end(), right) == removed.end())
+          out.edges.push_back(right);
+        if (j + 1 < 7 && std::find(removed.begin(), removed.end(), up) == removed.end())
+          out.edges.push_back(up);
+      }
+    return out;
+  };
+  const TMesh vertical_only = grid_without({{id(3, 3), id(3, 4)}});
+  EXPECT_EQ(analysis_suitability_violation(vertical_only), "");
+  const TMesh both = grid_without({{id(3, 3), id(3, 4)}, {id(3, 2), id(4, 2)}});
+  const std::string violation = analysis_suitability_violation(both);
+  EXPECT_NE(violation.find("row 2, columns 2..5"), std::string::npos) << violation;
+  EXPECT_NE(violation.find("column 3, rows 2..5"), std::string::npos) << violation;
 }
 
 TEST(TSplineValidation, InfluenceIndexRefusesTooManyRegions) {
