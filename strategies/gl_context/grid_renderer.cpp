@@ -197,4 +197,10 @@ RenderedImage GridRenderer::picture() {
   return out;
 }
 
+std::optional<RenderedImage> last_picture(Context& context, GridRenderer* renderer) {
+  if (!renderer) return std::nullopt;
+  context.make_current();
+  return renderer->picture();
+}
+
 }  // namespace nurbs::gl

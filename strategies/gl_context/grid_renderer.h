@@ -8,6 +8,7 @@
 #include <array>
 #include <map>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -77,5 +78,9 @@ class GridRenderer {
   std::map<std::pair<int, int>, std::pair<GLuint, GLsizei>> index_buffers_;
   std::vector<float> vertices_;
 };
+
+// Strategy::last_render() of a GL strategy whose renderer, created at its first draw, is
+// `renderer` (null: nothing drawn yet).
+std::optional<RenderedImage> last_picture(Context& context, GridRenderer* renderer);
 
 }  // namespace nurbs::gl

@@ -99,7 +99,6 @@ class GlPingPong final : public Strategy {
     refuse_unsupported(name(), capabilities(), scene, request);
     samples_ = sample_parameters(scene, request.sampling);
     view_ = gl::orthographic_view(scene);
-    rendered_ = false;
     context_->make_current();
     surfaces_.clear();
     bytes_uploaded_ = 0;
@@ -128,11 +127,7 @@ class GlPingPong final : public Strategy {
 
   DeviceTimes device_times() const override { return {device_evaluate_s_}; }
 
-  bool classify() override {
-    context_->make_current();
-    trims_->classify();
-    return true;
-  }
+  bool classify() override { return trims_->classify(); }
 
   // 000 §4's rendering pass, as glsl-deboor draws (the shared grid renderer): each tile's result
   // texture holds sample (a, b) at texel (b, a). A grid tiled over several textures is drawn
@@ -152,7 +147,6 @@ class GlPingPong final : public Strategy {
       }
     renderer().end_frame("gl-pingpong render");
     context_->finish("gl-pingpong render");
-    rendered_ = true;
     return true;
   }
 
@@ -168,14 +162,11 @@ class GlPingPong final : public Strategy {
     }
     renderer().end_frame("gl-pingpong render via read-back");
     context_->finish("gl-pingpong render via read-back");
-    rendered_ = true;
     return true;
   }
 
   std::optional<RenderedImage> last_render() override {
-    if (!rendered_) return std::nullopt;
-    context_->make_current();
-    return renderer().picture();
+    return gl::last_picture(*context_, renderer_.get());
   }
 
   EvalResult read_back() override {
@@ -317,7 +308,6 @@ class GlPingPong final : public Strategy {
   std::unique_ptr<trim_texture::TrimTextures> trims_;
   std::unique_ptr<gl::GridRenderer> renderer_;
   std::array<float, 16> view_{};
-  bool rendered_ = false;
   int tile_ = 0;
   std::vector<SurfaceSamples> samples_;
   std::vector<SurfaceOnGpu> surfaces_;

@@ -81,7 +81,6 @@ class GlslDeBoor final : public Strategy {
     context_->make_current();
     bytes_uploaded_ = evaluator_->prepare(scene, samples_);
     trims_->prepare(scene, samples_);
-    rendered_ = false;
     context_->finish("glsl-deboor upload");
   }
 
@@ -106,26 +105,18 @@ class GlslDeBoor final : public Strategy {
     renderer().draw_without_read_back(*evaluator_, view_.data(), trims_.get());
     context_->finish("glsl-deboor render");
     context_->check("glsl-deboor render");
-    rendered_ = true;
     return true;
   }
 
   std::optional<RenderedImage> last_render() override {
-    if (!rendered_) return std::nullopt;
-    context_->make_current();
-    return renderer().picture();
+    return gl::last_picture(*context_, renderer_ ? &renderer_->grid() : nullptr);
   }
 
-  bool classify() override {
-    context_->make_current();
-    trims_->classify();
-    return true;
-  }
+  bool classify() override { return trims_->classify(); }
 
   bool render_via_read_back() override {
     context_->make_current();
     renderer().draw_with_read_back(*evaluator_, view_.data(), trims_.get());
-    rendered_ = true;
     context_->finish("glsl-deboor render via read-back");
     context_->check("glsl-deboor render via read-back");
     return true;
@@ -158,7 +149,6 @@ class GlslDeBoor final : public Strategy {
   std::unique_ptr<glsl_deboor::Evaluator> evaluator_;
   std::unique_ptr<trim_texture::TrimTextures> trims_;
   std::unique_ptr<glsl_deboor::Renderer> renderer_;
-  bool rendered_ = false;
   std::array<float, 16> view_{};
   int tile_ = 0;
   std::vector<SurfaceSamples> samples_;

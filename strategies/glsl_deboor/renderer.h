@@ -25,7 +25,7 @@ class Renderer {
                            const trim_texture::TrimTextures* trims = nullptr);
   // The image (RGBA8, rows bottom-up) for tests.
   std::vector<unsigned char> image() { return grid_.image(); }
-  RenderedImage picture() { return grid_.picture(); }
+  gl::GridRenderer& grid() { return grid_; }
 
  private:
   gl::GridRenderer grid_;

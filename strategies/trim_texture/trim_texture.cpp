@@ -154,7 +154,8 @@ void TrimTextures::prepare(const Scene& scene, const std::vector<SurfaceSamples>
   context_.check(fmt::format("{} trim textures", strategy_));
 }
 
-void TrimTextures::classify() {
+bool TrimTextures::classify() {
+  context_.make_current();
   const gl::Functions& gl = context_.gl();
   gl.UseProgram(lookup_->id());
   gl.BindVertexArray(vertex_array_);
@@ -170,6 +171,7 @@ void TrimTextures::classify() {
   context_.finish(fmt::format("{} classify", strategy_));
   context_.check(fmt::format("{} classify", strategy_));
   classified_ = true;
+  return true;
 }
 
 std::vector<std::uint8_t> TrimTextures::read_mask(std::size_t surface) {

@@ -29,8 +29,9 @@ class TrimTextures {
   // grids); drops any previous classification. Throws RefusedError when a grid side exceeds
   // GL_MAX_TEXTURE_SIZE (the mask is one texture per surface).
   void prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples);
-  // The lookup pass of every trimmed surface; returns when the device is done.
-  void classify();
+  // The lookup pass of every trimmed surface (Strategy::classify()); returns true when the device
+  // is done.
+  bool classify();
   // 1 inside, 0 outside per sample in SurfaceSamples order; empty for an untrimmed surface or
   // before classify().
   std::vector<std::uint8_t> read_mask(std::size_t surface);

@@ -259,13 +259,13 @@ TEST_P(TrimTexture, RenderShowsTheBackgroundThroughTheHole) {
   EXPECT_GT(face, 200);
 }
 
+// Test names carry the strategy as ctest -R selects it (gl_pingpong, glsl_deboor).
+const std::map<std::string, std::string> kTestNames = {{"gl-pingpong", "gl_pingpong"},
+                                                       {"gl-pingpong-packed", "gl_pingpong_packed"},
+                                                       {"glsl-deboor", "glsl_deboor"}};
 INSTANTIATE_TEST_SUITE_P(Strategies, TrimTexture,
                          ::testing::Values("gl-pingpong", "gl-pingpong-packed", "glsl-deboor"),
-                         [](const auto& info) {
-                           std::string name = info.param;
-                           std::replace(name.begin(), name.end(), '-', '_');
-                           return name;
-                         });
+                         [](const auto& info) { return kTestNames.at(info.param); });
 
 }  // namespace
 }  // namespace nurbs
