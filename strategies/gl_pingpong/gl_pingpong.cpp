@@ -151,7 +151,7 @@ class GlPingPong final : public Strategy {
   }
 
   bool render_via_read_back() override {
-    const EvalResult result = read_back();
+    const EvalResult result = read_positions();
     context_->make_current();
     renderer().begin_frame();
     for (std::size_t i = 0; i < result.surfaces.size(); ++i) {
@@ -170,6 +170,15 @@ class GlPingPong final : public Strategy {
   }
 
   EvalResult read_back() override {
+    EvalResult out = read_positions();
+    for (std::size_t i = 0; i < out.surfaces.size(); ++i)
+      out.surfaces[i].inside = trims_->read_mask(i);
+    return out;
+  }
+
+ private:
+  // The positions only: what the traditional render path (002 §4.1) reads back.
+  EvalResult read_positions() {
     context_->make_current();
     const gl::Functions& gl = context_->gl();
     EvalResult out;
@@ -200,13 +209,11 @@ class GlPingPong final : public Strategy {
             p[2] = texel[2];
           }
       }
-      r.inside = trims_->read_mask(i);
     }
     context_->check("gl-pingpong read-back");
     return out;
   }
 
- private:
   // Created at the first draw: a run that never renders allocates no framebuffer.
   gl::GridRenderer& renderer() {
     if (!renderer_)
