@@ -788,6 +788,61 @@ ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller&
   return s;
 }
 
+// Issue 15, 000 §4: the trim texture's misclassification rate outside the band as a function of
+// its resolution R, one line per (strategy, scene, tessellation tolerance), from the runs whose
+// device recorded trim_resolution (scripts/trim_texture_study.sh: one results set per R and
+// tolerance), and what the lookup pass costs next to the evaluation.
+ReportSection trim_texture_section(const std::vector<ResultSet>& sets, json& charts) {
+  const std::string run = "scripts/trim_texture_study.sh --out DIR";
+  ReportSection s = section("trim_texture_resolution",
+                            "Krishnamurthy 2007 §4: trim-texture misclassification rate outside "
+                            "the band vs trim-texture resolution R",
+                            run, sets);
+  const auto rows = rows_where(sets, [](const Record& r) {
+    return is_measurement(r) && r.trimming == "classified" &&
+           r.device.details.contains("trim_resolution") && r.accuracy && r.accuracy->trim &&
+           r.accuracy->trim->misclassified_rate;
+  });
+  if (!show_rows(s, rows, run, sets)) return s;
+  // The study's sets are folders of one parent; the script regenerates them all and the report.
+  s.command = fmt::format("scripts/trim_texture_study.sh --out {}",
+                          rows.front().set->directory.parent_path().string());
+  auto detail = [](const Row& r, const char* key) {
+    const auto it = r.record->device.details.find(key);
+    return it == r.record->device.details.end() ? std::string("?") : it->second;
+  };
+  std::vector<Series> rates, drawn, classify_share;
+  for (const Row& r : rows) {
+    const double resolution = std::stod(detail(r, "trim_resolution"));
+    const std::string label = fmt::format("{} {} tol {}", r.record->strategy, r.record->scene,
+                                          detail(r, "trim_tolerance"));
+    const double rate = *r.record->accuracy->trim->misclassified_rate;
+    add_point(rates, label, resolution, rate);
+    // A log axis cannot show 0: such points are left off the chart (the table has them).
+    add_point(drawn, label, resolution, rate > 0 ? rate : std::nan(""));
+    if (const auto c = r.record->extra_phases.find("classify"); c != r.record->extra_phases.end())
+      add_point(classify_share, label, resolution,
+                c->second.median_s / r.record->evaluate.median_s);
+  }
+  charts["charts"].push_back(lines_chart(s.id, "trim texture resolution R (texels per side)",
+                                         "misclassified rate outside the band", drawn, true, true));
+  s.has_chart = true;
+  auto rate_text = [](double x) { return fmt::format("{:.3g}", x); };
+  s.tables.push_back(series_table(
+      "Misclassified samples outside the band / samples outside the band, per R (columns: "
+      "strategy, scene, tessellation tolerance as a fraction of the (u,v) domain diagonal)",
+      "R", rates, points_text, rate_text));
+  s.tables.push_back(
+      series_table("classify (trim-texture lookup pass) median time / evaluate median time, per R",
+                   "R", classify_share, points_text, rate_text));
+  s.notes.push_back(
+      "A sample is misclassified only within d = (1/2 + 2^-(s+1)) x texel diagonal + tolerance of "
+      "the exact boundary (s = GL_SUBPIXEL_BITS; tests/strategies/gl_pingpong/"
+      "trim_texture_test.cpp), so the rate falls about as 1/R until the tessellation tolerance "
+      "dominates. GL on llvmpipe: times are CPU times.");
+  return s;
+}
+
 ReportSection measurements_section(const std::vector<ResultSet>& sets) {
   ReportSection s{"measurements",
                   "Every measurement, with throughput as a fraction of the store-bandwidth limit",
@@ -929,6 +984,7 @@ Report build_report(const std::vector<ResultSet>& sets) {
   report.sections.push_back(accuracy_heatmap(sets, label, charts));
   report.sections.push_back(accuracy_vs_degree(sets, label, charts));
   report.sections.push_back(phases_section(sets, label, charts));
+  report.sections.push_back(trim_texture_section(sets, charts));
   report.sections.push_back(measurements_section(sets));
   // Each chart carries what its caption needs, so the plotter knows nothing about the report.
   for (json& chart : charts["charts"])
