@@ -78,6 +78,7 @@ struct RunOptions {
   std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
   IsolationOptions isolation;
   std::optional<std::string> trim_band;  // --trim-band FRACTION (absent: kDefaultTrimBand)
+  std::string images;                    // --images DIR (empty: no pictures)
 };
 int run_command(const RunOptions& options);
 

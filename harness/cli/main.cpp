@@ -124,6 +124,11 @@ int main(int argc, char** argv) {
                       "vk-mode=adaptive, vk-eye=x,y,z, vk-center=x,y,z, vk-mu=4 (vk-ksquad)");
   run_cmd->add_option("--trim-band", run.trim_band, kTrimBandHelp)->type_name("FRACTION");
   run_cmd->add_option("--out", run.out, "output directory (default results/latest)");
+  run_cmd
+      ->add_option("--images", run.images,
+                   "write DIR/<strategy>__<scene>.png (what a drawing strategy drew) and, for a "
+                   "strategy that trims, DIR/<strategy>__<scene>__mask<surface>.png (PNG)")
+      ->type_name("DIR");
   add_isolation_options(run_cmd, run.isolation);
 
   LodOptions lod;

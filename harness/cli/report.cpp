@@ -156,9 +156,8 @@ ReportSection error_maps(const std::vector<ResultSet>& sets, int count, const fs
       std::vector<ErrorGrid> grids = error_grids(scene, result, reference);
       const std::size_t surface = std::min<std::size_t>(
           static_cast<std::size_t>(r->accuracy->worst_surface), grids.size() - 1);
-      std::string name = fmt::format("error-{}-{}.png", r->strategy, r->scene);
-      for (char& c : name)
-        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
+      const std::string name =
+          safe_file_name(fmt::format("error-{}-{}.png", r->strategy, r->scene));
       write_error_images(out / name, {grids[surface]},
                          fmt::format("{} on {} ({}, {}), surface {}", r->strategy, r->scene,
                                      r->precision, sampling->label(), surface));
