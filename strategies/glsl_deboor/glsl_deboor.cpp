@@ -132,6 +132,20 @@ class GlslDeBoor final : public Strategy {
     return true;
   }
 
+  // The render target as it is (render_via_read_back draws the same picture into it).
+  std::optional<RenderedImage> last_render() override {
+    if (!renderer_) return std::nullopt;
+    context_->make_current();
+    const std::vector<unsigned char> bottom_up = renderer_->image();
+    RenderedImage picture{renderer_->width(), renderer_->height(), {}};
+    const std::size_t row = static_cast<std::size_t>(picture.width) * 4;
+    picture.rgba.resize(bottom_up.size());
+    for (int y = 0; y < picture.height; ++y)
+      std::copy_n(bottom_up.begin() + static_cast<std::ptrdiff_t>((picture.height - 1 - y) * row),
+                  row, picture.rgba.begin() + static_cast<std::ptrdiff_t>(y * row));
+    return picture;
+  }
+
   EvalResult read_back() override {
     context_->make_current();
     std::vector<std::vector<float>> xyz = evaluator_->read_back();
