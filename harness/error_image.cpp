@@ -335,6 +335,9 @@ void write_render_image(const fs::path& path, const RenderedImage& picture,
 #ifdef NURBSBENCH_HAVE_OIIO
   OIIO::ImageSpec spec(picture.width, picture.height, 4, OIIO::TypeDesc::UINT8);
   spec.attribute("ImageDescription", title);
+  // The strategy's bytes as they are: without this OIIO takes them for premultiplied alpha and
+  // divides the colour by it on the way to PNG.
+  spec.attribute("oiio:UnassociatedAlpha", 1);
   OIIO::ImageBuf image(spec);
   image.set_pixels(OIIO::ROI(0, picture.width, 0, picture.height), OIIO::TypeDesc::UINT8,
                    picture.rgba.data());
