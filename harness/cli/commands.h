@@ -110,6 +110,7 @@ struct ReportOptions {
   std::string out;                   // default: <first results>/report
   std::string python = "/usr/bin/python3";
   int error_images = 3;  // heat maps of the N worst (strategy, scene) pairs, re-evaluated here
+  int trim_masks = 3;    // trim masks of the N pairs with the most misclassified samples
 };
 int report_command(const ReportOptions& options);
 

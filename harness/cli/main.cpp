@@ -173,6 +173,10 @@ int main(int argc, char** argv) {
   report_cmd->add_option("--error-images", report.error_images,
                          "error heat maps of the N worst (strategy, scene) pairs, re-evaluated on "
                          "this machine (default 3; 0: none)");
+  report_cmd->add_option(
+      "--trim-masks", report.trim_masks,
+      "trim masks of the N (strategy, trimmed scene) pairs with the most "
+      "misclassified samples, re-evaluated on this machine (default 3; 0: none)");
 
   RecommendOptions recommend;
   auto* recommend_cmd = app.add_subcommand(

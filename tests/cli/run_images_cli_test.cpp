@@ -9,7 +9,11 @@
 #include <string>
 #include <vector>
 
+#include "harness/error_image.h"
+#include "reference/sampling.h"
 #include "run_cli.h"
+#include "scenes/trimmed_plate.h"
+#include "tests/scenes/trimmed_plate_closed_form.h"
 
 namespace nurbs::test {
 namespace {
@@ -93,6 +97,49 @@ TEST(CliRunImages, BadDirectoryIsExitTwoWithOneLineNamingIt) {
   const CliResult r = run_cli(deforming);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--images"), std::string::npos) << r.err;
+}
+
+TEST(CliReportTrimMasks, EmbedsTheMaskOfAClassifyingStrategyWithTheClosedFormsInside) {
+  TempDir tmp;
+  const std::string results = tmp / "results";
+  ASSERT_EQ(run_cli({"run", "--scenes", "trimmed-plate,sphere", "--strategies",
+                     "cpu-coxdeboor,cpu-tensor", "--samples", "24x24", "--repetitions", "1",
+                     "--out", results})
+                .exit_code,
+            0);
+  const CliResult r =
+      run_cli({"report", "--results", results, "--out", tmp / "report", "--error-images", "0",
+               "--trim-masks", "2", "--python", "/bin/false"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string report = read_text(tmp.path() / "report" / "REPORT.md");
+  // Only the strategy that classified, on the only trimmed scene.
+  const std::string name = "trim-mask-cpu-coxdeboor-trimmed-plate-0.png";
+  EXPECT_NE(report.find("![" + name + "](" + name + ")"), std::string::npos) << report;
+  EXPECT_EQ(report.find("trim-mask-cpu-tensor"), std::string::npos);
+  EXPECT_EQ(report.find("trim-mask-cpu-coxdeboor-sphere"), std::string::npos);
+
+  int w = 0, h = 0;
+  const auto pixels = pixels_of(tmp.path() / "report" / name, w, h);
+  const int scale = 256 / 24;
+  ASSERT_EQ(w, 24 * scale);
+  std::size_t inside_pixels = 0;
+  for (std::size_t p = 0; p < pixels.size(); p += 3)
+    inside_pixels += pixels[p] == kTrimMaskColours[0][0] &&
+                     pixels[p + 1] == kTrimMaskColours[0][1] &&
+                     pixels[p + 2] == kTrimMaskColours[0][2];
+  Sampling grid;
+  grid.grid_u = grid.grid_v = 24;
+  const SurfaceSamples samples = sample_parameters(trimmed_plate_scene(), grid)[0];
+  std::size_t inside = 0;
+  for (std::size_t k = 0; k < samples.count(); ++k)
+    inside += trimmed_plate_signed_distance({}, samples.u_of(k), samples.v_of(k)) < 0;
+  EXPECT_EQ(inside_pixels, inside * scale * scale);
+
+  const CliResult bad =
+      run_cli({"report", "--results", results, "--out", tmp / "bad", "--trim-masks", "51"});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--trim-masks = 51"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(tmp.path() / "bad"));
 }
 
 }  // namespace
