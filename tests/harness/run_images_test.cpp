@@ -12,6 +12,7 @@
 #include <functional>
 #include <map>
 
+#include "../cli/run_cli.h"
 #include "harness/error_image.h"
 #include "harness/runner.h"
 #include "scenes/trimmed_plate.h"
@@ -22,23 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class ScratchDir {
- public:
-  ScratchDir() {
-    const char* base = std::getenv("TMPDIR");
-    std::string pattern = std::string(base && *base ? base : "/tmp") + "/nurbsbench-images-XXXXXX";
-    if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~ScratchDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using ScratchDir = test::TempDir;
 
 // cpu-coxdeboor that, optionally, "draws" (render() true, last_render() a fixed picture) and has
 // its read back altered.
