@@ -52,7 +52,8 @@ struct TrimPieces {
 
 // How a root isolated on (0, 1) is refined: bisection (the reference: one bit per step, no
 // derivative to trust) or Newton kept inside the shrinking sign-change bracket (a double
-// classifier's fast path: quadratic once near the root, bisection where a step would leave it).
+// classifier's fast path: quadratic once near the root, bisection where a step would leave it;
+// a piece crossing the line once, ends on either side, is then one event without probing).
 enum class RootRefinement { bisection, newton };
 
 namespace trim_detail {
@@ -142,12 +143,14 @@ T newton_single_root(const T* c, int n) {
     const int s = sign_of(value);
     if (s == 0) return t;
     (s == sign_low ? lo : hi) = t;
+    // A converged step is taken before the bracket test: t, now one end of the bracket, is then
+    // the root, and a step of a few ulps may land on or just past that end.
     T next = derivative != T(0) ? t - value / derivative : lo;
+    if (std::fabs(next - t) <= step_limit) return std::clamp(next, lo, hi);
     if (!(next > lo && next < hi)) {
       next = (lo + hi) / T(2);
       if (!(next > lo && next < hi)) return next;
     }
-    if (std::fabs(next - t) <= step_limit) return next;
     t = next;
   }
   return t;
@@ -215,6 +218,14 @@ void piece_events(const TrimPiece<T>& piece, T v, std::vector<T>& roots, std::ve
     if (!any_negative) return;  // above (or on the line) throughout
     if (c[0] == T(0)) events.push_back(piece_u_at(piece, T(0)));
     if (c[n] == T(0)) events.push_back(piece_u_at(piece, T(1)));
+    return;
+  }
+  if (refinement == RootRefinement::newton && c[0] != T(0) && c[n] != T(0) &&
+      sign_variations(c, n) == 1) {
+    // Exactly one root on (0, 1), simple, and the ends on either side of the line: the state
+    // changes once, there, so the stretches between need no probing (the reference probes them
+    // anyway; both agree whenever g's sign is computed right).
+    events.push_back(piece_u_at(piece, newton_single_root(c, n)));
     return;
   }
   roots.clear();
