@@ -100,14 +100,20 @@ int sign_variations(const T* c, int n) {
   return variations;
 }
 
+// The sign of c near t = 0 (its first non-zero coefficient's): the side of a single root's
+// bracket that t = 0 is on.
+template <typename T>
+int sign_near_zero(const T* c) {
+  int first = 0;
+  while (c[first] == T(0)) ++first;
+  return sign_of(c[first]);
+}
+
 // The one sign-changing root of c on (0, 1) when sign_variations(c) == 1, by bisection until the
 // interval cannot shrink in T.
 template <typename T>
 T bisect_single_root(const T* c, int n) {
-  int first = 0, last = n;
-  while (c[first] == T(0)) ++first;
-  while (c[last] == T(0)) --last;
-  const int sign_low = sign_of(c[first]);
+  const int sign_low = sign_near_zero(c);
   T lo = 0, hi = 1;
   for (int iteration = 0; iteration < 200; ++iteration) {
     const T mid = (lo + hi) / T(2);
@@ -124,10 +130,7 @@ T bisect_single_root(const T* c, int n) {
 // moves t by under a few ulps or the bracket cannot shrink.
 template <typename T>
 T newton_single_root(const T* c, int n) {
-  int first = 0, last = n;
-  while (c[first] == T(0)) ++first;
-  while (c[last] == T(0)) --last;
-  const int sign_low = sign_of(c[first]);
+  const int sign_low = sign_near_zero(c);
   const T step_limit = T(4) * std::numeric_limits<T>::epsilon();
   T lo = 0, hi = 1;
   T t = c[0] / (c[0] - c[n]);  // c[0] and c[n] differ in sign or one is 0: the chord's root

@@ -19,22 +19,30 @@ namespace {
 
 using namespace nurbs;
 
+// The strategy prepared for `request` and warmed up by one evaluate(); nullptr, with the case
+// skipped and the reason given, when it refuses or fails.
+std::unique_ptr<Strategy> prepared_strategy(benchmark::State& state, const StrategyEntry& entry,
+                                            const Scene& scene, const EvalRequest& request) {
+  if (auto refused = refusal_reason(entry.capabilities(), scene, request)) {
+    state.SkipWithError(("refused: " + *refused).c_str());
+    return nullptr;
+  }
+  try {
+    std::unique_ptr<Strategy> strategy = entry.create(StrategyOptions{});
+    strategy->prepare(scene, request);
+    strategy->evaluate();  // warm-up
+    return strategy;
+  } catch (const std::exception& e) {
+    state.SkipWithError((std::string("failed: ") + e.what()).c_str());
+    return nullptr;
+  }
+}
+
 void evaluate_benchmark(benchmark::State& state, const StrategyEntry* entry, const Scene* scene,
                         Sampling sampling, Precision precision) {
   const EvalRequest request{sampling, precision, false};
-  if (auto refused = refusal_reason(entry->capabilities(), *scene, request)) {
-    state.SkipWithError(("refused: " + *refused).c_str());
-    return;
-  }
-  std::unique_ptr<Strategy> strategy;
-  try {
-    strategy = entry->create(StrategyOptions{});
-    strategy->prepare(*scene, request);
-    strategy->evaluate();  // warm-up
-  } catch (const std::exception& e) {
-    state.SkipWithError((std::string("failed: ") + e.what()).c_str());
-    return;
-  }
+  const std::unique_ptr<Strategy> strategy = prepared_strategy(state, *entry, *scene, request);
+  if (!strategy) return;
   for (auto _ : state) strategy->evaluate();
   const std::size_t points = total_samples(sample_parameters(*scene, sampling));
   state.counters["points/s"] = benchmark::Counter(static_cast<double>(points),
@@ -52,14 +60,9 @@ void evaluate_benchmark(benchmark::State& state, const StrategyEntry* entry, con
 // 1024^2: >= 0.5). The iteration time is the sum, so the case reads as evaluate+classify.
 void trim_cost_benchmark(benchmark::State& state, const StrategyEntry* entry, const Scene* scene,
                          Sampling sampling, Precision precision) {
-  const EvalRequest request{sampling, precision, false};
-  if (auto refused = refusal_reason(entry->capabilities(), *scene, request)) {
-    state.SkipWithError(("refused: " + *refused).c_str());
-    return;
-  }
-  std::unique_ptr<Strategy> strategy = entry->create(StrategyOptions{});
-  strategy->prepare(*scene, request);
-  strategy->evaluate();  // warm-up
+  const std::unique_ptr<Strategy> strategy =
+      prepared_strategy(state, *entry, *scene, EvalRequest{sampling, precision, false});
+  if (!strategy) return;
   if (!strategy->classify()) {
     state.SkipWithError("the strategy does not trim");
     return;
