@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <optional>
+#include <stdexcept>
 #include <variant>
 
 #include "reference/nurbs_math.h"
