@@ -13,6 +13,7 @@
 
 #include "harness/runner.h"
 #include "scenes/builtin_scenes.h"
+#include "strategies/cpu_tensor/row_trim.h"
 #include "strategies/registry.h"
 #include "tests/harness/plates.h"
 #include "tests/scenes/trimmed_plate_closed_form.h"
@@ -172,6 +173,27 @@ TEST(CpuTensorTrim, EdgesAlongRowsAndColumns) {
               [&](double u, double v) {
                 return std::max(box(u, v, 0.2, 0.8, 0.1, 0.9), -box(u, v, 0.4, 0.6, 0.3, 0.5));
               });
+}
+
+// The row fill by runs is the reference's per-sample rule (inside_by_events: an odd number of
+// events strictly beyond the sample), including samples exactly on an event, repeated samples (a
+// span grid's shared knots), repeated events (a tangency) and events beyond either end.
+TEST(CpuTensorTrim, RowFillIsThePerSampleRule) {
+  const std::vector<double> along = {0.0, 0.1, 0.1, 0.25, 0.5, 0.5, 0.75, 0.9, 1.0};
+  const std::vector<std::vector<double>> event_lists = {
+      {},         {0.3, 0.6}, {0.1, 0.75},  {0.1, 0.1, 0.5, 0.9}, {-1.0, 0.2, 0.2, 0.5, 2.0},
+      {0.0, 1.0}, {0.5},      {-2.0, -1.0}, {0.05, 0.95, 1.5}};
+  std::size_t inside_total = 0;
+  for (const std::vector<double>& events : event_lists) {
+    std::vector<std::uint8_t> inside(along.size(), 7);
+    tensor::fill_row_from_events(events, along.data(), along.size(), inside.data());
+    for (std::size_t b = 0; b < along.size(); ++b) {
+      EXPECT_EQ(inside[b], inside_by_events(events, along[b]) ? 1 : 0)
+          << "sample " << along[b] << " of " << ::testing::PrintToString(events);
+      inside_total += inside[b];
+    }
+  }
+  EXPECT_GT(inside_total, 10u);
 }
 
 // The gate (issue 15, part 3): the harness scores cpu-tensor's mask against the reference's exact
