@@ -103,7 +103,7 @@ TEST(CliReportTrimMasks, EmbedsTheMaskOfAClassifyingStrategyWithTheClosedFormsIn
   TempDir tmp;
   const std::string results = tmp / "results";
   ASSERT_EQ(run_cli({"run", "--scenes", "trimmed-plate,sphere", "--strategies",
-                     "cpu-coxdeboor,cpu-tensor", "--samples", "24x24", "--repetitions", "1",
+                     "cpu-coxdeboor,cpu-horner", "--samples", "24x24", "--repetitions", "1",
                      "--out", results})
                 .exit_code,
             0);
@@ -115,7 +115,7 @@ TEST(CliReportTrimMasks, EmbedsTheMaskOfAClassifyingStrategyWithTheClosedFormsIn
   // Only the strategy that classified, on the only trimmed scene.
   const std::string name = "trim-mask-cpu-coxdeboor-trimmed-plate-0.png";
   EXPECT_NE(report.find("![" + name + "](" + name + ")"), std::string::npos) << report;
-  EXPECT_EQ(report.find("trim-mask-cpu-tensor"), std::string::npos);
+  EXPECT_EQ(report.find("trim-mask-cpu-horner"), std::string::npos);
   EXPECT_EQ(report.find("trim-mask-cpu-coxdeboor-sphere"), std::string::npos);
 
   int w = 0, h = 0;
