@@ -15,7 +15,7 @@
 namespace nurbs {
 namespace {
 
-class ClStairTest : public ::testing::Test {
+class cl_stair : public ::testing::Test {
  protected:
   void SetUp() override {
     const Availability a = entry().probe();
@@ -49,7 +49,7 @@ std::string detail(const Strategy& strategy, const std::string& key) {
 // The degree-N scenes' 16x16 net at degree 10, 12, 15 (uniform clamped knots). Bounds, in
 // float32 ulps of the largest coordinate (metrics.h): f32 16, f64 5e-8 (~27 double ulps);
 // measured on PoCL: f32 1.9 / 2.1 / 2.4, f64 4.4e-9 / 3.0e-9 / 5.9e-9 at degree 10 / 12 / 15.
-TEST_F(ClStairTest, HighDegreesMatchTheReference) {
+TEST_F(cl_stair, HighDegreesMatchTheReference) {
   EXPECT_EQ(entry().capabilities().max_degree, 15);
   const auto strategy = entry().create(StrategyOptions{});
   for (int degree : {10, 12, 15}) {
@@ -73,7 +73,7 @@ TEST_F(ClStairTest, HighDegreesMatchTheReference) {
 // surface (a stale net misses it by the wave's amplitude, over 1000 ulps: deforming_test's
 // AnUpdateThatDoesNothingIsCaught), and no frame rebuilds the program. Bounds as above (measured
 // 1.5 and 3.3e-9).
-TEST_F(ClStairTest, DeformingUpdatesLandOnTheMovedSurfaceWithoutRebuilding) {
+TEST_F(cl_stair, DeformingUpdatesLandOnTheMovedSurfaceWithoutRebuilding) {
   EXPECT_TRUE(entry().capabilities().updates_control_points);
   const Scene scene = *make_builtin_scene("patch144");
   for (Precision precision : {Precision::f32, Precision::f64}) {
@@ -93,7 +93,7 @@ TEST_F(ClStairTest, DeformingUpdatesLandOnTheMovedSurfaceWithoutRebuilding) {
 
 // The same through the interface directly: an update moves the result to the new frame, prepare
 // again keeps the program, and a net of another size is an error, not a silent partial upload.
-TEST_F(ClStairTest, UpdateMovesTheResultAndKeepsTheProgram) {
+TEST_F(cl_stair, UpdateMovesTheResultAndKeepsTheProgram) {
   const Scene base = *make_builtin_scene("patch144");
   const auto strategy = entry().create(StrategyOptions{});
   const EvalRequest request{grid33(), Precision::f64, false};

@@ -133,7 +133,7 @@ Worst cpp_build(std::vector<std::vector<double>>* values) {
 // Bounds: about 10x the measured worst (printed; x86-64 gcc, PoCL 3, lavapipe): long double
 // 1.1e-16 / 8e-18, double 1e-15 / 1.1e-15, float 5.9e-7 / 7.1e-7 (basis / derivative), i.e. a
 // few units of the scalar's epsilon at degree 15 on every pattern, the clustered one included.
-TEST(StairBasisCpp, EveryScalarMatchesTheReference) {
+TEST(stair_basis_cpp, EveryScalarMatchesTheReference) {
   const Worst ld = cpp_build<long double>(nullptr), d = cpp_build<double>(nullptr),
               f = cpp_build<float>(nullptr);
   ld.print("C++ long dbl");
@@ -174,7 +174,7 @@ double printed(const std::vector<double>& x, int i, int k, int p, double u) {
   return s;
 }
 
-TEST(StairBasisPaper, PrintedFormulaHoldsUpToDegree3Only) {
+TEST(stair_basis_paper, PrintedFormulaHoldsUpToDegree3Only) {
   const std::vector<double> x = {0, 0.1, 0.35, 0.4, 0.7, 0.75, 1.1, 1.3, 1.9, 2.0, 2.6, 3.0};
   for (int p = 1; p <= 4; ++p) {
     double worst = 0;
@@ -206,7 +206,7 @@ double max_difference(const std::vector<std::vector<double>>& a,
 }
 
 #ifdef NURBSBENCH_TEST_OPENCL
-TEST(StairBasisOpenCl, MatchesTheReferenceAndTheCppBuild) {
+TEST(stair_basis_opencl, MatchesTheReferenceAndTheCppBuild) {
   const Availability a = find_strategy("cl-stair")->probe();
   if (!a.available) GTEST_SKIP() << a.reason;
   for (Precision precision : {Precision::f32, Precision::f64}) {
@@ -260,7 +260,7 @@ TEST(StairBasisOpenCl, MatchesTheReferenceAndTheCppBuild) {
 #endif
 
 #ifdef NURBSBENCH_TEST_VULKAN
-TEST(StairBasisGlsl, MatchesTheReferenceAndTheCppBuild) {
+TEST(stair_basis_glsl, MatchesTheReferenceAndTheCppBuild) {
   const Availability a = find_strategy("vk-ksquad")->probe();
   if (!a.available) GTEST_SKIP() << a.reason;
   // The constants as vk-ksquad makes them: the C++ float build's, uploaded.

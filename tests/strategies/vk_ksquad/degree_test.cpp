@@ -19,7 +19,7 @@ namespace {
 // The degree-N scenes' 16x16 net at degree 10, 12, 15 (uniform clamped knots), 33 x 33 samples
 // (exact in float on [0, 1]). Bounds: 16 float32 ulps and 0.01 degree for normals; measured on
 // lavapipe 2.6 / 2.7 / 2.5 ulps and 1.1e-4 / 7.8e-5 / 1.0e-4 degree at degree 10 / 12 / 15.
-TEST(VkKsquadDegree, HighDegreesMatchTheReference) {
+TEST(vk_ksquad_degree, HighDegreesMatchTheReference) {
   const Availability a = find_strategy("vk-ksquad")->probe();
   if (!a.available) GTEST_SKIP() << "unavailable: " << a.reason;
   EXPECT_EQ(find_strategy("vk-ksquad")->capabilities().max_degree, 15);
