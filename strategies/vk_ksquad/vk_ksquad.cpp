@@ -207,6 +207,8 @@ vulkan::Requirements ksquad_requirements() {
 
 Capabilities ksquad_capabilities() {
   Capabilities c;
+  // 15, the validation limit: no device limit depends on the degree (net and constants are
+  // storage buffers, one control point per patch; push constants and levels do not grow with it).
   c.max_degree = kStairMaxDegree;
   c.normals = true;  // uniform mode: derivatives of the same stair basis (stair_derivative)
   c.fp64 = false;    // Vulkan tessellation stages in float; shaderFloat64 is optional
