@@ -23,7 +23,8 @@ layout(constant_id = 2) const int kDegreeV = 0;
 #define DEGREE_U(s) (kDegreeU > 0 ? kDegreeU : surfaces[s])
 #define DEGREE_V(s) (kDegreeV > 0 ? kDegreeV : surfaces[(s) + 1])
 #include "ksquad_tables.glsl"
-#include "stair_basis.glsl"
+// The single-source stair basis (stair_basis, stair_derivative) on the `consts` buffer.
+#include "../stair_basis/stair_basis.h"
 // Raster: the fragment stage's trim test (ksquad.frag) classifies the interpolated (u, v).
 layout(location = 0) out vec2 trim_uv;
 layout(location = 1) flat out int trim_surface;
@@ -45,7 +46,7 @@ bool normalize_if_resolved(vec3 n, vec3 a, vec3 b, out vec3 unit) {
 // to it -- on a crease the two one-sided normals differ, and the reference takes that one.
 void write_normal(int slot, int s, int span_u, int span_v, int cu, int cv, float u, float v) {
   const int pu = DEGREE_U(s), pv = DEGREE_V(s), count_v = surfaces[s + 3];
-  float bu[MAX_ORDER], bv[MAX_ORDER], du[MAX_ORDER], dv[MAX_ORDER];
+  float bu[SB_MAX_ORDER], bv[SB_MAX_ORDER], du[SB_MAX_ORDER], dv[SB_MAX_ORDER];
   stair_basis(cu, pu, u, bu, pu);
   stair_basis(cv, pv, v, bv, pv);
   stair_derivative(cu, pu, u, du);
@@ -117,11 +118,11 @@ void main() {
     u = params[surfaces[s + 5] + a];
     v = params[surfaces[s + 6] + b];
   } else {
-    // C_KNOT(c, p - 1) = x_i, C_KNOT(c, p) = x_{i+1} (StairConstants::knots)
-    u = (1.0 - gl_TessCoord.x) * C_KNOT(cu, pu - 1) + gl_TessCoord.x * C_KNOT(cu, pu);
-    v = (1.0 - gl_TessCoord.y) * C_KNOT(cv, pv - 1) + gl_TessCoord.y * C_KNOT(cv, pv);
+    // SB_KNOT(c, p - 1) = x_i, SB_KNOT(c, p) = x_{i+1} (StairConstants::knots)
+    u = (1.0 - gl_TessCoord.x) * SB_KNOT(cu, pu - 1) + gl_TessCoord.x * SB_KNOT(cu, pu);
+    v = (1.0 - gl_TessCoord.y) * SB_KNOT(cv, pv - 1) + gl_TessCoord.y * SB_KNOT(cv, pv);
   }
-  float bu[MAX_ORDER], bv[MAX_ORDER];
+  float bu[SB_MAX_ORDER], bv[SB_MAX_ORDER];
   stair_basis(cu, pu, u, bu, pu);
   stair_basis(cv, pv, v, bv, pv);
   // A4.3 on the KSQuad's (p+1)(q+1) homogeneous control points (reference/nurbs_math.h
@@ -135,8 +136,8 @@ void main() {
   }
   const vec3 position = sum.xyz / sum.w;
   if (kRaster == 0 && mode.adaptive == 0 && mode.normals != 0) {
-    // C_KNOT(c, p) = x_{i+1}: the span's end knot belongs to the next span (row + 16..19)
-    const bool u_end = u == C_KNOT(cu, pu), v_end = v == C_KNOT(cv, pv);
+    // SB_KNOT(c, p) = x_{i+1}: the span's end knot belongs to the next span (row + 16..19)
+    const bool u_end = u == SB_KNOT(cu, pu), v_end = v == SB_KNOT(cv, pv);
     write_normal(surfaces[s + 8] + a * surfaces[s + 7] + b, s,
                  u_end ? patches[row + 16] : span_u, v_end ? patches[row + 17] : span_v,
                  u_end ? patches[row + 18] : cu, v_end ? patches[row + 19] : cv, u, v);

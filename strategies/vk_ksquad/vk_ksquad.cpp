@@ -41,8 +41,8 @@
 #include <tuple>
 
 #include "reference/nurbs_math.h"
-#include "strategies/cl_stair/stair_basis.h"
 #include "strategies/ksquad/ksquad_table.h"
+#include "strategies/stair_basis/stair.h"
 #include "strategies/strategy_options.h"
 #include "strategies/trim_direct/trim_tables.h"
 #include "strategies/vk_ksquad/patches.h"
@@ -64,9 +64,9 @@ constexpr int kSurfaceInts = 16;                    // ksquad_tables.glsl: SURFA
 constexpr int kPatchInts = 20;                      // ksquad_tables.glsl: PATCH_INTS
 constexpr int kPatchLevelU = 9, kPatchLevelV = 10;  // a patch row's tessellation levels
 constexpr int kSlotFloats = 5;                      // ksquad_tables.glsl: SLOT_FLOATS
-constexpr int kConstantFloats = 119;
+constexpr int kConstantFloats = kStairConstantReals;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
-              "stair_basis.glsl reads StairConstants<float> as 119 packed floats");
+              "stair_basis.h reads StairConstants<float> as packed floats");
 constexpr int kBuffers = 12;
 // Bindings 9..11 are the fragment stage's trim test (ksquad.frag): the classifier's tables and
 // one row of kTrimSurfaceInts per surface.
@@ -207,6 +207,8 @@ vulkan::Requirements ksquad_requirements() {
 
 Capabilities ksquad_capabilities() {
   Capabilities c;
+  // 15, the validation limit: no device limit depends on the degree (net and constants are
+  // storage buffers, one control point per patch; push constants and levels do not grow with it).
   c.max_degree = kStairMaxDegree;
   c.normals = true;  // uniform mode: derivatives of the same stair basis (stair_derivative)
   c.fp64 = false;    // Vulkan tessellation stages in float; shaderFloat64 is optional

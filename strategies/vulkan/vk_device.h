@@ -156,6 +156,25 @@ class StorageSet {
   VkDescriptorSet set_ = VK_NULL_HANDLE;
 };
 
+// A compute pipeline on one StorageSet's layout with `push_bytes` of push constants (compute
+// stage): the pipeline layout and the pipeline, created once.
+class ComputePipeline {
+ public:
+  ComputePipeline(const Device& device, const StorageSet& set, std::uint32_t push_bytes,
+                  std::string_view spirv, const char* what);
+  ~ComputePipeline();
+  ComputePipeline(const ComputePipeline&) = delete;
+  ComputePipeline& operator=(const ComputePipeline&) = delete;
+  VkPipelineLayout layout() const { return layout_; }
+  // Binds the pipeline and `set` (the one it was made for) to `cb`.
+  void bind(VkCommandBuffer cb, const StorageSet& set) const;
+
+ private:
+  const Device& device_;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
 // Two timestamps around the measured work, and optionally the pipeline statistics of it.
 class QueryPools {
  public:
