@@ -18,7 +18,45 @@ namespace nurbs {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
+const std::vector<ChartCommand>& chart_commands() {
+  // The scenes, samples, repetitions and frames of scripts/canonical.sh, which made the committed
+  // results: a line here that differs from the script regenerates something else.
+  static const std::vector<ChartCommand> commands = {
+      {"fig7_time_vs_points",
+       "nurbsbench run --scenes patch144 --strategies all --samples "
+       "4x4,8x8,16x16,32x32,64x64,128x128,256x256,512x512,1024x1024,2048x2048 --repetitions 3 "
+       "--out DIR"},
+      {"fig14_deboor_vs_basis",
+       "nurbsbench run --scenes tan16,tan64,tan256 --strategies all --samples 256x256 "
+       "--repetitions 5 --out DIR"},
+      {"fig15_lod", "nurbsbench lod --samples 128x128,512x512,1024x1024 --out DIR"},
+      {"rpns_frame",
+       "nurbsbench run --scenes teapot,patch144,many-256 --strategies all --samples 16x16 "
+       "--repetitions 1 --deforming 30 --out DIR"},
+      {"fig8_many_surfaces",
+       "nurbsbench run --scenes many-1,many-4,many-16,many-64,many-256,many-1024,many-4096 "
+       "--strategies all --samples 16x16 --repetitions 3 --out DIR"},
+      {"accuracy_heatmap",
+       "nurbsbench run --scenes default --strategies all --samples 64x64 --repetitions 3 --out "
+       "DIR"},
+      {"accuracy_vs_degree",
+       "nurbsbench run --scenes degree-1,degree-2,degree-3,degree-4,degree-5,degree-6,degree-7,"
+       "degree-8,degree-9 --strategies all --samples 64x64 --repetitions 3 --out DIR"},
+      {"phases",
+       "nurbsbench run --scenes patch144 --strategies all --samples 256x256 --repetitions 3 --out "
+       "DIR"},
+  };
+  return commands;
+}
+
 namespace {
+
+// A chart's row of chart_commands(); a section without one is a programming error.
+const std::string& chart_run(std::string_view id) {
+  for (const ChartCommand& c : chart_commands())
+    if (c.id == id) return c.run;
+  throw std::logic_error(fmt::format("chart {} has no row in chart_commands()", id));
+}
 
 std::optional<json> read_side_file(const fs::path& path, std::string_view format) {
   if (!fs::exists(path)) return std::nullopt;
@@ -123,11 +161,16 @@ class Labeller {
   bool by_precision_ = false, by_set_ = false;
 };
 
+// A GPU API implemented on the CPU (llvmpipe, lavapipe, PoCL): recorded as kind "cpu" under a
+// name other than the host CPU's.
+bool software_device(const DeviceInfo& d) {
+  return d.kind == "cpu" && !d.name.empty() && !d.name.starts_with("host CPU");
+}
+
 std::string device_text(const DeviceInfo& d) {
   const std::string name = d.name.empty() ? "unknown device" : d.name;
   if (d.kind == "gpu") return name + " (GPU)";
-  if (d.kind == "cpu" && !name.starts_with("host CPU"))
-    return name + " (a CPU implementation of the API, not a GPU)";
+  if (software_device(d)) return name + " (a CPU implementation of the API, not a GPU)";
   return name;
 }
 
@@ -322,7 +365,9 @@ ReportSection section(std::string id, std::string title, const std::string& run,
 }
 
 // The rows a section shows give its context (machine, devices, commit) and the directory its
-// command regenerates; without rows the section says what to run. False: nothing to show.
+// command regenerates: the set that gives the most rows, the one its command made (the accuracy
+// chart also reads the patch144 rows of a Fig 7 set, which another command made). Without rows
+// the section says what to run. False: nothing to show.
 bool show_rows(ReportSection& s, const std::vector<Row>& rows, const std::string& run,
                const std::vector<ResultSet>& sets) {
   s.context = context_of(rows, sets);
@@ -330,15 +375,18 @@ bool show_rows(ReportSection& s, const std::vector<Row>& rows, const std::string
     set_no_data(s, s.command);
     return false;
   }
-  s.command = regenerate_in(run, rows.front().set->directory.string());
+  std::map<const ResultSet*, int> rows_of_set;
+  for (const Row& r : rows) ++rows_of_set[r.set];
+  const ResultSet* most = rows.front().set;
+  for (const auto& [set, n] : rows_of_set)
+    if (n > rows_of_set[most]) most = set;
+  s.command = regenerate_in(run, most->directory.string());
   return true;
 }
 
 ReportSection time_vs_points(const std::vector<ResultSet>& sets, const Labeller& label,
                              json& charts) {
-  const std::string run =
-      "nurbsbench run --scenes patch144 --strategies all --samples "
-      "4x4,8x8,16x16,32x32,64x64,128x128,256x256,512x512,1024x1024,2048x2048 --out DIR";
+  const std::string& run = chart_run("fig7_time_vs_points");
   ReportSection s =
       section("fig7_time_vs_points",
               "Krishnamurthy 2007 Fig 7 / Krishnamurthy-Yasui Fig 9: evaluation time vs number "
@@ -392,8 +440,7 @@ ReportTable category_table(const std::string& caption, const std::string& first,
 ReportSection deboor_vs_basis(const std::vector<ResultSet>& sets, const Labeller& label,
                               json& charts) {
   const std::vector<std::string> scenes = {"tan16", "tan64", "tan256"};
-  const std::string run =
-      "nurbsbench run --scenes tan16,tan64,tan256 --strategies all --samples 256x256 --out DIR";
+  const std::string& run = chart_run("fig14_deboor_vs_basis");
   ReportSection s =
       section("fig14_deboor_vs_basis",
               "Tan 2012 Fig 14: one-pass de Boor (glsl-deboor) vs multi-pass basis functions "
@@ -448,7 +495,7 @@ ReportSection deboor_vs_basis(const std::vector<ResultSet>& sets, const Labeller
 }
 
 ReportSection lod_section(const std::vector<ResultSet>& sets, json& charts) {
-  const std::string run = "nurbsbench lod --out DIR";
+  const std::string& run = chart_run("fig15_lod");
   ReportSection s =
       section("fig15_lod",
               "Tan 2012 Fig 15: LOD change by Haar wavelet vs re-evaluation (21×23 control "
@@ -516,9 +563,7 @@ ReportSection lod_section(const std::vector<ResultSet>& sets, json& charts) {
 
 ReportSection frame_section(const std::vector<ResultSet>& sets, const Labeller& label,
                             json& charts) {
-  const std::string run =
-      "nurbsbench run --deforming --scenes patch144,teapot --strategies all --samples 256x256 "
-      "--out DIR";
+  const std::string& run = chart_run("rpns_frame");
   ReportSection s = section(
       "rpns_frame", "RPNS 2014: time per frame with deforming control points (update + evaluate)",
       run, sets);
@@ -579,9 +624,7 @@ ReportSection memory_section(const std::vector<ResultSet>& sets) {
 
 ReportSection many_surfaces(const std::vector<ResultSet>& sets, const Labeller& label,
                             json& charts) {
-  const std::string run =
-      "nurbsbench run --scenes many-1,many-4,many-16,many-64,many-256,many-1024,many-4096 "
-      "--strategies all --samples 16x16 --out DIR";
+  const std::string& run = chart_run("fig8_many_surfaces");
   ReportSection s =
       section("fig8_many_surfaces",
               "Krishnamurthy 2007 Fig 8 style: throughput vs number of surfaces (16×16 samples "
@@ -617,7 +660,7 @@ ReportSection many_surfaces(const std::vector<ResultSet>& sets, const Labeller& 
 
 ReportSection accuracy_heatmap(const std::vector<ResultSet>& sets, const Labeller& label,
                                json& charts) {
-  const std::string run = "nurbsbench run --scenes all --strategies all --samples 64x64 --out DIR";
+  const std::string& run = chart_run("accuracy_heatmap");
   ReportSection s =
       section("accuracy_heatmap", "Accuracy: max_ulp per strategy and scene (worst over samplings)",
               run, sets);
@@ -667,9 +710,7 @@ ReportSection accuracy_heatmap(const std::vector<ResultSet>& sets, const Labelle
 
 ReportSection accuracy_vs_degree(const std::vector<ResultSet>& sets, const Labeller& label,
                                  json& charts) {
-  const std::string run =
-      "nurbsbench run --scenes degree-1,degree-2,degree-3,degree-4,degree-5,degree-6,degree-7,"
-      "degree-8,degree-9 --strategies all --samples 64x64 --out DIR";
+  const std::string& run = chart_run("accuracy_vs_degree");
   ReportSection s = section("accuracy_vs_degree",
                             "Accuracy: max_ulp vs degree (scenes degree-1 … degree-9)", run, sets);
   const auto rows = rows_where(sets, [](const Record& r) {
@@ -694,8 +735,7 @@ ReportSection accuracy_vs_degree(const std::vector<ResultSet>& sets, const Label
 
 ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller& label,
                              json& charts) {
-  const std::string run =
-      "nurbsbench run --scenes patch144 --strategies all --samples 256x256 --out DIR";
+  const std::string& run = chart_run("phases");
   ReportSection s =
       section("phases", "Phase breakdown: where the time goes (setup, upload, evaluate, read back)",
               run, sets);
@@ -727,9 +767,14 @@ ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller&
   // The command remakes the configuration shown, not the section's default one.
   const std::string sampling =
       samples.starts_with("span") ? "--span-samples " + samples.substr(4) : "--samples " + samples;
+  const json& settings = set->results.settings;
+  const std::string repetitions =
+      settings.is_object() && settings.contains("repetitions")
+          ? fmt::format(" --repetitions {}", settings["repetitions"].dump())
+          : "";
   show_rows(s, rows,
-            fmt::format("nurbsbench run --scenes {} --strategies all {} --precision {} --out DIR",
-                        scene, sampling, precision),
+            fmt::format("nurbsbench run --scenes {} --strategies all {} --precision {}{} --out DIR",
+                        scene, sampling, precision, repetitions),
             sets);
   std::set<std::string> extra;
   for (const Row& r : rows)
@@ -905,12 +950,17 @@ std::string report_number(double x) {
 ResultSet load_result_set(const fs::path& directory) {
   ResultSet set;
   set.directory = directory;
-  set.results = read_results(directory);
   const fs::path dir = fs::is_directory(directory) ? directory : directory.parent_path();
+  // `nurbsbench lod` writes lod.json alone, so its regenerate command (lod, then report on the
+  // same directory) must read a directory without results.json: a set with no records.
+  const bool lod_alone = fs::is_directory(directory) && !fs::exists(dir / "results.json") &&
+                         fs::exists(dir / "lod.json");
+  if (!lod_alone) set.results = read_results(directory);
   fs::path name = fs::weakly_canonical(dir).filename();
   set.tag = name.empty() ? dir.string() : name.string();
   set.lod = read_side_file(dir / "lod.json", "nurbsbench-lod/1");
   set.memory = read_side_file(dir / "memory.json", "nurbsbench-memory/1");
+  if (lod_alone) set.results.machine = set.lod->value("machine", json::object());
   return set;
 }
 
