@@ -39,7 +39,9 @@ out=${out:-results/$tag}
 mkdir -p "$out"
 echo "canonical: $out (CPU: ${cpu:-unknown}, $(nproc) threads)"
 
-# Per figure: scenes, samples, repetitions (tiny: the same scenes where cheap, tiny grids).
+# Per figure: scenes, samples, repetitions (tiny: the same scenes where cheap, tiny grids). The
+# full ones are the report's "regenerate" lines (chart_commands() in harness/report.cpp, checked
+# against the results they made by tests/cli/regenerate_test.cpp): change both together.
 if [ "$tiny" = 1 ]; then
   fig7=(patch144 4x4,16x16 1)
   fig14=(tan16 8x8 1)
@@ -53,7 +55,7 @@ else
   fig8=(many-1,many-4,many-16,many-64,many-256,many-1024,many-4096 16x16 3)
   accuracy=(default 64x64 3)
   deforming=(teapot,patch144,many-256 16x16 1)  # RPNS's scenes; frames below
-  lod=()                                         # the verb's defaults: 002 Fig 15's sizes
+  lod=(--samples 128x128,512x512,1024x1024)      # 002 Fig 15's sizes (the verb's defaults)
 fi
 
 run() {  # run <subdir> <scenes> <samples> <repetitions> [extra run options...]
