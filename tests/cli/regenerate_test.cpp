@@ -232,6 +232,13 @@ TEST_P(Regenerate, DeclaredCommandMadeTheCommittedData) {
           << word << ": " << command;
     }
   }
+  // The same values, but for where it wrote and the grid a section may pick (phases shows one;
+  // the grids are checked against the results below).
+  for (std::size_t i = 1; i + 1 < wanted.size(); ++i) {
+    if (wanted[i].starts_with("--") && wanted[i] != "--out" && wanted[i] != "--samples") {
+      EXPECT_EQ(option_value(words, wanted[i]), wanted[i + 1]) << wanted[i] << ": " << command;
+    }
+  }
   const fs::path out = fs::path(NURBSBENCH_SOURCE_DIR) / option_value(words, "--out");
   const std::vector<std::string> samples = split(option_value(words, "--samples"), ',');
   if (words[1] == "lod") {
