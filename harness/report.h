@@ -55,6 +55,18 @@ struct Report {
 
 Report build_report(const std::vector<ResultSet>& sets);
 
+// The command that makes a chart's data: the `nurbsbench` verb and options, DIR where it writes
+// (or a script of scripts/ that runs them and writes its own report, DIR/report).
+// One row per chart, in one table, so the report's "regenerate" lines, scripts/canonical.sh and
+// the test that runs every row (tests/cli/regenerate_test.cpp) cannot drift apart: a new chart adds
+// its row here and its section reads it back by id.
+struct ChartCommand {
+  std::string id;  // the chart's id (its section's id and file stem)
+  std::string
+      run;  // "nurbsbench run --scenes patch144 ... --out DIR", "scripts/x.sh ... --out DIR"
+};
+const std::vector<ChartCommand>& chart_commands();
+
 std::string report_markdown(const Report& report);
 std::string report_html(const Report& report);
 

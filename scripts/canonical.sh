@@ -39,7 +39,9 @@ out=${out:-results/$tag}
 mkdir -p "$out"
 echo "canonical: $out (CPU: ${cpu:-unknown}, $(nproc) threads)"
 
-# Per figure: scenes, samples, repetitions (tiny: the same scenes where cheap, tiny grids).
+# Per figure: scenes, samples, repetitions (tiny: the same scenes where cheap, tiny grids). The
+# full ones are the report's "regenerate" lines (chart_commands() in harness/report.cpp, checked
+# against the results they made by tests/cli/regenerate_test.cpp): change both together.
 if [ "$tiny" = 1 ]; then
   fig7=(patch144 4x4,16x16 1)
   fig14=(tan16 8x8 1)
@@ -56,7 +58,7 @@ else
   fig8_ducks=(many-ducks-1,many-ducks-2,many-ducks-4,many-ducks-8,many-ducks-16,many-ducks-32,many-ducks-64 16x16 5)
   accuracy=(default 64x64 3)
   deforming=(teapot,patch144,many-256 16x16 1)  # RPNS's scenes; frames below
-  lod=()                                         # the verb's defaults: 002 Fig 15's sizes
+  lod=(--samples 128x128,512x512,1024x1024)      # 002 Fig 15's sizes (the verb's defaults)
 fi
 
 run() {  # run <subdir> <scenes> <samples> <repetitions> [extra run options...]

@@ -1,6 +1,8 @@
 // The tooling verbs that read results: report (REPORT.md, index.html, charts), recommend,
 // gbench-json; and eval's error heat maps. Results are made by `nurbsbench run` on tiny grids or
 // written by hand (synthetic records with a known answer).
+#include "harness/report.h"
+
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -9,9 +11,11 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "harness/error_image.h"
@@ -134,7 +138,12 @@ TEST_F(CliReport, WritesTablesChartsAndHtmlListingEveryStrategy) {
   // Absent side data says what to run instead of failing.
   EXPECT_NE(md.find("no data in these results: run nurbsbench lod"), std::string::npos);
   EXPECT_NE(md.find("no data in these results: run nurbsbench memory"), std::string::npos);
-  EXPECT_NE(md.find("no data in these results: run nurbsbench run --deforming"), std::string::npos);
+  for (const ChartCommand& c : chart_commands()) {
+    if (c.id == "rpns_frame") {
+      EXPECT_NE(md.find("no data in these results: run " + c.run.substr(0, c.run.size() - 3)),
+                std::string::npos);
+    }
+  }
   const json charts = json::parse(read_text(fs::path(out) / "charts.json"));
   ASSERT_GE(charts["charts"].size(), 6u);
   if (matplotlib_present()) {
@@ -311,6 +320,97 @@ TEST_F(CliReport, BadInputIsExitTwoWithOneLineAndNoOutput) {
     expect_usage_error(run_cli({"report", "--results", dir, "--out", out}), cases[k].expect);
   }
   EXPECT_FALSE(fs::exists(out)) << "nothing may be written for bad input";
+}
+
+// ------------------------------------------------------------------------------ paper vs measured
+
+// patch144 records of `strategy` on `device`: evaluate medians at 16 points and at 4M points.
+std::vector<Record> fig7_records(const std::string& strategy, const DeviceInfo& device,
+                                 double small_s, double large_s) {
+  std::vector<Record> out;
+  for (const auto& [samples, points, s] :
+       {std::tuple{"4x4", 16, small_s}, std::tuple{"2048x2048", 2048 * 2048, large_s}}) {
+    Record r = synthetic(strategy, 1e6, 1);
+    r.device = device;
+    r.samples = samples;
+    r.points = static_cast<std::size_t>(points);
+    r.evaluate = {s, s, s};
+    out.push_back(r);
+  }
+  return out;
+}
+
+// The claims table of the report built from `records`: claim quote prefix -> row.
+std::map<std::string, std::vector<std::string>> claims_of(std::vector<Record> records) {
+  ResultSet set;
+  set.directory = "results/synthetic";
+  set.tag = "synthetic";
+  set.results.machine = json{{"cpu_model", "Test CPU"}};
+  set.results.records = std::move(records);
+  const Report report = build_report({set});
+  const auto s = std::find_if(report.sections.begin(), report.sections.end(),
+                              [](const ReportSection& x) { return x.id == "claims"; });
+  std::map<std::string, std::vector<std::string>> rows;
+  if (s == report.sections.end() || s->tables.empty()) {
+    ADD_FAILURE() << "no claims section";
+    return rows;
+  }
+  const auto& header = s->tables.front().header;
+  EXPECT_EQ(header[6], "holds?");
+  for (const auto& row : s->tables.front().rows) rows[row[1] + " " + row[2].substr(0, 20)] = row;
+  return rows;
+}
+const std::string kFig7Large = "Fig 7 The GPU-based evalua";
+const std::string kFig7Small = "Fig 7 the GPU evaluation h";
+
+TEST(ReportClaims, AGpuFiftyTimesFasterHoldsAndIsSlowerOnTheSmallestGrid) {
+  std::vector<Record> records =
+      fig7_records("cpu-coxdeboor", {"host CPU, 1 thread", "cpu", {}}, 1e-6, 0.5);
+  for (const Record& r : fig7_records("gl-pingpong", {"Test GPU", "gpu", {}}, 1e-3, 0.005))
+    records.push_back(r);
+  const auto rows = claims_of(records);
+  ASSERT_TRUE(rows.contains(kFig7Large));
+  EXPECT_EQ(rows.at(kFig7Large)[6], "holds");
+  EXPECT_NE(rows.at(kFig7Large)[5].find("= 100×"), std::string::npos) << rows.at(kFig7Large)[5];
+  EXPECT_EQ(rows.at(kFig7Large)[7], "");
+  EXPECT_NE(rows.at(kFig7Large)[8].find("--out results/synthetic &&"), std::string::npos);
+  EXPECT_EQ(rows.at(kFig7Small)[6], "holds");
+  EXPECT_NE(rows.at(kFig7Small)[5].find("= 1e+03×"), std::string::npos) << rows.at(kFig7Small)[5];
+  // Records the results lack: said, with the command that makes them.
+  const auto fig15 = rows.find("Fig 15 The figure shows tha");
+  ASSERT_NE(fig15, rows.end());
+  EXPECT_EQ(fig15->second[6], "not measured");
+  EXPECT_NE(fig15->second[8].find("nurbsbench lod"), std::string::npos);
+}
+
+TEST(ReportClaims, ACpuStandInSlowerThanTheCpuDoesNotHoldAndSaysWhyFromTheRecords) {
+  std::vector<Record> records =
+      fig7_records("cpu-coxdeboor", {"host CPU, 1 thread", "cpu", {}}, 1e-6, 0.1);
+  // llvmpipe: a software rasterizer, 3x slower at 4M points, with a 0.1 s cost at 16 points.
+  for (const Record& r : fig7_records("gl-pingpong", {"llvmpipe (LLVM 15)", "cpu", {}}, 0.1, 0.3))
+    records.push_back(r);
+  const auto rows = claims_of(records);
+  ASSERT_TRUE(rows.contains(kFig7Large));
+  const auto& row = rows.at(kFig7Large);
+  EXPECT_EQ(row[6], "does not hold");
+  EXPECT_NE(row[5].find("0.333× (3× the other way)"), std::string::npos) << row[5];
+  EXPECT_NE(row[7].find("llvmpipe (LLVM 15)"), std::string::npos) << row[7];
+  EXPECT_NE(row[7].find("device kind \"cpu\""), std::string::npos) << row[7];
+  EXPECT_NE(row[7].find("fixed cost per evaluation"), std::string::npos) << row[7];
+  EXPECT_NE(row[7].find("33%"), std::string::npos) << row[7];
+}
+
+TEST(ReportClaims, CpuSidesOnDifferentThreadCountsAreQualified) {
+  std::vector<Record> records =
+      fig7_records("cpu-coxdeboor", {"host CPU, 1 thread", "cpu", {}}, 1e-6, 0.2);
+  for (const Record& r :
+       fig7_records("cpu-tensor", {"host CPU, 2 threads (OpenMP)", "cpu", {}}, 1e-6, 0.01))
+    records.push_back(r);
+  const auto rows = claims_of(records);
+  const auto macri = rows.find("no figure (Tessellation; Optimizations) To speed up the calc");
+  ASSERT_NE(macri, rows.end());
+  EXPECT_EQ(macri->second[6], "holds");
+  EXPECT_NE(macri->second[7].find("different devices"), std::string::npos) << macri->second[7];
 }
 
 // ---------------------------------------------------------------------------------- recommend
