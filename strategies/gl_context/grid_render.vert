@@ -19,6 +19,7 @@ uniform int trimmed;
 uniform sampler2D parameters;
 uniform ivec2 first_sample;  // (first u, first v) of this grid in the sample table
 out vec2 trim_uv;
+out vec3 clip_position;  // for the fragment stage's facet normal
 
 void main() {
   int k = gl_VertexID;
@@ -32,4 +33,5 @@ void main() {
     trim_uv = vec2(texelFetch(parameters, ivec2(first_sample.x + a, 0), 0).g,
                    texelFetch(parameters, ivec2(first_sample.y + b, 1), 0).g);
   gl_Position = mvp * vec4(position, 1.0);
+  clip_position = gl_Position.xyz / gl_Position.w;
 }

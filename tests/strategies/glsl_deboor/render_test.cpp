@@ -40,7 +40,8 @@ TEST(GlslDeBoorRender, SphereSilhouetteWithoutReadBack) {
   for (int y = 0; y < 128; ++y)
     for (int x = 0; x < 128; ++x) {
       const double d = std::hypot(x + 0.5 - centre, y + 0.5 - centre);
-      const bool covered = fetched[(static_cast<std::size_t>(y) * 128 + x) * 4] == 255;
+      const bool covered =
+          fetched[(static_cast<std::size_t>(y) * 128 + x) * 4 + 3] == 255;  // alpha
       if (d < radius - 1.5) {
         ++inside;
         EXPECT_TRUE(covered) << "pixel " << x << "," << y << " inside the disc";
