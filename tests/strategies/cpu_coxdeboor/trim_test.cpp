@@ -12,6 +12,7 @@ namespace nurbs {
 namespace {
 
 using test::trimmed_plate_signed_distance;
+using test::expect_mask_is_the_closed_form;
 
 std::unique_ptr<Strategy> coxdeboor() {
   return find_strategy("cpu-coxdeboor")->create({});
@@ -36,14 +37,7 @@ TEST(CpuCoxDeBoorTrim, MaskIsTheFacesClosedForm) {
     const SurfaceResult& r = result.surfaces[0];
     ASSERT_EQ(r.inside.size(), r.samples.count());
     EXPECT_TRUE(result.surfaces[1].inside.empty());
-    std::size_t inside = 0, checked = 0;
-    for (std::size_t k = 0; k < r.samples.count(); ++k) {
-      const double d = trimmed_plate_signed_distance(shape, r.samples.u_of(k), r.samples.v_of(k));
-      if (std::abs(d) < 1e-9) continue;  // on the boundary: either answer is exact enough
-      ++checked;
-      inside += r.inside[k];
-      EXPECT_EQ(r.inside[k], d < 0 ? 1 : 0) << r.samples.u_of(k) << "," << r.samples.v_of(k);
-    }
+    const auto [inside, checked] = expect_mask_is_the_closed_form(shape, r.samples, r.inside);
     EXPECT_GT(checked, 64u * 47 - 10);
     // About the closed-form area's share of the samples: the mask is not all one answer.
     EXPECT_NEAR(static_cast<double>(inside) / checked, shape.inside_area(), 0.05);

@@ -84,15 +84,8 @@ TEST(CpuTensorTrim, MaskIsTheFacesClosedForm) {
       const SurfaceResult& r = result.surfaces[0];
       ASSERT_EQ(r.inside.size(), r.samples.count());
       EXPECT_TRUE(result.surfaces[1].inside.empty());
-      std::size_t inside = 0, checked = 0;
-      for (std::size_t k = 0; k < r.samples.count(); ++k) {
-        const double d = trimmed_plate_signed_distance(shape, r.samples.u_of(k), r.samples.v_of(k));
-        if (std::abs(d) < 1e-9) continue;  // on the boundary: either answer is exact enough
-        ++checked;
-        inside += r.inside[k];
-        ASSERT_EQ(r.inside[k], d < 0 ? 1 : 0)
-            << sampling.label() << " " << r.samples.u_of(k) << "," << r.samples.v_of(k);
-      }
+      SCOPED_TRACE(sampling.label());
+      const auto [inside, checked] = expect_mask_is_the_closed_form(shape, r.samples, r.inside);
       EXPECT_GT(checked, r.samples.count() * 9 / 10);
       // A uniform grid's inside share is about the face's area: the mask is not one answer.
       if (sampling.mode == SamplingMode::grid) {
