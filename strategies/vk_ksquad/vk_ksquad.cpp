@@ -45,20 +45,18 @@
 #include "strategies/ksquad/ksquad_table.h"
 #include "strategies/strategy_options.h"
 #include "strategies/trim_direct/trim_tables.h"
+#include "strategies/vk_ksquad/ksquad_pipeline.h"
+#include "strategies/vk_ksquad/ksquad_settings.h"
 #include "strategies/vk_ksquad/patches.h"
 #include "strategies/vk_ksquad/vk_ksquad_strategy.h"
 #include "strategies/vulkan/vk_device.h"
 #include "strategies/vulkan/vk_trim_classify.h"
 
-namespace nurbs::embedded {
-extern const std::string_view vk_ksquad_vert;
-extern const std::string_view vk_ksquad_tesc;
-extern const std::string_view vk_ksquad_tese;
-extern const std::string_view vk_ksquad_frag;
-}  // namespace nurbs::embedded
-
 namespace nurbs {
 namespace {
+
+using vk_ksquad::ksquad_settings;
+using vk_ksquad::KsquadSettings;
 
 constexpr int kSurfaceInts = 16;                    // ksquad_tables.glsl: SURFACE_INTS
 constexpr int kPatchInts = 20;                      // ksquad_tables.glsl: PATCH_INTS
@@ -82,115 +80,6 @@ struct ModeConstants {
 };
 static_assert(sizeof(ModeConstants) == 96);
 
-std::vector<double> option_numbers(const StrategyOptions& options, const std::string& key,
-                                   std::size_t count, char separator) {
-  const auto it = options.extra.find(key);
-  if (it == options.extra.end() || it->second.empty()) return {};
-  std::vector<double> values;
-  std::size_t start = 0;
-  const std::string& text = it->second;
-  while (start <= text.size()) {
-    const std::size_t end = std::min(text.find(separator, start), text.size());
-    const std::string item = text.substr(start, end - start);
-    std::size_t used = 0;
-    double value = 0;
-    try {
-      value = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !std::isfinite(value))
-      throw std::invalid_argument(
-          fmt::format("vk-ksquad option {} = '{}': expected {} numbers", key, text, count));
-    values.push_back(value);
-    start = end + 1;
-  }
-  if (values.size() != count)
-    throw std::invalid_argument(
-        fmt::format("vk-ksquad option {} = '{}': expected {} numbers", key, text, count));
-  return values;
-}
-
-// Column-major perspective(fov_y) * look_at(eye, center, up = +z, or +y when looking along z).
-std::array<float, 16> view_projection(const std::array<double, 3>& eye,
-                                      const std::array<double, 3>& center, double fov_y_deg,
-                                      double aspect, double near, double far) {
-  using V = std::array<double, 3>;
-  const auto sub = [](V a, V b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
-  const auto cross = [](V a, V b) {
-    return V{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  };
-  const auto dot = [](V a, V b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-  const auto unit = [&](V a) {
-    const double n = std::sqrt(dot(a, a));
-    return V{a[0] / n, a[1] / n, a[2] / n};
-  };
-  const V f = unit(sub(center, eye));
-  const V up = std::abs(f[2]) > 0.99 ? V{0, 1, 0} : V{0, 0, 1};
-  const V r = unit(cross(f, up));
-  const V u = cross(r, f);
-  const double t = 1.0 / std::tan(fov_y_deg * M_PI / 360.0);
-  // Vulkan depth in [0, 1] between near and far (render() only)
-  const double a = far / (far - near), b = -far * near / (far - near);
-  // rows of the product (w = distance along f; x, y, w are all the adaptive test uses)
-  const double rows[4][4] = {
-      {t / aspect * r[0], t / aspect * r[1], t / aspect * r[2], -t / aspect * dot(r, eye)},
-      {t * u[0], t * u[1], t * u[2], -t * dot(u, eye)},
-      {a * f[0], a * f[1], a * f[2], -a * dot(f, eye) + b},
-      {f[0], f[1], f[2], -dot(f, eye)}};
-  std::array<float, 16> m{};
-  for (int c = 0; c < 4; ++c)
-    for (int k = 0; k < 4; ++k) m[4 * c + k] = static_cast<float>(rows[k][c]);
-  return m;
-}
-
-// Patches per vkCmdDraw, bounded by the vertices the tessellator makes for them. Not in the
-// paper, which draws each KSQuad set at once: on lavapipe (Mesa 22.3) one draw's cost grows with
-// the square of its vertex count -- perf puts the time in a loop of libvulkan_lvp.so that stores
-// 0xffff into a 16-bit field of every vertex (by its shape, the draw module resetting vertex ids
-// at each internal flush), and patch144 at 2048x2048 (4M vertices) in one draw took minutes per
-// evaluation. Bounded draws keep it linear; on a GPU they are a handful of
-// draw calls more. Measured on lavapipe, patch144 at 1024x1024: 14 s per evaluation in one draw,
-// 1.2 s with 1024 to 16384 vertices per draw, 2.9 s with 262144.
-constexpr std::uint64_t kDefaultVerticesPerDraw = 16384;
-
-// Settings (StrategyOptions.extra). Adaptive mode: vk-mode = uniform|adaptive, vk-eye and
-// vk-center = "x,y,z" (default: the scene's bounding sphere seen from (1, 0.8, 0.6) at 2.5
-// radii), vk-fov = degrees (45), vk-viewport = "WxH" (1024x768), vk-mu = pixels (4),
-// vk-max-level = N (the device's maxTessellationGenerationLevel). Both modes:
-// vk-vertices-per-draw = N (kDefaultVerticesPerDraw; 0 = one draw per degree pair).
-struct KsquadSettings {
-  bool adaptive = false;
-  std::vector<double> eye, center, viewport;
-  double fov = 45, mu = 4;
-  int max_level = 0;
-  std::uint64_t vertices_per_draw = kDefaultVerticesPerDraw;
-};
-
-KsquadSettings ksquad_settings(const StrategyOptions& options) {
-  KsquadSettings a;
-  if (auto it = options.extra.find("vk-mode"); it != options.extra.end() && !it->second.empty()) {
-    if (it->second != "uniform" && it->second != "adaptive")
-      throw std::invalid_argument("vk-ksquad option vk-mode = '" + it->second +
-                                  "': must be uniform or adaptive");
-    a.adaptive = it->second == "adaptive";
-  }
-  a.eye = option_numbers(options, "vk-eye", 3, ',');
-  a.center = option_numbers(options, "vk-center", 3, ',');
-  a.viewport = option_numbers(options, "vk-viewport", 2, 'x');
-  if (a.viewport.empty()) a.viewport = {1024, 768};
-  if (auto fov = option_numbers(options, "vk-fov", 1, ','); !fov.empty()) a.fov = fov[0];
-  if (auto mu = option_numbers(options, "vk-mu", 1, ','); !mu.empty()) a.mu = mu[0];
-  if (a.mu <= 0 || a.fov <= 0 || a.fov >= 180 || a.viewport[0] < 1 || a.viewport[1] < 1)
-    throw std::invalid_argument("vk-ksquad: vk-mu, vk-fov and vk-viewport must be positive");
-  a.max_level = positive_option(options, "vk-max-level", "vk-ksquad");
-  if (auto it = options.extra.find("vk-vertices-per-draw"); it != options.extra.end())
-    a.vertices_per_draw = it->second == "0" ? 0
-                                            : static_cast<std::uint64_t>(positive_option(
-                                                  options, "vk-vertices-per-draw", "vk-ksquad"));
-  return a;
-}
-constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 constexpr VkShaderStageFlags kModeStages =
     VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT;
 constexpr VkQueryPipelineStatisticFlags kStatistics =
@@ -244,8 +133,6 @@ class VkKsquad final : public Strategy {
     const VkDevice d = device_.handle();
     for (const auto& pipelines : {capture_pipelines_, raster_pipelines_})
       for (const auto& [degrees, pipeline] : pipelines) vkDestroyPipeline(d, pipeline, nullptr);
-    if (raster_framebuffer_) vkDestroyFramebuffer(d, raster_framebuffer_, nullptr);
-    if (raster_pass_) vkDestroyRenderPass(d, raster_pass_, nullptr);
     if (framebuffer_) vkDestroyFramebuffer(d, framebuffer_, nullptr);
     if (render_pass_) vkDestroyRenderPass(d, render_pass_, nullptr);
     if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
@@ -369,7 +256,8 @@ class VkKsquad final : public Strategy {
   // camera of the adaptive settings; fitted to the scene by default), positions never stored.
   // Returns when the device is done; the runner times it as the `render` phase.
   bool render() override {
-    if (!raster_pass_) create_raster_target();
+    if (!raster_)
+      raster_ = std::make_unique<vk_ksquad::RasterTarget>(device_, image_width(), image_height());
     for (const Draw& draw : draws_) pipeline_for(raster_pipelines_, true, draw);
     device_.submit_and_wait([&](VkCommandBuffer cb) {
       VkClearValue clear[2] = {};
@@ -377,8 +265,8 @@ class VkKsquad final : public Strategy {
       clear[1].depthStencil = {1.0f, 0};
       VkRenderPassBeginInfo begin{};
       begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
-      begin.renderPass = raster_pass_;
-      begin.framebuffer = raster_framebuffer_;
+      begin.renderPass = raster_->pass();
+      begin.framebuffer = raster_->framebuffer();
       begin.renderArea.extent = {image_width(), image_height()};
       begin.clearValueCount = 2;
       begin.pClearValues = clear;
@@ -401,26 +289,9 @@ class VkKsquad final : public Strategy {
   }
 
   std::optional<RenderedImage> last_render() override { return read_image(); }
-
-  // The colour image of the last render(). Row 0 of a Vulkan framebuffer is its top row, so the
-  // rows are already top to bottom (the camera is vk-ksquad's: clip-space +y is down in Vulkan).
   std::optional<RenderedImage> read_image() const {
-    if (!color_) return std::nullopt;
-    const std::size_t pixels = std::size_t{image_width()} * image_height();
-    vulkan::Buffer staging(device_, pixels * 4, 0, "rendered image");
-    device_.submit_and_wait([&](VkCommandBuffer cb) {
-      VkBufferImageCopy region{};
-      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-      region.imageExtent = {image_width(), image_height(), 1};
-      vkCmdCopyImageToBuffer(cb, color_->handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                             staging.handle(), 1, &region);
-    });
-    RenderedImage image;
-    image.width = static_cast<int>(image_width());
-    image.height = static_cast<int>(image_height());
-    image.rgba.resize(pixels * 4);
-    staging.read(image.rgba.data(), pixels * 4);
-    return image;
+    if (!raster_) return std::nullopt;
+    return raster_->read();
   }
 
   // Adaptive mode: the levels the control stage chose, read back from its storage buffer.
@@ -542,31 +413,7 @@ class VkKsquad final : public Strategy {
     mode_.mu = static_cast<float>(settings_.mu);
     mode_.viewport[0] = static_cast<float>(settings_.viewport[0]);
     mode_.viewport[1] = static_cast<float>(settings_.viewport[1]);
-    std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (const Surface& s : scene.surfaces)
-      for (const auto& p : s.points)
-        for (int c = 0; c < 3; ++c) {
-          lo[c] = std::min(lo[c], p[c]);
-          hi[c] = std::max(hi[c], p[c]);
-        }
-    std::array<double, 3> center{}, eye{};
-    const double radius =
-        0.5 * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    const double dir[3] = {1 / std::sqrt(2.0), 0.8 / std::sqrt(2.0), 0.6 / std::sqrt(2.0)};
-    for (int c = 0; c < 3; ++c) {
-      center[c] = settings_.center.empty() ? 0.5 * (lo[c] + hi[c]) : settings_.center[c];
-      eye[c] = settings_.eye.empty() ? center[c] + 2.5 * std::max(radius, 1e-30) * dir[c]
-                                     : settings_.eye[c];
-    }
-    double distance = 0;
-    for (int c = 0; c < 3; ++c)
-      distance += (eye[c] - 0.5 * (lo[c] + hi[c])) * (eye[c] - 0.5 * (lo[c] + hi[c]));
-    distance = std::sqrt(distance);
-    const double far = distance + 1.5 * radius + 1e-30;
-    const double near = std::max(distance - 1.5 * radius, 1e-4 * far);
-    const auto m = view_projection(eye, center, settings_.fov,
-                                   settings_.viewport[0] / settings_.viewport[1], near, far);
+    const auto m = vk_ksquad::scene_camera(scene, settings_);
     std::copy(m.begin(), m.end(), mode_.view_projection);
   }
 
@@ -810,7 +657,9 @@ class VkKsquad final : public Strategy {
   VkPipeline pipeline_for(Pipelines& pipelines, bool raster, const Draw& draw) {
     auto& pipeline = pipelines[{draw.du, draw.dv}];
     if (!pipeline)
-      pipeline = make_pipeline(raster, raster ? raster_pass_ : render_pass_, draw.du, draw.dv);
+      pipeline = vk_ksquad::make_pipeline(device_, layout_, raster,
+                                          raster ? raster_->pass() : render_pass_, draw.du, draw.dv,
+                                          image_width(), image_height());
     return pipeline;
   }
 
@@ -826,155 +675,8 @@ class VkKsquad final : public Strategy {
     }
   }
 
-  // Capture (rasterization discarded) or raster (the evaluation stage's kRaster = 1, a fragment
-  // stage, depth test, the viewport of the adaptive settings).
-  VkPipeline make_pipeline(bool raster, VkRenderPass pass, int du, int dv) const {
-    const VkDevice d = device_.handle();
-    struct Modules {
-      VkDevice d;
-      VkShaderModule m[4];
-      ~Modules() {
-        for (VkShaderModule x : m)
-          if (x) vkDestroyShaderModule(d, x, nullptr);
-      }
-    } modules{d,
-              {device_.shader_module(embedded::vk_ksquad_vert),
-               device_.shader_module(embedded::vk_ksquad_tesc),
-               device_.shader_module(embedded::vk_ksquad_tese),
-               raster ? device_.shader_module(embedded::vk_ksquad_frag) : VK_NULL_HANDLE}};
-    const VkShaderStageFlagBits stage_bits[4] = {
-        VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
-        VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, VK_SHADER_STAGE_FRAGMENT_BIT};
-    // ksquad.tese: kRaster, kDegreeU, kDegreeV
-    const std::int32_t constants[3] = {raster ? 1 : 0, du, dv};
-    const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
-    VkSpecializationInfo specialization{};
-    specialization.mapEntryCount = 3;
-    specialization.pMapEntries = entries;
-    specialization.dataSize = sizeof constants;
-    specialization.pData = constants;
-    std::array<VkPipelineShaderStageCreateInfo, 4> stages{};
-    for (int k = 0; k < 4; ++k) {
-      stages[k] = {};
-      stages[k].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-      stages[k].stage = stage_bits[k];
-      stages[k].module = modules.m[k];
-      stages[k].pName = "main";
-    }
-    stages[2].pSpecializationInfo = &specialization;
-    VkPipelineVertexInputStateCreateInfo vertex_input{};
-    vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
-    VkPipelineInputAssemblyStateCreateInfo assembly{};
-    assembly.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO;
-    assembly.topology = VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
-    VkPipelineTessellationStateCreateInfo tessellation{};
-    tessellation.sType = VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO;
-    tessellation.patchControlPoints = 1;
-    VkPipelineRasterizationStateCreateInfo rasterization{};
-    rasterization.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
-    rasterization.rasterizerDiscardEnable = raster ? VK_FALSE : VK_TRUE;
-    rasterization.polygonMode = VK_POLYGON_MODE_FILL;
-    rasterization.cullMode = VK_CULL_MODE_NONE;
-    rasterization.lineWidth = 1.0f;
-    const VkViewport viewport{
-        0, 0, static_cast<float>(image_width()), static_cast<float>(image_height()), 0, 1};
-    const VkRect2D scissor{{0, 0}, {image_width(), image_height()}};
-    VkPipelineViewportStateCreateInfo viewport_state{};
-    viewport_state.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO;
-    viewport_state.viewportCount = 1;
-    viewport_state.pViewports = &viewport;
-    viewport_state.scissorCount = 1;
-    viewport_state.pScissors = &scissor;
-    VkPipelineMultisampleStateCreateInfo multisample{};
-    multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo depth{};
-    depth.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO;
-    depth.depthTestEnable = VK_TRUE;
-    depth.depthWriteEnable = VK_TRUE;
-    depth.depthCompareOp = VK_COMPARE_OP_LESS;
-    VkPipelineColorBlendAttachmentState blend_attachment{};
-    blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                      VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo blend{};
-    blend.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO;
-    blend.attachmentCount = 1;
-    blend.pAttachments = &blend_attachment;
-    VkGraphicsPipelineCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO;
-    info.stageCount = raster ? 4 : 3;
-    info.pStages = stages.data();
-    info.pVertexInputState = &vertex_input;
-    info.pInputAssemblyState = &assembly;
-    info.pTessellationState = &tessellation;
-    info.pRasterizationState = &rasterization;
-    if (raster) {
-      info.pViewportState = &viewport_state;
-      info.pMultisampleState = &multisample;
-      info.pDepthStencilState = &depth;
-      info.pColorBlendState = &blend;
-    }
-    info.layout = layout_;
-    info.renderPass = pass;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    vulkan::check(vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
-                  "vkCreateGraphicsPipelines");
-    return pipeline;
-  }
-
   std::uint32_t image_width() const { return static_cast<std::uint32_t>(settings_.viewport[0]); }
   std::uint32_t image_height() const { return static_cast<std::uint32_t>(settings_.viewport[1]); }
-
-  // The render target of render(), made on its first call: RGBA8 colour (copied out by tests),
-  // 32-bit depth, a render pass clearing both, and the raster pipeline.
-  void create_raster_target() {
-    const VkDevice d = device_.handle();
-    color_ = std::make_unique<vulkan::Image>(
-        device_, kColorFormat,
-        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-        VK_IMAGE_ASPECT_COLOR_BIT, image_width(), image_height());
-    depth_ = std::make_unique<vulkan::Image>(
-        device_, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-        VK_IMAGE_ASPECT_DEPTH_BIT, image_width(), image_height());
-    VkAttachmentDescription attachments[2] = {};
-    attachments[0].format = kColorFormat;
-    attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
-    attachments[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    attachments[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    attachments[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-    attachments[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    attachments[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    attachments[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-    attachments[1] = attachments[0];
-    attachments[1].format = VK_FORMAT_D32_SFLOAT;
-    attachments[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    attachments[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-    const VkAttachmentReference color_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-    const VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-    VkSubpassDescription subpass{};
-    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    subpass.colorAttachmentCount = 1;
-    subpass.pColorAttachments = &color_ref;
-    subpass.pDepthStencilAttachment = &depth_ref;
-    VkRenderPassCreateInfo rp{};
-    rp.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
-    rp.attachmentCount = 2;
-    rp.pAttachments = attachments;
-    rp.subpassCount = 1;
-    rp.pSubpasses = &subpass;
-    vulkan::check(vkCreateRenderPass(d, &rp, nullptr, &raster_pass_), "vkCreateRenderPass");
-    const VkImageView views[2] = {color_->view(), depth_->view()};
-    VkFramebufferCreateInfo fb{};
-    fb.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
-    fb.renderPass = raster_pass_;
-    fb.attachmentCount = 2;
-    fb.pAttachments = views;
-    fb.width = image_width();
-    fb.height = image_height();
-    fb.layers = 1;
-    vulkan::check(vkCreateFramebuffer(d, &fb, nullptr, &raster_framebuffer_),
-                  "vkCreateFramebuffer");
-  }
 
   vulkan::Device device_;
   vulkan::QueryPools queries_;
@@ -988,9 +690,7 @@ class VkKsquad final : public Strategy {
   VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
   Pipelines capture_pipelines_, raster_pipelines_;  // created once per degree pair, kept
   std::vector<Draw> draws_;
-  std::unique_ptr<vulkan::Image> color_, depth_;
-  VkRenderPass raster_pass_ = VK_NULL_HANDLE;
-  VkFramebuffer raster_framebuffer_ = VK_NULL_HANDLE;
+  std::unique_ptr<vk_ksquad::RasterTarget> raster_;  // made on render()'s first call
 
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;
