@@ -6,7 +6,8 @@
 // outer[1] the edge v = 0 and outer[3] the edge v = 1 (along u); inner[0] along u, inner[1]
 // along v.
 //  * uniform: each edge level is the segment count of that edge's own run of samples (Info-KSQuad
-//    table), so two patches sharing an edge choose the same level.
+//    table; the run's piece where it was cut), so two patches sharing an edge choose the same
+//    level.
 //  * adaptive: 003 §3.1's local-area-average test, eq. (3) dist(p(S(corner)), p(S(corner'))) / tau
 //    < mu, read per edge: the edge's level tau is the smallest integer with projected length /
 //    tau < mu pixels. The paper applies the test to the KSQuad's corner pairs without saying how
@@ -16,6 +17,7 @@
 //    levels are the larger of the two opposite edges' (at least 2, so interior vertices sit on
 //    the inner lattice even when both edges are 1).
 layout(vertices = 1) out;
+layout(constant_id = 0) const int kRaster = 0;  // the render() pipeline (as in ksquad.tese)
 #include "ksquad_tables.glsl"
 
 vec2 project(int corner) {
@@ -36,7 +38,10 @@ void main() {
   const int row = PATCH * PATCH_INTS;
   float outer[4];
   if (mode.adaptive == 0) {
-    const float level_u = float(patches[row + 9]), level_v = float(patches[row + 10]);
+    // A run without samples (a grid coarser than the knots) is level 0 (the patch is discarded)
+    // when capturing; drawn, its KSQuad still covers its span, as one segment.
+    const float level_u = max(float(patches[row + 9]), float(kRaster)),
+                level_v = max(float(patches[row + 10]), float(kRaster));
     outer = float[4](level_v, level_u, level_v, level_u);
     gl_TessLevelInner[0] = level_u;
     gl_TessLevelInner[1] = level_v;

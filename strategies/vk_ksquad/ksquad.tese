@@ -2,17 +2,25 @@
 #extension GL_GOOGLE_include_directive : require
 // Evaluation stage (003 §4's domain shader): evaluates the KSQuad at the tessellator's vertex
 // with the stair basis and writes the result to a storage buffer.
-//  * uniform: the tessellator's coordinate picks the lattice vertex (a, b) of the patch's runs;
-//    the parameter is the requested one, read from the parameter buffer (the float rounding of
-//    what sample_parameters lists), so results are measured at exactly the requested (u, v). The
-//    slot depends only on (a, b): a vertex evaluated twice writes the same value to the same
-//    place.
-//  * adaptive: (u, v) = the KSQuad's span corners blended by gl_TessCoord ((1 - t) x_i + t x_i+1,
-//    exact at t = 0 and 1, so both sides of a knot line see the same parameter), captured with
-//    (u, v) in the patch's region of slots: one per vertex of each outer edge, then the inner
-//    lattice; a slot again depends only on the vertex.
-//  * raster (specialization constant 0 = 1; the render() path, 003 §4's pipeline end to end): the
-//    same evaluation, the position projected to gl_Position and rasterized; nothing is stored.
+//  * uniform (003 §4's uniform mapping): the levels are the segment counts of the patch's runs
+//    (ksquad.tesc), and the slot of a vertex is its lattice index (a, b), so a vertex evaluated
+//    twice writes the same value to the same place. The parameter:
+//     - span grid: the tessellator chooses it: span_parameter() of gl_TessCoord over the patch's
+//       share of its KSQuad's spans (the whole span unless the run was cut), written with the
+//       position and returned as the sample (vk_ksquad.cpp read_back);
+//     - grid (our choice; 003 draws only the tessellator's own lattices): a regular grid of the
+//       domain is not equally spaced from each knot, so no tessellator lattice of a KSQuad holds
+//       its samples. gl_TessCoord picks the lattice vertex (a, b) of the patch's runs and the
+//       parameter is the requested one (the float rounding of sample_parameters), so results
+//       are measured at exactly the requested (u, v).
+//  * adaptive: (u, v) = span_parameter() of gl_TessCoord over the KSQuad, captured with (u, v) in
+//    the patch's region of slots: one per vertex of each outer edge, then the inner lattice; a
+//    slot again depends only on the vertex.
+//  * raster (specialization constant 0 = 1; the render() path, 003 §4's pipeline end to end): in
+//    every mode the parameter is span_parameter() of gl_TessCoord, so every patch spans its share
+//    of its KSQuad up to the knot lines and neighbours share their boundary vertices (a grid's
+//    samples stop short of the knots: rendering them left a gap along every knot line); the
+//    position is projected to gl_Position and rasterized; nothing is stored.
 layout(quads, equal_spacing, ccw) in;
 layout(constant_id = 0) const int kRaster = 0;
 // One pipeline per degree pair of the scene (patches are drawn grouped by it): the degrees as
@@ -27,6 +35,15 @@ layout(constant_id = 2) const int kDegreeV = 0;
 // Raster: the fragment stage's trim test (ksquad.frag) classifies the interpolated (u, v).
 layout(location = 0) out vec2 trim_uv;
 layout(location = 1) flat out int trim_surface;
+
+// The parameter the tessellator's coordinate t gives in the patch's share [lo, hi] of its knot
+// span [x_i, x_i+1] (C_KNOT(c, p - 1) = x_i, C_KNOT(c, p) = x_i+1: StairConstants::knots). Both
+// blends are exact at t = 0 and 1 (and lo, hi are the same floats on both sides of a piece
+// boundary), so the patches meeting on a knot line or a cut evaluate the same parameter there.
+float span_parameter(int c, int p, float lo, float hi, float t) {
+  const float f = (1.0 - t) * lo + t * hi;
+  return (1.0 - f) * C_KNOT(c, p - 1) + f * C_KNOT(c, p);
+}
 
 bool normalize_if_resolved(vec3 n, vec3 a, vec3 b, out vec3 unit) {
   // reference/nurbs_math.h detail::normalize_if_resolved with float's epsilon
@@ -104,7 +121,6 @@ void main() {
   const int span_u = patches[row + 1], span_v = patches[row + 2];
   const int cu = patches[row + 3], cv = patches[row + 4];
   const int pu = DEGREE_U(s), pv = DEGREE_V(s), count_v = surfaces[s + 3];
-  float u, v;
   int a = 0, b = 0;
   if (mode.adaptive == 0) {
     const int u_begin = patches[row + 5], u_count = patches[row + 6];
@@ -114,12 +130,16 @@ void main() {
     // level raised from 1 to 2 by the tessellator lands on a vertex already there.
     a = u_begin + min(int(round(gl_TessCoord.x * float(level_u))), u_count - 1);
     b = v_begin + min(int(round(gl_TessCoord.y * float(level_v))), v_count - 1);
+  }
+  float u, v;
+  if (kRaster != 0 || mode.adaptive != 0 || mode.span_grid != 0) {
+    u = span_parameter(cu, pu, intBitsToFloat(patches[row + 20]), intBitsToFloat(patches[row + 21]),
+                       gl_TessCoord.x);
+    v = span_parameter(cv, pv, intBitsToFloat(patches[row + 22]), intBitsToFloat(patches[row + 23]),
+                       gl_TessCoord.y);
+  } else {
     u = params[surfaces[s + 5] + a];
     v = params[surfaces[s + 6] + b];
-  } else {
-    // C_KNOT(c, p - 1) = x_i, C_KNOT(c, p) = x_{i+1} (StairConstants::knots)
-    u = (1.0 - gl_TessCoord.x) * C_KNOT(cu, pu - 1) + gl_TessCoord.x * C_KNOT(cu, pu);
-    v = (1.0 - gl_TessCoord.y) * C_KNOT(cv, pv - 1) + gl_TessCoord.y * C_KNOT(cv, pv);
   }
   float bu[MAX_ORDER], bv[MAX_ORDER];
   stair_basis(cu, pu, u, bu, pu);
@@ -146,10 +166,14 @@ void main() {
     trim_uv = vec2(u, v);
     trim_surface = patches[row];
   } else if (mode.adaptive == 0) {
-    const int o = 3 * (surfaces[s + 8] + a * surfaces[s + 7] + b);
-    positions[o] = position.x;
-    positions[o + 1] = position.y;
-    positions[o + 2] = position.z;
+    const int slot = surfaces[s + 8] + a * surfaces[s + 7] + b;
+    positions[3 * slot] = position.x;
+    positions[3 * slot + 1] = position.y;
+    positions[3 * slot + 2] = position.z;
+    if (mode.span_grid != 0) {
+      sample_params[2 * slot] = u;
+      sample_params[2 * slot + 1] = v;
+    }
   } else {
     const int o = SLOT_FLOATS * (PATCH * mode.region + adaptive_slot());
     positions[o] = u;

@@ -47,6 +47,7 @@ VkPipeline make_pipeline(const vulkan::Device& device, VkPipelineLayout layout, 
     stages[k].module = modules.m[k];
     stages[k].pName = "main";
   }
+  stages[1].pSpecializationInfo = &specialization;  // ksquad.tesc: kRaster only
   stages[2].pSpecializationInfo = &specialization;
   VkPipelineVertexInputStateCreateInfo vertex_input{};
   vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;

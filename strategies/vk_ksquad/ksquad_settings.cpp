@@ -66,7 +66,9 @@ std::array<float, 16> view_projection(const std::array<double, 3>& eye,
   // rows of the product (w = distance along f; x, y, w are all the adaptive test uses)
   const double rows[4][4] = {
       {t / aspect * r[0], t / aspect * r[1], t / aspect * r[2], -t / aspect * dot(r, eye)},
-      {t * u[0], t * u[1], t * u[2], -t * dot(u, eye)},
+      // y flipped: Vulkan's clip-space +y points down the framebuffer, so without the flip
+      // world-up lands at the bottom of render()'s image
+      {-t * u[0], -t * u[1], -t * u[2], t * dot(u, eye)},
       {a * f[0], a * f[1], a * f[2], -a * dot(f, eye) + b},
       {f[0], f[1], f[2], -dot(f, eye)}};
   std::array<float, 16> m{};

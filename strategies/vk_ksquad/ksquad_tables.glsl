@@ -13,6 +13,9 @@ layout(std430, set = 0, binding = 6) readonly buffer Corners { vec4 corners[]; }
 layout(std430, set = 0, binding = 7) writeonly buffer Levels { float levels[]; };
 // Uniform mode with normals: one unit normal per sample, in the order of `positions`.
 layout(std430, set = 0, binding = 8) writeonly buffer Normals { float normals[]; };
+// Uniform span grid: the (u, v) the tessellator's coordinate gave each sample, in the order of
+// `positions` (the tessellator chooses the samples; vk_ksquad.cpp returns them).
+layout(std430, set = 0, binding = 12) writeonly buffer SampleParams { float sample_params[]; };
 
 layout(push_constant) uniform Mode {
   mat4 view_projection;  // adaptive: world -> clip (column-major)
@@ -23,6 +26,7 @@ layout(push_constant) uniform Mode {
   int region;            // adaptive: capture slots per patch
   int normals;           // uniform: 1 when normals are requested
   int patch_base;        // row of this draw's first patch (one draw per degree pair)
+  int span_grid;         // uniform: 1 when the parameters come from gl_TessCoord (span grid)
 } mode;
 // The patch's row in the Info-KSQuad table.
 #define PATCH (mode.patch_base + gl_PrimitiveID)
@@ -34,10 +38,12 @@ layout(push_constant) uniform Mode {
 // patches: surface, span_u, span_v, u constants, v constants, u_begin, u_count, v_begin, v_count,
 //          level_u, level_v, pad, corners (u_lo,v_lo), (u_hi,v_lo), (u_lo,v_hi), (u_hi,v_hi),
 //          the next non-empty span in u and v (the span itself at the domain's end) and their
-//          constants (normals at the end knot)
-#define PATCH_INTS 20
+//          constants (normals at the end knot), then the patch's share [lo, hi] of its u span and
+//          of its v span as fractions (float bits; 0, 1 unless a run was cut into pieces)
+#define PATCH_INTS 24
 // adaptive capture: per slot u, v, x, y, z
 #define SLOT_FLOATS 5
 
 float surface_knot_u(int s, int end) { return intBitsToFloat(surfaces[s + 12 + end]); }
 float surface_knot_v(int s, int end) { return intBitsToFloat(surfaces[s + 14 + end]); }
+

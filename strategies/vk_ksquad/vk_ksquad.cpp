@@ -7,12 +7,16 @@
 //    and direction on the host by the tested C++ stair_constants<float> (the same float
 //    arithmetic the device would do, correctly rounded divisions) and read from a storage buffer;
 //    KSQuads sharing a span share its constants.
-//  * Uniform mode samples the request's runs: the levels of a patch are the segment counts of
-//    its u and v runs, and the evaluation stage reads the requested parameter of the vertex it is
-//    given (ksquad.tese), so span-grid T gives the tessellator's (T+1)x(T+1) lattice per KSQuad
-//    -- DESIGN.md's span grid -- and a regular grid gives each KSQuad the sub-grid of samples in
-//    its spans. Runs past maxTessellationGenerationLevel are cut into several patches
-//    (patches.h), never clamped.
+//  * Uniform mode (003 §4's uniform mapping): the levels of a patch are the segment counts of its
+//    u and v runs. Span grid T: the tessellator chooses the samples -- its (T+1)x(T+1) lattice
+//    per KSQuad (DESIGN.md's span grid), the parameter blended from the span's knots by
+//    gl_TessCoord (ksquad.tese span_parameter) and returned with the position, so the samples
+//    are the float rounding of the requested ones. Grid (the paper has no grids; our mapping):
+//    gl_TessCoord indexes the KSQuad's sub-grid of requested samples, evaluated at exactly the
+//    requested parameters; render() instead draws every patch over its span share from the
+//    knots (patches share their boundary vertices on the knot lines; every non-empty span pair
+//    is a patch, samples or not). Runs past maxTessellationGenerationLevel are cut into several
+//    patches (patches.h), never clamped.
 //  * Capture: storage-buffer writes from the evaluation stage (vertexPipelineStoresAndAtomics),
 //    rasterization discarded; transform feedback would need a vertex order the tessellator does
 //    not specify.
@@ -59,16 +63,16 @@ using vk_ksquad::ksquad_settings;
 using vk_ksquad::KsquadSettings;
 
 constexpr int kSurfaceInts = 16;                    // ksquad_tables.glsl: SURFACE_INTS
-constexpr int kPatchInts = 20;                      // ksquad_tables.glsl: PATCH_INTS
+constexpr int kPatchInts = 24;                      // ksquad_tables.glsl: PATCH_INTS
 constexpr int kPatchLevelU = 9, kPatchLevelV = 10;  // a patch row's tessellation levels
 constexpr int kSlotFloats = 5;                      // ksquad_tables.glsl: SLOT_FLOATS
 constexpr int kConstantFloats = 119;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
               "stair_basis.glsl reads StairConstants<float> as 119 packed floats");
-constexpr int kBuffers = 12;
+constexpr int kBuffers = 13;
 // Bindings 9..11 are the fragment stage's trim test (ksquad.frag): the classifier's tables and
-// one row of kTrimSurfaceInts per surface.
-constexpr int kFirstTrimBinding = 9;
+// one row of kTrimSurfaceInts per surface; 12 is the span grid's sample parameters.
+constexpr int kFirstTrimBinding = 9, kTrimBindings = 3;
 constexpr int kTrimSurfaceInts = 5;
 
 // ksquad_tables.glsl: Mode (push constants).
@@ -76,9 +80,9 @@ struct ModeConstants {
   float view_projection[16];
   float viewport[2];
   float mu;
-  std::int32_t adaptive, max_level, region, normals, patch_base;
+  std::int32_t adaptive, max_level, region, normals, patch_base, span_grid;
 };
-static_assert(sizeof(ModeConstants) == 96);
+static_assert(sizeof(ModeConstants) == 100);
 
 constexpr VkShaderStageFlags kModeStages =
     VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT;
@@ -100,7 +104,8 @@ Capabilities ksquad_capabilities() {
   c.normals = true;  // uniform mode: derivatives of the same stair basis (stair_derivative)
   c.fp64 = false;    // Vulkan tessellation stages in float; shaderFloat64 is optional
   c.sampling.explicit_list = false;  // not a tensor of runs
-  // In adaptive mode the tessellator chooses the samples (uniform mode returns the requested ones).
+  // The tessellator chooses the samples in adaptive mode and for span grids (the float rounding
+  // of the requested ones); a grid's are the requested ones.
   c.chooses_own_samples = true;
   c.updates_control_points = true;  // re-uploads only the control points (and corners)
   // Uniform mode: direct trimming of the requested samples in a compute pass (the shared
@@ -192,7 +197,7 @@ class VkKsquad final : public Strategy {
       begin.framebuffer = framebuffer_;
       begin.renderArea.extent = {1, 1};
       vkCmdBeginRenderPass(cb, &begin, VK_SUBPASS_CONTENTS_INLINE);
-      record_draws(cb, capture_pipelines_);
+      record_draws(cb, capture_pipelines_, draws_);
       vkCmdEndRenderPass(cb);
       queries_.end(cb);
       VkMemoryBarrier to_host{};
@@ -215,9 +220,11 @@ class VkKsquad final : public Strategy {
     positions_.read(host.data(), host.size() * sizeof(float));
     EvalResult out;
     std::size_t base = 0;
+    std::vector<float> uv(span_grid_samples() ? total_ * 2 : 0);
+    if (!uv.empty()) sample_params_.read(uv.data(), uv.size() * sizeof(float));
     for (const SurfaceSamples& s : samples_) {
       SurfaceResult r;
-      r.samples = s;
+      r.samples = uv.empty() ? s : chosen_samples(s, uv.data() + 2 * base);
       r.positions = PointArray(Precision::f32, s.count());
       std::memcpy(r.positions.f32(), host.data() + base * 3, s.count() * 3 * sizeof(float));
       if (request_.normals) {
@@ -258,7 +265,7 @@ class VkKsquad final : public Strategy {
   bool render() override {
     if (!raster_)
       raster_ = std::make_unique<vk_ksquad::RasterTarget>(device_, image_width(), image_height());
-    for (const Draw& draw : draws_) pipeline_for(raster_pipelines_, true, draw);
+    for (const Draw& draw : raster_draws_) pipeline_for(raster_pipelines_, true, draw);
     device_.submit_and_wait([&](VkCommandBuffer cb) {
       VkClearValue clear[2] = {};
       clear[0].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
@@ -271,7 +278,7 @@ class VkKsquad final : public Strategy {
       begin.clearValueCount = 2;
       begin.pClearValues = clear;
       vkCmdBeginRenderPass(cb, &begin, VK_SUBPASS_CONTENTS_INLINE);
-      record_draws(cb, raster_pipelines_);
+      record_draws(cb, raster_pipelines_, raster_draws_);
       vkCmdEndRenderPass(cb);
     });
     return true;
@@ -316,6 +323,24 @@ class VkKsquad final : public Strategy {
     return st;
   }
 
+  std::vector<PatchLevels> patch_levels() const {
+    std::vector<PatchLevels> out;
+    if (!settings_.adaptive || patch_count_ == 0) return out;
+    std::vector<float> levels(8 * patch_count_);
+    levels_.read(levels.data(), levels.size() * sizeof(float));
+    for (std::size_t k = 0; k < patch_count_; ++k) {
+      PatchLevels p;
+      const int* row = &patches_[kPatchInts * k];
+      p.surface = row[0];
+      p.span_u = row[1];
+      p.span_v = row[2];
+      std::copy_n(&levels[8 * k], 4, p.set.begin());
+      std::copy_n(&levels[8 * k + 4], 4, p.wanted.begin());
+      out.push_back(p);
+    }
+    return out;
+  }
+
   // Adaptive mode: every captured vertex on each KSQuad's four edges, keyed by the edge.
   std::vector<CapturedEdge> captured_edges() const {
     std::vector<CapturedEdge> edges;
@@ -351,6 +376,33 @@ class VkKsquad final : public Strategy {
   }
 
  private:
+  // Uniform span grid: the tessellator chooses the parameters (ksquad.tese span_parameter).
+  bool span_grid_samples() const {
+    return !settings_.adaptive && request_.sampling.mode == SamplingMode::span_grid;
+  }
+
+  // The span grid's samples as the device evaluated them: a tensor when every lattice column
+  // (row) got the same u (v) -- the tessellator's coordinates k / level are the same on every
+  // edge of a patch and both sides of a knot line blend to the knot exactly -- else the
+  // explicit list of the (u, v) pairs.
+  static SurfaceSamples chosen_samples(const SurfaceSamples& requested, const float* uv) {
+    const std::size_t nu = requested.u.size(), nv = requested.v.size();
+    SurfaceSamples out;
+    for (std::size_t a = 0; a < nu; ++a) out.u.push_back(uv[2 * a * nv]);
+    for (std::size_t b = 0; b < nv; ++b) out.v.push_back(uv[2 * b + 1]);
+    for (std::size_t k = 0; k < nu * nv; ++k)
+      if (uv[2 * k] != out.u[k / nv] || uv[2 * k + 1] != out.v[k % nv]) {
+        out = {};
+        out.tensor = false;
+        for (std::size_t j = 0; j < nu * nv; ++j) {
+          out.u.push_back(uv[2 * j]);
+          out.v.push_back(uv[2 * j + 1]);
+        }
+        break;
+      }
+    return out;
+  }
+
   static std::vector<float> homogeneous_points(const Scene& scene) {
     std::vector<float> points;
     for (const Surface& s : scene.surfaces) {
@@ -410,6 +462,7 @@ class VkKsquad final : public Strategy {
     mode_.max_level = settings_.max_level;
     mode_.region = static_cast<std::int32_t>(region_);
     mode_.normals = request_.normals ? 1 : 0;
+    mode_.span_grid = span_grid_samples() ? 1 : 0;
     mode_.mu = static_cast<float>(settings_.mu);
     mode_.viewport[0] = static_cast<float>(settings_.viewport[0]);
     mode_.viewport[1] = static_cast<float>(settings_.viewport[1]);
@@ -448,6 +501,26 @@ class VkKsquad final : public Strategy {
     while (a > s.degree_u && s.knots_u[a - 1] == s.knots_u[a]) --a;
     while (b > s.degree_v && s.knots_v[b - 1] == s.knots_v[b]) --b;
     return corner_index_.at({surface, a, b});
+  }
+
+  // A grid's KSQuads: every pair of non-empty spans, those without samples included (no samples
+  // captured; drawn, they cover their span: see vk_ksquad::with_empty_spans).
+  std::vector<ksquad::KSQuad> grid_ksquads(const Scene& scene) const {
+    std::vector<ksquad::KSQuad> quads;
+    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+      const Surface& s = scene.surfaces[i];
+      const std::vector<float> ku(s.knots_u.begin(), s.knots_u.end());
+      const std::vector<float> kv(s.knots_v.begin(), s.knots_v.end());
+      const auto ru = vk_ksquad::with_empty_spans(
+          ksquad::runs_of_grid(samples_[i].u, s.degree_u, s.count_u, ku), s.knots_u, s.degree_u,
+          s.count_u);
+      const auto rv = vk_ksquad::with_empty_spans(
+          ksquad::runs_of_grid(samples_[i].v, s.degree_v, s.count_v, kv), s.knots_v, s.degree_v,
+          s.count_v);
+      for (const ksquad::SpanRun& a : ru)
+        for (const ksquad::SpanRun& b : rv) quads.push_back({static_cast<int>(i), a, b});
+    }
+    return quads;
   }
 
   // Surface table, per-span stair constants and the Info-KSQuad table (one row per patch).
@@ -513,7 +586,9 @@ class VkKsquad final : public Strategy {
     const auto quads = settings_.adaptive
                            ? ksquad::build_ksquads<float>(
                                  scene, sample_parameters(scene, one_per_span), one_per_span)
-                           : ksquad::build_ksquads<float>(scene, samples_, request_.sampling);
+                           : (span_grid_samples()
+                                  ? ksquad::build_ksquads<float>(scene, samples_, request_.sampling)
+                                  : grid_ksquads(scene));
     if (settings_.adaptive) corner_index_.clear();
     const std::vector<float> corner_rows =
         settings_.adaptive ? corner_table(scene) : std::vector<float>{};
@@ -539,47 +614,84 @@ class VkKsquad final : public Strategy {
       for (const ksquad::SpanRun& a : vk_ksquad::split_run(q.u, piece_cap))
         for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, piece_cap)) {
           const int lu = vk_ksquad::run_level(a), lv = vk_ksquad::run_level(b);
-          const int row[kPatchInts] = {
-              q.surface, q.u.span, q.v.span, cu,   cv,   a.begin, a.count, b.begin, b.count, lu, lv,
-              0,         c[0],     c[1],     c[2], c[3], next_u,  next_v,  cu_next, cv_next};
+          const auto [u_lo, u_hi] = vk_ksquad::piece_share(q.u, a);
+          const auto [v_lo, v_hi] = vk_ksquad::piece_share(q.v, b);
+          const int row[kPatchInts] = {q.surface,
+                                       q.u.span,
+                                       q.v.span,
+                                       cu,
+                                       cv,
+                                       a.begin,
+                                       a.count,
+                                       b.begin,
+                                       b.count,
+                                       lu,
+                                       lv,
+                                       0,
+                                       c[0],
+                                       c[1],
+                                       c[2],
+                                       c[3],
+                                       next_u,
+                                       next_v,
+                                       cu_next,
+                                       cv_next,
+                                       std::bit_cast<int>(u_lo),
+                                       std::bit_cast<int>(u_hi),
+                                       std::bit_cast<int>(v_lo),
+                                       std::bit_cast<int>(v_hi)};
           patches_.insert(patches_.end(), row, row + kPatchInts);
           stats_.implied_vertices += vk_ksquad::quad_domain_vertices(lu, lv);
           stats_.max_level = std::max({stats_.max_level, lu, lv});
         }
     }
-    // Grouped by degree pair, one draw (and one specialised pipeline) each.
+    // Grouped by degree pair, one draw (and one specialised pipeline) each; a grid's patches
+    // without samples last in their group, drawn by render() only. (Captured with level 0 among
+    // the others, the patches after them got wrong samples on lavapipe -- tan256 grid 64x64:
+    // 1e7 ulps -- as if the evaluation stage's gl_PrimitiveID skipped the discarded ones.)
     std::vector<std::array<int, kPatchInts>> rows(patches_.size() / kPatchInts);
     for (std::size_t k = 0; k < rows.size(); ++k)
       std::copy_n(&patches_[kPatchInts * k], kPatchInts, rows[k].begin());
-    const auto degrees = [&](const std::array<int, kPatchInts>& row) {
+    const auto key = [&](const std::array<int, kPatchInts>& row) {
       const Surface& s = scene.surfaces[row[0]];
-      return std::make_pair(s.degree_u, s.degree_v);
+      return std::make_tuple(s.degree_u, s.degree_v,
+                             row[kPatchLevelU] == 0 || row[kPatchLevelV] == 0);
     };
     std::stable_sort(rows.begin(), rows.end(),
-                     [&](const auto& a, const auto& b) { return degrees(a) < degrees(b); });
+                     [&](const auto& a, const auto& b) { return key(a) < key(b); });
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      std::copy(rows[k].begin(), rows[k].end(), &patches_[kPatchInts * k]);
     // A draw also ends where its vertices would pass vk-vertices-per-draw (see
     // kDefaultVerticesPerDraw); adaptive patches are counted at the level cap.
-    draws_.clear();
-    std::uint64_t draw_vertices = 0;
-    for (std::size_t k = 0; k < rows.size(); ++k) {
-      std::copy(rows[k].begin(), rows[k].end(), &patches_[kPatchInts * k]);
-      const auto [du, dv] = degrees(rows[k]);
-      const std::uint64_t vertices =
-          settings_.adaptive
-              ? vk_ksquad::quad_domain_vertices(settings_.max_level, settings_.max_level)
-              : vk_ksquad::quad_domain_vertices(rows[k][kPatchLevelU], rows[k][kPatchLevelV]);
-      const bool full = settings_.vertices_per_draw > 0 && draw_vertices > 0 &&
-                        draw_vertices + vertices > settings_.vertices_per_draw;
-      if (draws_.empty() || draws_.back().du != du || draws_.back().dv != dv || full) {
-        draws_.push_back({du, dv, static_cast<std::uint32_t>(k), 0});
-        draw_vertices = 0;
+    const auto make_draws = [&](bool with_empty) {
+      std::vector<Draw> draws;
+      std::uint64_t draw_vertices = 0;
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        const auto [du, dv, empty] = key(rows[k]);
+        if (empty && !with_empty) continue;
+        const std::uint64_t vertices =
+            settings_.adaptive
+                ? vk_ksquad::quad_domain_vertices(settings_.max_level, settings_.max_level)
+                : vk_ksquad::quad_domain_vertices(std::max(rows[k][kPatchLevelU], 1),
+                                                  std::max(rows[k][kPatchLevelV], 1));
+        const bool full = settings_.vertices_per_draw > 0 && draw_vertices > 0 &&
+                          draw_vertices + vertices > settings_.vertices_per_draw;
+        if (draws.empty() || draws.back().du != du || draws.back().dv != dv || full ||
+            draws.back().first + draws.back().count != k) {
+          draws.push_back({du, dv, static_cast<std::uint32_t>(k), 0});
+          draw_vertices = 0;
+        }
+        ++draws.back().count;
+        draw_vertices += vertices;
       }
-      ++draws_.back().count;
-      draw_vertices += vertices;
-    }
+      return draws;
+    };
+    draws_ = make_draws(false);
+    raster_draws_ = make_draws(true);
     record_.details["draws"] = std::to_string(draws_.size());
     patch_count_ = rows.size();
-    stats_.patches_drawn = patch_count_;
+    stats_.patches_drawn = 0;
+    for (const Draw& draw : draws_) stats_.patches_drawn += draw.count;
   }
 
   template <typename V>
@@ -609,16 +721,19 @@ class VkKsquad final : public Strategy {
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output positions");
     normals_ = vulkan::Buffer(device_, (request_.normals ? total_ * 3 : 0) * sizeof(float),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output normals");
+    sample_params_ = vulkan::Buffer(device_, (span_grid_samples() ? total_ * 2 : 0) * sizeof(float),
+                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output sample parameters");
     set_->write({&surfaces_buf_, &patches_buf_, &constants_buf_, &points_, &params_buf_,
                  &positions_, &corners_buf_, &levels_, &normals_, &classifier_.reals(),
-                 &classifier_.ints(), &trim_surfaces_buf_});
+                 &classifier_.ints(), &trim_surfaces_buf_, &sample_params_});
   }
 
   // Once per strategy (STYLE.md: compiled shaders are created once, never in evaluate()).
   void create_pipeline() {
     const VkDevice d = device_.handle();
     std::vector<VkShaderStageFlags> stages(kBuffers, kModeStages);
-    for (int k = kFirstTrimBinding; k < kBuffers; ++k) stages[k] = VK_SHADER_STAGE_FRAGMENT_BIT;
+    for (int k = kFirstTrimBinding; k < kFirstTrimBinding + kTrimBindings; ++k)
+      stages[k] = VK_SHADER_STAGE_FRAGMENT_BIT;
     set_ = std::make_unique<vulkan::StorageSet>(device_, stages);
     VkPipelineLayoutCreateInfo layout_info{};
     layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
@@ -663,10 +778,11 @@ class VkKsquad final : public Strategy {
     return pipeline;
   }
 
-  void record_draws(VkCommandBuffer cb, const Pipelines& pipelines) {
+  void record_draws(VkCommandBuffer cb, const Pipelines& pipelines,
+                    const std::vector<Draw>& draws) {
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_->handle(), 0,
                             nullptr);
-    for (const Draw& draw : draws_) {
+    for (const Draw& draw : draws) {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.at({draw.du, draw.dv}));
       ModeConstants mode = mode_;
       mode.patch_base = static_cast<std::int32_t>(draw.first);
@@ -688,8 +804,8 @@ class VkKsquad final : public Strategy {
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkRenderPass render_pass_ = VK_NULL_HANDLE;
   VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
-  Pipelines capture_pipelines_, raster_pipelines_;  // created once per degree pair, kept
-  std::vector<Draw> draws_;
+  Pipelines capture_pipelines_, raster_pipelines_;   // created once per degree pair, kept
+  std::vector<Draw> draws_, raster_draws_;           // capture: patches with samples; raster: all
   std::unique_ptr<vk_ksquad::RasterTarget> raster_;  // made on render()'s first call
 
   EvalRequest request_;
@@ -699,7 +815,7 @@ class VkKsquad final : public Strategy {
   std::vector<float> corners_;
   vulkan::Buffer trim_surfaces_buf_;
   vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_,
-      corners_buf_, levels_, normals_;
+      corners_buf_, levels_, normals_, sample_params_;
   std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
   KsquadSettings settings_;
   ModeConstants mode_{};
@@ -733,6 +849,10 @@ KsquadStatistics ksquad_statistics(const Strategy& strategy) {
 
 std::vector<CapturedEdge> ksquad_captured_edges(const Strategy& strategy) {
   return as_vk_ksquad(strategy).captured_edges();
+}
+
+std::vector<PatchLevels> ksquad_patch_levels(const Strategy& strategy) {
+  return as_vk_ksquad(strategy).patch_levels();
 }
 
 bool ksquad_render(Strategy& strategy) {

@@ -31,11 +31,21 @@ struct CapturedEdge {
   std::vector<std::array<float, 5>> vertices;
 };
 
+// Adaptive mode, after evaluate(): per patch, the levels its control stage set and wanted (003
+// eq. 3, before the cap) for its four outer edges, read back from the control stage's storage
+// buffer. Edges in the order u = x_i, v = y_j, u = x_i+1, v = y_j+1 of KSQuad (span_u, span_v).
+struct PatchLevels {
+  int surface = 0, span_u = 0, span_v = 0;
+  std::array<float, 4> set{}, wanted{};
+};
+
 std::unique_ptr<Strategy> make_vk_ksquad(const StrategyOptions& options);
 // `strategy` must come from make_vk_ksquad; throws std::invalid_argument otherwise.
 KsquadStatistics ksquad_statistics(const Strategy& strategy);
 // After evaluate() in adaptive mode (empty in uniform mode).
 std::vector<CapturedEdge> ksquad_captured_edges(const Strategy& strategy);
+// After evaluate() in adaptive mode (empty in uniform mode).
+std::vector<PatchLevels> ksquad_patch_levels(const Strategy& strategy);
 // Draws the prepared patches into the offscreen image (003 §4 end to end; timed as `render`
 // where the runner has that phase); the pixels the last render() covered.
 bool ksquad_render(Strategy& strategy);
