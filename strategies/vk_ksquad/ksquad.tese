@@ -32,6 +32,12 @@ layout(constant_id = 2) const int kDegreeV = 0;
 #define DEGREE_V(s) (kDegreeV > 0 ? kDegreeV : surfaces[(s) + 1])
 #include "ksquad_tables.glsl"
 #include "stair_basis.glsl"
+#include "ksquad_point.glsl"
+// From the control stage (ksquad.tesc): the patch's row and, adaptive, its piece of the KSQuad.
+layout(location = 0) patch in vec2 piece_corners[4];
+layout(location = 4) patch in int patch_row;
+#undef PATCH
+#define PATCH patch_row
 // Raster: the fragment stage's trim test (ksquad.frag) classifies the interpolated (u, v).
 layout(location = 0) out vec2 trim_uv;
 layout(location = 1) flat out int trim_surface;
@@ -120,7 +126,7 @@ void main() {
   const int s = patches[row] * SURFACE_INTS;
   const int span_u = patches[row + 1], span_v = patches[row + 2];
   const int cu = patches[row + 3], cv = patches[row + 4];
-  const int pu = DEGREE_U(s), pv = DEGREE_V(s), count_v = surfaces[s + 3];
+  const int pu = DEGREE_U(s), pv = DEGREE_V(s);
   int a = 0, b = 0;
   if (mode.adaptive == 0) {
     const int u_begin = patches[row + 5], u_count = patches[row + 6];
@@ -132,7 +138,14 @@ void main() {
     b = v_begin + min(int(round(gl_TessCoord.y * float(level_v))), v_count - 1);
   }
   float u, v;
-  if (kRaster != 0 || mode.adaptive != 0 || mode.span_grid != 0) {
+  if (mode.adaptive != 0) {
+    // the piece's bilinear map: exact on its edges (t = 0 or 1), which neighbours share
+    const vec2 t = gl_TessCoord.xy;
+    const vec2 f = (1.0 - t.y) * ((1.0 - t.x) * piece_corners[0] + t.x * piece_corners[1]) +
+                   t.y * ((1.0 - t.x) * piece_corners[2] + t.x * piece_corners[3]);
+    u = span_parameter(cu, pu, 0.0, 1.0, f.x);
+    v = span_parameter(cv, pv, 0.0, 1.0, f.y);
+  } else if (kRaster != 0 || mode.span_grid != 0) {
     u = span_parameter(cu, pu, intBitsToFloat(patches[row + 20]), intBitsToFloat(patches[row + 21]),
                        gl_TessCoord.x);
     v = span_parameter(cv, pv, intBitsToFloat(patches[row + 22]), intBitsToFloat(patches[row + 23]),
@@ -141,19 +154,7 @@ void main() {
     u = params[surfaces[s + 5] + a];
     v = params[surfaces[s + 6] + b];
   }
-  float bu[MAX_ORDER], bv[MAX_ORDER];
-  stair_basis(cu, pu, u, bu, pu);
-  stair_basis(cv, pv, v, bv, pv);
-  // A4.3 on the KSQuad's (p+1)(q+1) homogeneous control points (reference/nurbs_math.h
-  // surface_point_from_basis): rows in v first, then u.
-  vec4 sum = vec4(0.0);
-  const int first = surfaces[s + 4] + (span_u - pu) * count_v + (span_v - pv);
-  for (int i = 0; i <= pu; ++i) {
-    vec4 row_sum = vec4(0.0);
-    for (int j = 0; j <= pv; ++j) row_sum += bv[j] * points[first + i * count_v + j];
-    sum += bu[i] * row_sum;
-  }
-  const vec3 position = sum.xyz / sum.w;
+  const vec3 position = ksquad_point(s, span_u, span_v, cu, cv, u, v);
   if (kRaster == 0 && mode.adaptive == 0 && mode.normals != 0) {
     // C_KNOT(c, p) = x_{i+1}: the span's end knot belongs to the next span (row + 16..19)
     const bool u_end = u == C_KNOT(cu, pu), v_end = v == C_KNOT(cv, pv);

@@ -94,6 +94,13 @@ KsquadSettings ksquad_settings(const StrategyOptions& options) {
                                   "': must be uniform or adaptive");
     a.adaptive = it->second == "adaptive";
   }
+  if (auto it = options.extra.find("vk-corners");
+      it != options.extra.end() && !it->second.empty()) {
+    if (it->second != "device" && it->second != "host")
+      throw std::invalid_argument("vk-ksquad option vk-corners = '" + it->second +
+                                  "': must be device or host");
+    a.device_corners = it->second == "device";
+  }
   a.eye = option_numbers(options, "vk-eye", 3, ',');
   a.center = option_numbers(options, "vk-center", 3, ',');
   a.viewport = option_numbers(options, "vk-viewport", 2, 'x');
@@ -103,6 +110,8 @@ KsquadSettings ksquad_settings(const StrategyOptions& options) {
   if (a.mu <= 0 || a.fov <= 0 || a.fov >= 180 || a.viewport[0] < 1 || a.viewport[1] < 1)
     throw std::invalid_argument("vk-ksquad: vk-mu, vk-fov and vk-viewport must be positive");
   a.max_level = positive_option(options, "vk-max-level", "vk-ksquad");
+  if (const int pieces = positive_option(options, "vk-pieces", "vk-ksquad"); pieces > 0)
+    a.pieces = pieces;
   if (auto it = options.extra.find("vk-vertices-per-draw"); it != options.extra.end())
     a.vertices_per_draw = it->second == "0" ? 0
                                             : static_cast<std::uint64_t>(positive_option(

@@ -18,13 +18,17 @@ inline constexpr std::uint64_t kDefaultVerticesPerDraw = 16384;
 // Settings (StrategyOptions.extra). Adaptive mode: vk-mode = uniform|adaptive, vk-eye and
 // vk-center = "x,y,z" (default: the scene's bounding sphere seen from (1, 0.8, 0.6) at 2.5
 // radii), vk-fov = degrees (45), vk-viewport = "WxH" (1024x768), vk-mu = pixels (4),
-// vk-max-level = N (the device's maxTessellationGenerationLevel). Both modes:
+// vk-corners = device|host (where the KSQuad corners of eq. 3 are evaluated; device),
+// vk-max-level = N (the device's maxTessellationGenerationLevel), vk-pieces = N (2: a KSQuad's
+// edge is cut into up to N patches, so levels up to N x vk-max-level). Both modes:
 // vk-vertices-per-draw = N (kDefaultVerticesPerDraw; 0 = one draw per degree pair).
 struct KsquadSettings {
   bool adaptive = false;
   std::vector<double> eye, center, viewport;
   double fov = 45, mu = 4;
   int max_level = 0;
+  bool device_corners = true;  // adaptive: vk-corners = device (the corner pass) | host
+  int pieces = 2;  // adaptive: patches per KSQuad and direction, levels up to pieces x max_level
   std::uint64_t vertices_per_draw = kDefaultVerticesPerDraw;
 };
 

@@ -23,10 +23,12 @@
 //  * Adaptive mode (003 §3.1, local area average): the KSQuad corners S(x_k, y_l) are KSQuad data
 //    computed once per scene on the host (the reference, rounded to float) into one table shared
 //    by the KSQuads meeting there; the control stage projects an edge's two corners with the
-//    camera and sets that edge's level alone from them (ksquad.tesc). One patch per KSQuad: a
-//    level past the cap (vk-max-level, at most maxTessellationGenerationLevel) is capped and
-//    counted (KsquadStatistics::capped_edges), not cut -- cutting would need the levels on the
-//    host before the draw.
+//    camera and sets that edge's level alone from them (ksquad.tesc). A level past the cap
+//    (vk-max-level, at most maxTessellationGenerationLevel) is cut, not capped: each KSQuad is
+//    vk-pieces^2 rows of the Info-KSQuad table and the control stage uses as many as its levels
+//    need, each outer edge cut on its own so the KSQuad across it cuts at the same vertices
+//    (the host cannot cut: it does not know the levels). Past vk-pieces x the cap a level is
+//    capped and counted (KsquadStatistics::capped_edges).
 #include "strategies/vk_ksquad/vk_ksquad.h"
 
 #include <fmt/format.h>
@@ -56,6 +58,10 @@
 #include "strategies/vulkan/vk_device.h"
 #include "strategies/vulkan/vk_trim_classify.h"
 
+namespace nurbs::embedded {
+extern const std::string_view vk_ksquad_corners_comp;
+}  // namespace nurbs::embedded
+
 namespace nurbs {
 namespace {
 
@@ -65,11 +71,12 @@ using vk_ksquad::KsquadSettings;
 constexpr int kSurfaceInts = 16;                    // ksquad_tables.glsl: SURFACE_INTS
 constexpr int kPatchInts = 24;                      // ksquad_tables.glsl: PATCH_INTS
 constexpr int kPatchLevelU = 9, kPatchLevelV = 10;  // a patch row's tessellation levels
+constexpr int kPatchPiece = 11;                     // adaptive: the piece of its KSQuad
 constexpr int kSlotFloats = 5;                      // ksquad_tables.glsl: SLOT_FLOATS
 constexpr int kConstantFloats = 119;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
               "stair_basis.glsl reads StairConstants<float> as 119 packed floats");
-constexpr int kBuffers = 13;
+constexpr int kBuffers = 14;
 // Bindings 9..11 are the fragment stage's trim test (ksquad.frag): the classifier's tables and
 // one row of kTrimSurfaceInts per surface; 12 is the span grid's sample parameters.
 constexpr int kFirstTrimBinding = 9, kTrimBindings = 3;
@@ -80,15 +87,28 @@ struct ModeConstants {
   float view_projection[16];
   float viewport[2];
   float mu;
-  std::int32_t adaptive, max_level, region, normals, patch_base, span_grid;
+  std::int32_t adaptive, max_level, region, normals, patch_base, span_grid, pieces;
 };
-static_assert(sizeof(ModeConstants) == 100);
+static_assert(sizeof(ModeConstants) == 104);
 
-constexpr VkShaderStageFlags kModeStages =
-    VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT;
+// The corner pass (ksquad_corners.comp) shares the tables, the set and the push constants.
+constexpr VkShaderStageFlags kModeStages = VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
+                                           VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT |
+                                           VK_SHADER_STAGE_COMPUTE_BIT;
+constexpr int kCornerInts = 8;              // ksquad_tables.glsl: CORNER_INTS
+constexpr std::uint32_t kCornerGroup = 64;  // ksquad_corners.comp: local_size_x
 constexpr VkQueryPipelineStatisticFlags kStatistics =
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_CONTROL_SHADER_PATCHES_BIT |
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_EVALUATION_SHADER_INVOCATIONS_BIT;
+
+void memory_barrier(VkCommandBuffer cb, VkPipelineStageFlags src_stage, VkAccessFlags src_access,
+                    VkPipelineStageFlags dst_stage, VkAccessFlags dst_access) {
+  VkMemoryBarrier barrier{};
+  barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  barrier.srcAccessMask = src_access;
+  barrier.dstAccessMask = dst_access;
+  vkCmdPipelineBarrier(cb, src_stage, dst_stage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+}
 
 vulkan::Requirements ksquad_requirements() {
   vulkan::Requirements r;
@@ -130,7 +150,10 @@ class VkKsquad final : public Strategy {
       throw std::invalid_argument(
           fmt::format("vk-ksquad: vk-max-level {} exceeds maxTessellationGenerationLevel {}",
                       settings_.max_level, cap));
-    if (settings_.adaptive) record_.details["vk_mode"] = "adaptive";
+    if (settings_.adaptive) {
+      record_.details["vk_mode"] = "adaptive";
+      record_.details["vk_corners"] = settings_.device_corners ? "device" : "host";
+    }
     create_pipeline();
   }
   ~VkKsquad() override {
@@ -140,6 +163,7 @@ class VkKsquad final : public Strategy {
       for (const auto& [degrees, pipeline] : pipelines) vkDestroyPipeline(d, pipeline, nullptr);
     if (framebuffer_) vkDestroyFramebuffer(d, framebuffer_, nullptr);
     if (render_pass_) vkDestroyRenderPass(d, render_pass_, nullptr);
+    if (corner_pipeline_) vkDestroyPipeline(d, corner_pipeline_, nullptr);
     if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
   }
 
@@ -181,16 +205,13 @@ class VkKsquad final : public Strategy {
       if (settings_.adaptive) {
         // Unwritten capture slots read back as NaN (a quiet NaN's bits in every word).
         vkCmdFillBuffer(cb, positions_.handle(), 0, VK_WHOLE_SIZE, 0x7fc00000u);
-        VkMemoryBarrier filled{};
-        filled.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-        filled.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        filled.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT, 0, 1, &filled, 0,
-                             nullptr, 0, nullptr);
+        memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT,
+                       VK_ACCESS_SHADER_WRITE_BIT);
       }
       queries_.reset(cb);
       queries_.begin(cb);
+      record_corners(cb);
       VkRenderPassBeginInfo begin{};
       begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
       begin.renderPass = render_pass_;
@@ -200,13 +221,10 @@ class VkKsquad final : public Strategy {
       record_draws(cb, capture_pipelines_, draws_);
       vkCmdEndRenderPass(cb);
       queries_.end(cb);
-      VkMemoryBarrier to_host{};
-      to_host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-      to_host.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-      to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
-      vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT,
-                           VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
-                           &to_host, 0, nullptr, 0, nullptr);
+      memory_barrier(cb, VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT,
+                     VK_ACCESS_SHADER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
     });
     evaluate_s_ = queries_.elapsed_s();
     const auto counts = queries_.statistics();
@@ -251,7 +269,7 @@ class VkKsquad final : public Strategy {
     if (points.size() * sizeof(float) != points_.size())
       throw std::invalid_argument("vk-ksquad: update_control_points changed the control nets");
     points_.write(points.data(), points.size() * sizeof(float));
-    if (settings_.adaptive) {  // the corners move with the points
+    if (settings_.adaptive && !settings_.device_corners) {  // the corners move with the points
       corners_ = corner_table(scene);
       corners_buf_.write(corners_.data(), corners_.size() * sizeof(float));
     }
@@ -277,6 +295,7 @@ class VkKsquad final : public Strategy {
       begin.renderArea.extent = {image_width(), image_height()};
       begin.clearValueCount = 2;
       begin.pClearValues = clear;
+      record_corners(cb);
       vkCmdBeginRenderPass(cb, &begin, VK_SUBPASS_CONTENTS_INLINE);
       record_draws(cb, raster_pipelines_, raster_draws_);
       vkCmdEndRenderPass(cb);
@@ -309,16 +328,17 @@ class VkKsquad final : public Strategy {
     levels_.read(levels.data(), levels.size() * sizeof(float));
     st.implied_vertices = 0;
     st.max_level = 0;
+    const float most = static_cast<float>(settings_.max_level * settings_.pieces);
     for (std::size_t k = 0; k < patch_count_; ++k) {
       const float* o = &levels[8 * k];
+      if (patches_[kPatchInts * k + kPatchPiece] == 0)  // once per KSQuad
+        for (int e = 0; e < 4; ++e) st.capped_edges += o[4 + e] > most;
+      if (o[0] <= 0) continue;  // a piece the KSQuad did not need: discarded
       const int i0 = static_cast<int>(std::max({o[1], o[3], 2.0f}));
       const int i1 = static_cast<int>(std::max({o[0], o[2], 2.0f}));
       st.implied_vertices += static_cast<std::uint64_t>(o[0] + o[1] + o[2] + o[3]) +
                              static_cast<std::uint64_t>(i0 - 1) * (i1 - 1);
-      for (int e = 0; e < 4; ++e) {
-        st.max_level = std::max(st.max_level, static_cast<int>(o[e]));
-        st.capped_edges += o[4 + e] > o[e];
-      }
+      for (int e = 0; e < 4; ++e) st.max_level = std::max(st.max_level, static_cast<int>(o[e]));
     }
     return st;
   }
@@ -341,35 +361,42 @@ class VkKsquad final : public Strategy {
     return out;
   }
 
-  // Adaptive mode: every captured vertex on each KSQuad's four edges, keyed by the edge.
+  // Adaptive mode: every captured vertex on each KSQuad's four edges, keyed by the edge; a
+  // KSQuad cut into pieces contributes the vertices of all its pieces, each (u, v) once.
   std::vector<CapturedEdge> captured_edges() const {
     std::vector<CapturedEdge> edges;
     if (!settings_.adaptive) return edges;
     const std::vector<float> slots = read_slots();
     const int per_edge = settings_.max_level + 1;
+    std::map<std::array<int, 3>, std::size_t> first_edge;  // KSQuad -> its edges in `edges`
     for (std::size_t k = 0; k < patch_count_; ++k) {
       const int* row = &patches_[kPatchInts * k];
-      const float* c_u = &constants_[row[3]];
-      const float* c_v = &constants_[row[4]];
-      const int pu = surfaces_[kSurfaceInts * row[0]], pv = surfaces_[kSurfaceInts * row[0] + 1];
-      const float u0 = c_u[pu - 1], u1 = c_u[pu], v0 = c_v[pv - 1], v1 = c_v[pv];
-      // outer edge e: u = u0 (0), v = v0 (1), u = u1 (2), v = v1 (3)
-      const CapturedEdge keys[4] = {{row[0], 0, u0, v0, v1, {}},
-                                    {row[0], 1, v0, u0, u1, {}},
-                                    {row[0], 0, u1, v0, v1, {}},
-                                    {row[0], 1, v1, u0, u1, {}}};
+      auto [it, added] = first_edge.try_emplace({row[0], row[1], row[2]}, edges.size());
+      if (added) {
+        const float* c_u = &constants_[row[3]];
+        const float* c_v = &constants_[row[4]];
+        const int pu = surfaces_[kSurfaceInts * row[0]];
+        const int pv = surfaces_[kSurfaceInts * row[0] + 1];
+        const float u0 = c_u[pu - 1], u1 = c_u[pu], v0 = c_v[pv - 1], v1 = c_v[pv];
+        // outer edge e: u = u0 (0), v = v0 (1), u = u1 (2), v = v1 (3)
+        edges.push_back({row[0], 0, u0, v0, v1, {}});
+        edges.push_back({row[0], 1, v0, u0, u1, {}});
+        edges.push_back({row[0], 0, u1, v0, v1, {}});
+        edges.push_back({row[0], 1, v1, u0, u1, {}});
+      }
       // A corner's slot is on one edge only (ksquad.tese: adaptive_slot); an edge holds every
       // edge-slot vertex whose (u, v) lies on it (t = 0 and 1 give the knots exactly).
-      std::vector<std::array<float, 5>> ring;
       for (int j = 0; j < 4 * per_edge; ++j) {
         const float* slot = &slots[kSlotFloats * (k * region_ + j)];
-        if (!std::isnan(slot[0])) ring.push_back({slot[0], slot[1], slot[2], slot[3], slot[4]});
-      }
-      for (int e = 0; e < 4; ++e) {
-        CapturedEdge edge = keys[e];
-        for (const auto& vertex : ring)
-          if (vertex[edge.direction] == edge.fixed) edge.vertices.push_back(vertex);
-        edges.push_back(std::move(edge));
+        if (std::isnan(slot[0])) continue;
+        for (int e = 0; e < 4; ++e) {
+          CapturedEdge& edge = edges[it->second + e];
+          if (slot[edge.direction] != edge.fixed) continue;
+          const bool known =
+              std::any_of(edge.vertices.begin(), edge.vertices.end(),
+                          [&](const auto& v) { return v[0] == slot[0] && v[1] == slot[1]; });
+          if (!known) edge.vertices.push_back({slot[0], slot[1], slot[2], slot[3], slot[4]});
+        }
       }
     }
     return edges;
@@ -460,6 +487,7 @@ class VkKsquad final : public Strategy {
     mode_ = {};
     mode_.adaptive = settings_.adaptive ? 1 : 0;
     mode_.max_level = settings_.max_level;
+    mode_.pieces = settings_.pieces;
     mode_.region = static_cast<std::int32_t>(region_);
     mode_.normals = request_.normals ? 1 : 0;
     mode_.span_grid = span_grid_samples() ? 1 : 0;
@@ -470,12 +498,17 @@ class VkKsquad final : public Strategy {
     std::copy(m.begin(), m.end(), mode_.view_projection);
   }
 
-  // One corner per (distinct knot value in u, distinct knot value in v) of each surface's domain:
-  // S(x_k, y_l) by the reference, rounded to float; corner_index_ maps (surface, first knot index
-  // of the u value, first knot index of the v value) to its row.
+  // One corner per (distinct knot value in u, distinct knot value in v) of each surface's domain;
+  // corner_index_ maps (surface, first knot index of the u value, first knot index of the v
+  // value) to its row. vk-corners=host: S(x_k, y_l) by the reference, rounded to float (003's
+  // "without any precomputation on the CPU" is the device path; this one measures the
+  // difference). device: zeros, filled by the corner pass; corner_spans_ gets, per corner, the
+  // span pair A2.1 assigns its knots to and whether each knot is that span's end (the domain's
+  // end knot).
   std::vector<float> corner_table(const Scene& scene) {
     std::vector<float> corners;
     corner_index_.clear();
+    corner_spans_.clear();
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
       const Surface& s = scene.surfaces[i];
       const SurfaceNet<double> net(s);
@@ -485,10 +518,25 @@ class VkKsquad final : public Strategy {
           if (a == p || k[a] > k[a - 1]) at.push_back(a);
         return at;
       };
+      // A2.1: the span [k_j, k_j+1) holding k_a (non-empty), or the last one at the end
+      const auto span_of = [](const std::vector<double>& k, int a, int n) {
+        int j = a;
+        while (j < n && k[j + 1] == k[a]) ++j;
+        if (j < n) return std::make_pair(j, 0);
+        while (!(k[j - 1] < k[j])) --j;
+        return std::make_pair(j - 1, 1);
+      };
       for (int a : breaks(s.knots_u, s.degree_u, s.count_u))
         for (int b : breaks(s.knots_v, s.degree_v, s.count_v)) {
-          const Vec3<double> p = surface_point(net, s.knots_u[a], s.knots_v[b]);
           corner_index_[{static_cast<int>(i), a, b}] = static_cast<int>(corners.size() / 4);
+          const auto [span_u, end_u] = span_of(s.knots_u, a, s.count_u);
+          const auto [span_v, end_v] = span_of(s.knots_v, b, s.count_v);
+          corner_spans_.push_back({static_cast<int>(i), span_u, span_v, end_u, end_v});
+          if (settings_.device_corners) {
+            corners.insert(corners.end(), {0.0f, 0.0f, 0.0f, 1.0f});
+            continue;
+          }
+          const Vec3<double> p = surface_point(net, s.knots_u[a], s.knots_v[b]);
           corners.insert(corners.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]),
                                          static_cast<float>(p[2]), 1.0f});
         }
@@ -593,6 +641,12 @@ class VkKsquad final : public Strategy {
     const std::vector<float> corner_rows =
         settings_.adaptive ? corner_table(scene) : std::vector<float>{};
     corners_ = corner_rows;
+    corner_jobs_.clear();
+    if (settings_.adaptive && settings_.device_corners)
+      for (const auto& [surface, span_u, span_v, end_u, end_v] : corner_spans_)
+        corner_jobs_.insert(corner_jobs_.end(),
+                            {surface * kSurfaceInts, span_u, span_v, constants(surface, 0, span_u),
+                             constants(surface, 1, span_v), end_u, end_v, 0});
     for (const ksquad::KSQuad& q : quads) {
       const Surface& s = scene.surfaces[q.surface];
       const int cu = constants(q.surface, 0, q.u.span), cv = constants(q.surface, 1, q.v.span);
@@ -610,40 +664,44 @@ class VkKsquad final : public Strategy {
       const int next_v = next_span(s.knots_v, q.v.span, s.count_v);
       const int cu_next = constants(q.surface, 0, next_u);
       const int cv_next = constants(q.surface, 1, next_v);
+      // Uniform: runs past the cap cut on the host; adaptive: vk-pieces^2 rows per KSQuad, the
+      // control stage uses those its levels need (ksquad.tesc).
       const int piece_cap = settings_.adaptive ? std::numeric_limits<int>::max() : cap;
+      const int pieces = settings_.adaptive ? settings_.pieces * settings_.pieces : 1;
       for (const ksquad::SpanRun& a : vk_ksquad::split_run(q.u, piece_cap))
-        for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, piece_cap)) {
-          const int lu = vk_ksquad::run_level(a), lv = vk_ksquad::run_level(b);
-          const auto [u_lo, u_hi] = vk_ksquad::piece_share(q.u, a);
-          const auto [v_lo, v_hi] = vk_ksquad::piece_share(q.v, b);
-          const int row[kPatchInts] = {q.surface,
-                                       q.u.span,
-                                       q.v.span,
-                                       cu,
-                                       cv,
-                                       a.begin,
-                                       a.count,
-                                       b.begin,
-                                       b.count,
-                                       lu,
-                                       lv,
-                                       0,
-                                       c[0],
-                                       c[1],
-                                       c[2],
-                                       c[3],
-                                       next_u,
-                                       next_v,
-                                       cu_next,
-                                       cv_next,
-                                       std::bit_cast<int>(u_lo),
-                                       std::bit_cast<int>(u_hi),
-                                       std::bit_cast<int>(v_lo),
-                                       std::bit_cast<int>(v_hi)};
-          patches_.insert(patches_.end(), row, row + kPatchInts);
-          stats_.implied_vertices += vk_ksquad::quad_domain_vertices(lu, lv);
-          stats_.max_level = std::max({stats_.max_level, lu, lv});
-        }
+        for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, piece_cap))
+          for (int piece = 0; piece < pieces; ++piece) {
+            const int lu = vk_ksquad::run_level(a), lv = vk_ksquad::run_level(b);
+            const auto [u_lo, u_hi] = vk_ksquad::piece_share(q.u, a);
+            const auto [v_lo, v_hi] = vk_ksquad::piece_share(q.v, b);
+            const int row[kPatchInts] = {q.surface,
+                                         q.u.span,
+                                         q.v.span,
+                                         cu,
+                                         cv,
+                                         a.begin,
+                                         a.count,
+                                         b.begin,
+                                         b.count,
+                                         lu,
+                                         lv,
+                                         piece,
+                                         c[0],
+                                         c[1],
+                                         c[2],
+                                         c[3],
+                                         next_u,
+                                         next_v,
+                                         cu_next,
+                                         cv_next,
+                                         std::bit_cast<int>(u_lo),
+                                         std::bit_cast<int>(u_hi),
+                                         std::bit_cast<int>(v_lo),
+                                         std::bit_cast<int>(v_hi)};
+            patches_.insert(patches_.end(), row, row + kPatchInts);
+            stats_.implied_vertices += vk_ksquad::quad_domain_vertices(lu, lv);
+            stats_.max_level = std::max({stats_.max_level, lu, lv});
+          }
     }
     // Grouped by degree pair, one draw (and one specialised pipeline) each; a grid's patches
     // without samples last in their group, drawn by render() only. (Captured with level 0 among
@@ -710,6 +768,7 @@ class VkKsquad final : public Strategy {
     const std::size_t output_floats =
         settings_.adaptive ? patch_count_ * region_ * kSlotFloats : total_ * 3;
     corners_buf_ = storage(corners_, "KSQuad corners");
+    corner_jobs_buf_ = storage(corner_jobs_, "KSQuad corner jobs");
     levels_ = vulkan::Buffer(device_, 8 * patch_count_ * sizeof(float),
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chosen levels");
     surfaces_buf_ = storage(surfaces_, "surface table");
@@ -725,7 +784,7 @@ class VkKsquad final : public Strategy {
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output sample parameters");
     set_->write({&surfaces_buf_, &patches_buf_, &constants_buf_, &points_, &params_buf_,
                  &positions_, &corners_buf_, &levels_, &normals_, &classifier_.reals(),
-                 &classifier_.ints(), &trim_surfaces_buf_, &sample_params_});
+                 &classifier_.ints(), &trim_surfaces_buf_, &sample_params_, &corner_jobs_buf_});
   }
 
   // Once per strategy (STYLE.md: compiled shaders are created once, never in evaluate()).
@@ -744,6 +803,8 @@ class VkKsquad final : public Strategy {
     layout_info.pPushConstantRanges = &push;
     vulkan::check(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_),
                   "vkCreatePipelineLayout");
+    corner_pipeline_ =
+        device_.compute_pipeline(layout_, embedded::vk_ksquad_corners_comp, "ksquad_corners.comp");
 
     // Capture only: a render pass without attachments, rasterization discarded.
     VkSubpassDescription subpass{};
@@ -776,6 +837,21 @@ class VkKsquad final : public Strategy {
                                           raster ? raster_->pass() : render_pass_, draw.du, draw.dv,
                                           image_width(), image_height());
     return pipeline;
+  }
+
+  // vk-corners=device: the corner pass, then a barrier so the control stage reads its corners.
+  void record_corners(VkCommandBuffer cb) const {
+    if (!settings_.adaptive || !settings_.device_corners || corner_jobs_.empty()) return;
+    const auto count = static_cast<std::uint32_t>(corner_jobs_.size() / kCornerInts);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, corner_pipeline_);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_->handle(), 0,
+                            nullptr);
+    ModeConstants mode = mode_;
+    mode.patch_base = static_cast<std::int32_t>(count);
+    vkCmdPushConstants(cb, layout_, kModeStages, 0, sizeof mode, &mode);
+    vkCmdDispatch(cb, (count + kCornerGroup - 1) / kCornerGroup, 1, 1);
+    memory_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_TESSELLATION_CONTROL_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
   }
 
   void record_draws(VkCommandBuffer cb, const Pipelines& pipelines,
@@ -815,11 +891,14 @@ class VkKsquad final : public Strategy {
   std::vector<float> corners_;
   vulkan::Buffer trim_surfaces_buf_;
   vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_,
-      corners_buf_, levels_, normals_, sample_params_;
+      corners_buf_, levels_, normals_, sample_params_, corner_jobs_buf_;
+  std::vector<int> corner_jobs_;  // kCornerInts per corner (ksquad_corners.comp)
+  VkPipeline corner_pipeline_ = VK_NULL_HANDLE;
   std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
   KsquadSettings settings_;
   ModeConstants mode_{};
   std::map<std::array<int, 3>, int> corner_index_;
+  std::vector<std::array<int, 5>> corner_spans_;  // surface, span_u, span_v, end_u, end_v
   std::optional<double> evaluate_s_;
   KsquadStatistics stats_;
 };

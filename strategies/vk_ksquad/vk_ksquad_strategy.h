@@ -19,8 +19,8 @@ struct KsquadStatistics {
   std::uint64_t evaluation_invocations = 0;  // pipeline statistics: TES invocations (KSDice)
   std::uint64_t implied_vertices = 0;        // sum over patches of the levels' vertex count
   int max_level = 0;                         // largest level set
-  int level_cap = 0;  // uniform: maxTessellationGenerationLevel; adaptive: vk-max-level
-  std::uint64_t capped_edges = 0;  // adaptive: edges that wanted more than level_cap
+  int level_cap = 0;  // per patch. uniform: maxTessellationGenerationLevel; adaptive: vk-max-level
+  std::uint64_t capped_edges = 0;  // adaptive: KSQuad edges past vk-pieces x level_cap
 };
 
 // Adaptive mode: the captured vertices (u, v, x, y, z) of one outer edge of one KSQuad, keyed by

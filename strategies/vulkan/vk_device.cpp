@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "strategies/device_wait.h"
@@ -303,6 +304,24 @@ VkShaderModule Device::shader_module(std::string_view spirv) const {
   VkShaderModule module = VK_NULL_HANDLE;
   check(vkCreateShaderModule(device_, &info, nullptr, &module), "vkCreateShaderModule");
   return module;
+}
+
+VkPipeline Device::compute_pipeline(VkPipelineLayout layout, std::string_view spirv,
+                                    const char* what) const {
+  const VkShaderModule module = shader_module(spirv);
+  VkComputePipelineCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+  info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = module;
+  info.stage.pName = "main";
+  info.layout = layout;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  const VkResult created =
+      vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
+  vkDestroyShaderModule(device_, module, nullptr);
+  check(created, (std::string("vkCreateComputePipelines (") + what + ")").c_str());
+  return pipeline;
 }
 
 int Device::memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags wanted) const {

@@ -118,6 +118,9 @@ class Device {
   // Records `commands` into a one-shot command buffer, submits it and waits for the queue.
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& commands) const;
   VkShaderModule shader_module(std::string_view spirv) const;
+  // A compute pipeline of the embedded SPIR-V `spirv` under `layout`; `what` names it in errors.
+  VkPipeline compute_pipeline(VkPipelineLayout layout, std::string_view spirv,
+                              const char* what) const;
   // Index of a memory type allowed by `type_bits` with `wanted` properties; -1 when none.
   int memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags wanted) const;
 

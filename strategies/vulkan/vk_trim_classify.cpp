@@ -26,18 +26,8 @@ TrimClassifier::TrimClassifier(const Device& device) : device_(device) {
   layout_info.pushConstantRangeCount = 1;
   layout_info.pPushConstantRanges = &push;
   check(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_), "vkCreatePipelineLayout");
-  const VkShaderModule module = device_.shader_module(embedded::vk_trim_classify_comp);
-  VkComputePipelineCreateInfo info{};
-  info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
-  info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  info.stage.module = module;
-  info.stage.pName = "main";
-  info.layout = layout_;
-  const VkResult created =
-      vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
-  vkDestroyShaderModule(d, module, nullptr);
-  check(created, "vkCreateComputePipelines (trim_classify.comp)");
+  pipeline_ =
+      device_.compute_pipeline(layout_, embedded::vk_trim_classify_comp, "trim_classify.comp");
 }
 
 TrimClassifier::~TrimClassifier() {

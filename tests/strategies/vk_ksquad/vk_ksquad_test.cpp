@@ -34,7 +34,9 @@ Sampling grid(int nu, int nv) {
 }
 
 std::unique_ptr<Strategy> adaptive_strategy(const std::string& eye, const std::string& center,
-                                            const std::string& mu);
+                                            const std::string& mu,
+                                            const std::string& max_level = "",
+                                            const std::string& pieces = "");
 
 // Span grid T: the tessellator chooses the samples (003 §4), so they are its lattice -- in every
 // non-empty span [x_i, x_i+1], x_i + k (x_i+1 - x_i) / T for k = 0..T, computed here in double --
@@ -232,9 +234,12 @@ TEST_F(VkKsquadTest, RefusesWhatItCannotDo) {
 
 // Adaptive mode (003 §3.1): a close camera so the levels vary over the surface.
 std::unique_ptr<Strategy> adaptive_strategy(const std::string& eye, const std::string& center,
-                                            const std::string& mu) {
+                                            const std::string& mu, const std::string& max_level,
+                                            const std::string& pieces) {
   StrategyOptions options;
-  options.extra = {{"vk-mode", "adaptive"}, {"vk-eye", eye}, {"vk-center", center}, {"vk-mu", mu}};
+  options.extra = {{"vk-mode", "adaptive"},     {"vk-eye", eye},
+                   {"vk-center", center},       {"vk-mu", mu},
+                   {"vk-max-level", max_level}, {"vk-pieces", pieces}};
   return make_vk_ksquad(options);
 }
 
@@ -243,13 +248,19 @@ struct AdaptiveCase {
   const char* eye;
   const char* center;
   const char* mu;
+  const char* max_level = "";
+  const char* pieces = "";
 };
-const AdaptiveCase kAdaptiveCases[] = {
-    {"patch144", "", "", "4"}, {"torus", "", "", "8"}, {"tan16", "", "", "4"}};
+// The last: levels up to 34 with the tessellator capped at 16, so KSQuads are cut into up to
+// three pieces per direction (ksquad.tesc), not capped.
+const AdaptiveCase kAdaptiveCases[] = {{"patch144", "", "", "4"},
+                                       {"torus", "", "", "8"},
+                                       {"tan16", "", "", "4"},
+                                       {"patch144", "", "", "4", "16", "4"}};
 
 TEST_F(VkKsquadTest, AdaptiveStatisticsMatchTheChosenLevels) {
   for (const AdaptiveCase& c : kAdaptiveCases) {
-    auto strategy = adaptive_strategy(c.eye, c.center, c.mu);
+    auto strategy = adaptive_strategy(c.eye, c.center, c.mu, c.max_level, c.pieces);
     const Scene scene = *make_builtin_scene(c.scene);
     strategy->prepare(scene, EvalRequest{span_grid(1), Precision::f32, false});
     strategy->evaluate();
@@ -257,6 +268,7 @@ TEST_F(VkKsquadTest, AdaptiveStatisticsMatchTheChosenLevels) {
     EXPECT_EQ(st.control_patches, st.patches_drawn) << c.scene;
     EXPECT_EQ(st.evaluation_invocations, st.implied_vertices) << c.scene;
     EXPECT_EQ(st.capped_edges, 0u) << c.scene;
+    EXPECT_LE(st.max_level, st.level_cap) << c.scene;
     std::cout << c.scene << " adaptive: " << st.patches_drawn << " patches, max level "
               << st.max_level << ", " << st.evaluation_invocations << " TES invocations\n";
   }
@@ -265,7 +277,7 @@ TEST_F(VkKsquadTest, AdaptiveStatisticsMatchTheChosenLevels) {
 // At the (u, v) it chose, adaptive mode is as accurate as uniform mode.
 TEST_F(VkKsquadTest, AdaptiveWithinBudgetAtItsOwnSamples) {
   for (const AdaptiveCase& c : kAdaptiveCases) {
-    auto strategy = adaptive_strategy(c.eye, c.center, c.mu);
+    auto strategy = adaptive_strategy(c.eye, c.center, c.mu, c.max_level, c.pieces);
     const Scene scene = *make_builtin_scene(c.scene);
     strategy->prepare(scene, EvalRequest{span_grid(1), Precision::f32, false});
     strategy->evaluate();
@@ -286,7 +298,7 @@ TEST_F(VkKsquadTest, AdaptiveWithinBudgetAtItsOwnSamples) {
 // side evaluates with its own span's basis) -- and both sides hold the same number of vertices.
 TEST_F(VkKsquadTest, AdaptiveMeshHasNoCracksBetweenKsquads) {
   for (const AdaptiveCase& c : kAdaptiveCases) {
-    auto strategy = adaptive_strategy(c.eye, c.center, c.mu);
+    auto strategy = adaptive_strategy(c.eye, c.center, c.mu, c.max_level, c.pieces);
     const Scene scene = *make_builtin_scene(c.scene);
     strategy->prepare(scene, EvalRequest{span_grid(1), Precision::f32, false});
     strategy->evaluate();
