@@ -155,10 +155,13 @@ void main() {
     v = params[surfaces[s + 6] + b];
   }
   const vec3 position = ksquad_point(s, span_u, span_v, cu, cv, u, v);
-  if (kRaster == 0 && mode.adaptive == 0 && mode.normals != 0) {
-    // C_KNOT(c, p) = x_{i+1}: the span's end knot belongs to the next span (row + 16..19)
+  if (kRaster == 0 && mode.normals != 0) {
+    // C_KNOT(c, p) = x_{i+1}: the span's end knot belongs to the next span (row + 16..19).
+    // Adaptive: one normal per capture slot, in the slot's place.
     const bool u_end = u == C_KNOT(cu, pu), v_end = v == C_KNOT(cv, pv);
-    write_normal(surfaces[s + 8] + a * surfaces[s + 7] + b, s,
+    write_normal(mode.adaptive != 0 ? PATCH * mode.region + adaptive_slot()
+                                    : surfaces[s + 8] + a * surfaces[s + 7] + b,
+                 s,
                  u_end ? patches[row + 16] : span_u, v_end ? patches[row + 17] : span_v,
                  u_end ? patches[row + 18] : cu, v_end ? patches[row + 19] : cv, u, v);
   }

@@ -15,7 +15,7 @@ layout(std430, set = 0, binding = 5) writeonly buffer Positions { float position
 #endif
 layout(std430, set = 0, binding = 6) KSQUAD_CORNERS_ACCESS buffer Corners { vec4 corners[]; };
 layout(std430, set = 0, binding = 7) writeonly buffer Levels { float levels[]; };
-// Uniform mode with normals: one unit normal per sample, in the order of `positions`.
+// With normals: one unit normal per sample (uniform) or per capture slot (adaptive).
 layout(std430, set = 0, binding = 8) writeonly buffer Normals { float normals[]; };
 // Uniform span grid: the (u, v) the tessellator's coordinate gave each sample, in the order of
 // `positions` (the tessellator chooses the samples; vk_ksquad.cpp returns them).
@@ -33,7 +33,7 @@ layout(push_constant) uniform Mode {
   int adaptive;          // 0: uniform (levels from the table), 1: adaptive
   int max_level;         // adaptive: the level cap (<= maxTessellationGenerationLevel)
   int region;            // adaptive: capture slots per patch
-  int normals;           // uniform: 1 when normals are requested
+  int normals;           // 1 when normals are requested
   int patch_base;        // row of this draw's first patch (one draw per degree pair)
   int span_grid;         // uniform: 1 when the parameters come from gl_TessCoord (span grid)
   int pieces;            // adaptive: patches per KSQuad and direction (vk-pieces)

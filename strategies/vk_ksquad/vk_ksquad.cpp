@@ -121,7 +121,7 @@ vulkan::Requirements ksquad_requirements() {
 Capabilities ksquad_capabilities() {
   Capabilities c;
   c.max_degree = kStairMaxDegree;
-  c.normals = true;  // uniform mode: derivatives of the same stair basis (stair_derivative)
+  c.normals = true;  // both modes: derivatives of the same stair basis (stair_derivative)
   c.fp64 = false;    // Vulkan tessellation stages in float; shaderFloat64 is optional
   c.sampling.explicit_list = false;  // not a tensor of runs
   // The tessellator chooses the samples in adaptive mode and for span grids (the float rounding
@@ -173,8 +173,6 @@ class VkKsquad final : public Strategy {
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
     refuse_unsupported(name(), capabilities(), scene, request);
-    if (settings_.adaptive && request.normals)
-      throw RefusedError("vk-ksquad: normals are computed in uniform mode only");
     const bool trimmed = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
                                      [](const Surface& s) { return s.trim.has_value(); });
     if (settings_.adaptive && trimmed)
@@ -463,7 +461,10 @@ class VkKsquad final : public Strategy {
     EvalResult out;
     out.surfaces.resize(surface_count_);
     for (SurfaceResult& r : out.surfaces) r.samples.tensor = false;
-    std::vector<std::vector<float>> xyz(surface_count_);
+    std::vector<float> slot_normals(request_.normals ? patch_count_ * region_ * 3 : 0);
+    if (!slot_normals.empty())
+      normals_.read(slot_normals.data(), slot_normals.size() * sizeof(float));
+    std::vector<std::vector<float>> xyz(surface_count_), normal(surface_count_);
     for (std::size_t k = 0; k < patch_count_; ++k) {
       const int surface = patches_[kPatchInts * k];
       for (std::size_t j = 0; j < region_; ++j) {
@@ -472,12 +473,20 @@ class VkKsquad final : public Strategy {
         out.surfaces[surface].samples.u.push_back(slot[0]);
         out.surfaces[surface].samples.v.push_back(slot[1]);
         xyz[surface].insert(xyz[surface].end(), slot + 2, slot + 5);
+        if (!slot_normals.empty()) {
+          const float* n = &slot_normals[3 * (k * region_ + j)];
+          normal[surface].insert(normal[surface].end(), n, n + 3);
+        }
       }
     }
     for (std::size_t i = 0; i < surface_count_; ++i) {
       SurfaceResult& r = out.surfaces[i];
       r.positions = PointArray(Precision::f32, r.samples.count());
       std::memcpy(r.positions.f32(), xyz[i].data(), xyz[i].size() * sizeof(float));
+      if (request_.normals) {
+        r.normals = PointArray(Precision::f32, r.samples.count());
+        std::memcpy(r.normals.f32(), normal[i].data(), normal[i].size() * sizeof(float));
+      }
     }
     return out;
   }
@@ -778,7 +787,8 @@ class VkKsquad final : public Strategy {
     params_buf_ = storage(params_, "parameters");
     positions_ = vulkan::Buffer(device_, output_floats * sizeof(float),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output positions");
-    normals_ = vulkan::Buffer(device_, (request_.normals ? total_ * 3 : 0) * sizeof(float),
+    const std::size_t normal_slots = settings_.adaptive ? patch_count_ * region_ : total_;
+    normals_ = vulkan::Buffer(device_, (request_.normals ? normal_slots * 3 : 0) * sizeof(float),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output normals");
     sample_params_ = vulkan::Buffer(device_, (span_grid_samples() ? total_ * 2 : 0) * sizeof(float),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output sample parameters");

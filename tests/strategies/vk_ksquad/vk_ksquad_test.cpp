@@ -227,9 +227,6 @@ TEST_F(VkKsquadTest, RefusesWhatItCannotDo) {
   const Scene scene = *make_builtin_scene("patch144");
   EXPECT_THROW(strategy_->prepare(scene, EvalRequest{grid(8, 8), Precision::f64, false}),
                RefusedError);
-  auto adaptive = adaptive_strategy("", "", "4");
-  EXPECT_THROW(adaptive->prepare(scene, EvalRequest{grid(8, 8), Precision::f32, true}),
-               RefusedError);  // normals in uniform mode only
 }
 
 // Adaptive mode (003 §3.1): a close camera so the levels vary over the surface.
@@ -274,22 +271,23 @@ TEST_F(VkKsquadTest, AdaptiveStatisticsMatchTheChosenLevels) {
   }
 }
 
-// At the (u, v) it chose, adaptive mode is as accurate as uniform mode.
+// At the (u, v) it chose, adaptive mode is as accurate as uniform mode, normals included.
 TEST_F(VkKsquadTest, AdaptiveWithinBudgetAtItsOwnSamples) {
   for (const AdaptiveCase& c : kAdaptiveCases) {
     auto strategy = adaptive_strategy(c.eye, c.center, c.mu, c.max_level, c.pieces);
     const Scene scene = *make_builtin_scene(c.scene);
-    strategy->prepare(scene, EvalRequest{span_grid(1), Precision::f32, false});
+    strategy->prepare(scene, EvalRequest{span_grid(1), Precision::f32, true});
     strategy->evaluate();
     const EvalResult result = strategy->read_back();
     const auto produced = result_samples(result);
     ASSERT_GT(total_samples(produced), 0u);
-    const Accuracy acc =
-        measure_accuracy(scene, result, evaluate_reference(scene, produced, false));
+    const Accuracy acc = measure_accuracy(scene, result, evaluate_reference(scene, produced, true));
     EXPECT_EQ(acc.non_finite, 0u);
     EXPECT_LE(acc.max_ulp, 64.0) << c.scene;
+    ASSERT_TRUE(acc.max_normal_angle_deg.has_value());
+    EXPECT_LE(*acc.max_normal_angle_deg, 1.0) << c.scene;
     std::cout << c.scene << " adaptive: " << total_samples(produced) << " vertices, max_ulp "
-              << acc.max_ulp << "\n";
+              << acc.max_ulp << ", normals " << *acc.max_normal_angle_deg << " deg\n";
   }
 }
 
