@@ -51,9 +51,12 @@
 #include "strategies/ksquad/ksquad_table.h"
 #include "strategies/strategy_options.h"
 #include "strategies/trim_direct/trim_tables.h"
+#include "strategies/vk_ksquad/adaptive_mapping.h"
+#include "strategies/vk_ksquad/ksquad_layout.h"
 #include "strategies/vk_ksquad/ksquad_pipeline.h"
 #include "strategies/vk_ksquad/ksquad_settings.h"
 #include "strategies/vk_ksquad/patches.h"
+#include "strategies/vk_ksquad/uniform_mapping.h"
 #include "strategies/vk_ksquad/vk_ksquad_strategy.h"
 #include "strategies/vulkan/vk_device.h"
 #include "strategies/vulkan/vk_trim_classify.h"
@@ -65,14 +68,15 @@ extern const std::string_view vk_ksquad_corners_comp;
 namespace nurbs {
 namespace {
 
+using vk_ksquad::kCornerInts;
+using vk_ksquad::kPatchInts;
+using vk_ksquad::kPatchLevelU;
+using vk_ksquad::kPatchLevelV;
+using vk_ksquad::kSlotFloats;
 using vk_ksquad::ksquad_settings;
 using vk_ksquad::KsquadSettings;
+using vk_ksquad::kSurfaceInts;
 
-constexpr int kSurfaceInts = 16;                    // ksquad_tables.glsl: SURFACE_INTS
-constexpr int kPatchInts = 24;                      // ksquad_tables.glsl: PATCH_INTS
-constexpr int kPatchLevelU = 9, kPatchLevelV = 10;  // a patch row's tessellation levels
-constexpr int kPatchPiece = 11;                     // adaptive: the piece of its KSQuad
-constexpr int kSlotFloats = 5;                      // ksquad_tables.glsl: SLOT_FLOATS
 constexpr int kConstantFloats = 119;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
               "stair_basis.glsl reads StairConstants<float> as 119 packed floats");
@@ -95,7 +99,6 @@ static_assert(sizeof(ModeConstants) == 104);
 constexpr VkShaderStageFlags kModeStages = VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
                                            VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT |
                                            VK_SHADER_STAGE_COMPUTE_BIT;
-constexpr int kCornerInts = 8;              // ksquad_tables.glsl: CORNER_INTS
 constexpr std::uint32_t kCornerGroup = 64;  // ksquad_corners.comp: local_size_x
 constexpr VkQueryPipelineStatisticFlags kStatistics =
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_CONTROL_SHADER_PATCHES_BIT |
@@ -240,7 +243,7 @@ class VkKsquad final : public Strategy {
     if (!uv.empty()) sample_params_.read(uv.data(), uv.size() * sizeof(float));
     for (const SurfaceSamples& s : samples_) {
       SurfaceResult r;
-      r.samples = uv.empty() ? s : chosen_samples(s, uv.data() + 2 * base);
+      r.samples = uv.empty() ? s : vk_ksquad::chosen_samples(s, uv.data() + 2 * base);
       r.positions = PointArray(Precision::f32, s.count());
       std::memcpy(r.positions.f32(), host.data() + base * 3, s.count() * 3 * sizeof(float));
       if (request_.normals) {
@@ -268,7 +271,7 @@ class VkKsquad final : public Strategy {
       throw std::invalid_argument("vk-ksquad: update_control_points changed the control nets");
     points_.write(points.data(), points.size() * sizeof(float));
     if (settings_.adaptive && !settings_.device_corners) {  // the corners move with the points
-      corners_ = corner_table(scene);
+      corners_ = vk_ksquad::corner_table(scene, true).rows;
       corners_buf_.write(corners_.data(), corners_.size() * sizeof(float));
     }
   }
@@ -320,112 +323,31 @@ class VkKsquad final : public Strategy {
 
   // Adaptive mode: the levels the control stage chose, read back from its storage buffer.
   KsquadStatistics statistics() const {
-    KsquadStatistics st = stats_;
-    if (!settings_.adaptive || patch_count_ == 0) return st;
+    if (!settings_.adaptive || patch_count_ == 0) return stats_;
+    return vk_ksquad::adaptive_statistics(stats_, tables_, read_levels(),
+                                          settings_.max_level * settings_.pieces);
+  }
+
+  std::vector<float> read_levels() const {
     std::vector<float> levels(8 * patch_count_);
     levels_.read(levels.data(), levels.size() * sizeof(float));
-    st.implied_vertices = 0;
-    st.max_level = 0;
-    const float most = static_cast<float>(settings_.max_level * settings_.pieces);
-    for (std::size_t k = 0; k < patch_count_; ++k) {
-      const float* o = &levels[8 * k];
-      if (patches_[kPatchInts * k + kPatchPiece] == 0)  // once per KSQuad
-        for (int e = 0; e < 4; ++e) st.capped_edges += o[4 + e] > most;
-      if (o[0] <= 0) continue;  // a piece the KSQuad did not need: discarded
-      const int i0 = static_cast<int>(std::max({o[1], o[3], 2.0f}));
-      const int i1 = static_cast<int>(std::max({o[0], o[2], 2.0f}));
-      st.implied_vertices += static_cast<std::uint64_t>(o[0] + o[1] + o[2] + o[3]) +
-                             static_cast<std::uint64_t>(i0 - 1) * (i1 - 1);
-      for (int e = 0; e < 4; ++e) st.max_level = std::max(st.max_level, static_cast<int>(o[e]));
-    }
-    return st;
+    return levels;
   }
 
   std::vector<PatchLevels> patch_levels() const {
-    std::vector<PatchLevels> out;
-    if (!settings_.adaptive || patch_count_ == 0) return out;
-    std::vector<float> levels(8 * patch_count_);
-    levels_.read(levels.data(), levels.size() * sizeof(float));
-    for (std::size_t k = 0; k < patch_count_; ++k) {
-      PatchLevels p;
-      const int* row = &patches_[kPatchInts * k];
-      p.surface = row[0];
-      p.span_u = row[1];
-      p.span_v = row[2];
-      std::copy_n(&levels[8 * k], 4, p.set.begin());
-      std::copy_n(&levels[8 * k + 4], 4, p.wanted.begin());
-      out.push_back(p);
-    }
-    return out;
+    if (!settings_.adaptive || patch_count_ == 0) return {};
+    return vk_ksquad::adaptive_patch_levels(tables_, read_levels());
   }
 
-  // Adaptive mode: every captured vertex on each KSQuad's four edges, keyed by the edge; a
-  // KSQuad cut into pieces contributes the vertices of all its pieces, each (u, v) once.
   std::vector<CapturedEdge> captured_edges() const {
-    std::vector<CapturedEdge> edges;
-    if (!settings_.adaptive) return edges;
-    const std::vector<float> slots = read_slots();
-    const int per_edge = settings_.max_level + 1;
-    std::map<std::array<int, 3>, std::size_t> first_edge;  // KSQuad -> its edges in `edges`
-    for (std::size_t k = 0; k < patch_count_; ++k) {
-      const int* row = &patches_[kPatchInts * k];
-      auto [it, added] = first_edge.try_emplace({row[0], row[1], row[2]}, edges.size());
-      if (added) {
-        const float* c_u = &constants_[row[3]];
-        const float* c_v = &constants_[row[4]];
-        const int pu = surfaces_[kSurfaceInts * row[0]];
-        const int pv = surfaces_[kSurfaceInts * row[0] + 1];
-        const float u0 = c_u[pu - 1], u1 = c_u[pu], v0 = c_v[pv - 1], v1 = c_v[pv];
-        // outer edge e: u = u0 (0), v = v0 (1), u = u1 (2), v = v1 (3)
-        edges.push_back({row[0], 0, u0, v0, v1, {}});
-        edges.push_back({row[0], 1, v0, u0, u1, {}});
-        edges.push_back({row[0], 0, u1, v0, v1, {}});
-        edges.push_back({row[0], 1, v1, u0, u1, {}});
-      }
-      // A corner's slot is on one edge only (ksquad.tese: adaptive_slot); an edge holds every
-      // edge-slot vertex whose (u, v) lies on it (t = 0 and 1 give the knots exactly).
-      for (int j = 0; j < 4 * per_edge; ++j) {
-        const float* slot = &slots[kSlotFloats * (k * region_ + j)];
-        if (std::isnan(slot[0])) continue;
-        for (int e = 0; e < 4; ++e) {
-          CapturedEdge& edge = edges[it->second + e];
-          if (slot[edge.direction] != edge.fixed) continue;
-          const bool known =
-              std::any_of(edge.vertices.begin(), edge.vertices.end(),
-                          [&](const auto& v) { return v[0] == slot[0] && v[1] == slot[1]; });
-          if (!known) edge.vertices.push_back({slot[0], slot[1], slot[2], slot[3], slot[4]});
-        }
-      }
-    }
-    return edges;
+    if (!settings_.adaptive) return {};
+    return vk_ksquad::adaptive_edges(tables_, read_slots(), region_, settings_.max_level);
   }
 
  private:
   // Uniform span grid: the tessellator chooses the parameters (ksquad.tese span_parameter).
   bool span_grid_samples() const {
     return !settings_.adaptive && request_.sampling.mode == SamplingMode::span_grid;
-  }
-
-  // The span grid's samples as the device evaluated them: a tensor when every lattice column
-  // (row) got the same u (v) -- the tessellator's coordinates k / level are the same on every
-  // edge of a patch and both sides of a knot line blend to the knot exactly -- else the
-  // explicit list of the (u, v) pairs.
-  static SurfaceSamples chosen_samples(const SurfaceSamples& requested, const float* uv) {
-    const std::size_t nu = requested.u.size(), nv = requested.v.size();
-    SurfaceSamples out;
-    for (std::size_t a = 0; a < nu; ++a) out.u.push_back(uv[2 * a * nv]);
-    for (std::size_t b = 0; b < nv; ++b) out.v.push_back(uv[2 * b + 1]);
-    for (std::size_t k = 0; k < nu * nv; ++k)
-      if (uv[2 * k] != out.u[k / nv] || uv[2 * k + 1] != out.v[k % nv]) {
-        out = {};
-        out.tensor = false;
-        for (std::size_t j = 0; j < nu * nv; ++j) {
-          out.u.push_back(uv[2 * j]);
-          out.v.push_back(uv[2 * j + 1]);
-        }
-        break;
-      }
-    return out;
   }
 
   static std::vector<float> homogeneous_points(const Scene& scene) {
@@ -457,38 +379,10 @@ class VkKsquad final : public Strategy {
   }
 
   EvalResult read_back_adaptive() {
-    const std::vector<float> slots = read_slots();
-    EvalResult out;
-    out.surfaces.resize(surface_count_);
-    for (SurfaceResult& r : out.surfaces) r.samples.tensor = false;
     std::vector<float> slot_normals(request_.normals ? patch_count_ * region_ * 3 : 0);
     if (!slot_normals.empty())
       normals_.read(slot_normals.data(), slot_normals.size() * sizeof(float));
-    std::vector<std::vector<float>> xyz(surface_count_), normal(surface_count_);
-    for (std::size_t k = 0; k < patch_count_; ++k) {
-      const int surface = patches_[kPatchInts * k];
-      for (std::size_t j = 0; j < region_; ++j) {
-        const float* slot = &slots[kSlotFloats * (k * region_ + j)];
-        if (std::isnan(slot[0])) continue;
-        out.surfaces[surface].samples.u.push_back(slot[0]);
-        out.surfaces[surface].samples.v.push_back(slot[1]);
-        xyz[surface].insert(xyz[surface].end(), slot + 2, slot + 5);
-        if (!slot_normals.empty()) {
-          const float* n = &slot_normals[3 * (k * region_ + j)];
-          normal[surface].insert(normal[surface].end(), n, n + 3);
-        }
-      }
-    }
-    for (std::size_t i = 0; i < surface_count_; ++i) {
-      SurfaceResult& r = out.surfaces[i];
-      r.positions = PointArray(Precision::f32, r.samples.count());
-      std::memcpy(r.positions.f32(), xyz[i].data(), xyz[i].size() * sizeof(float));
-      if (request_.normals) {
-        r.normals = PointArray(Precision::f32, r.samples.count());
-        std::memcpy(r.normals.f32(), normal[i].data(), normal[i].size() * sizeof(float));
-      }
-    }
-    return out;
+    return vk_ksquad::adaptive_result(tables_, read_slots(), slot_normals, region_, surface_count_);
   }
 
   // The adaptive camera: given, or fitted to the scene's control-point bounding sphere.
@@ -507,84 +401,11 @@ class VkKsquad final : public Strategy {
     std::copy(m.begin(), m.end(), mode_.view_projection);
   }
 
-  // One corner per (distinct knot value in u, distinct knot value in v) of each surface's domain;
-  // corner_index_ maps (surface, first knot index of the u value, first knot index of the v
-  // value) to its row. vk-corners=host: S(x_k, y_l) by the reference, rounded to float (003's
-  // "without any precomputation on the CPU" is the device path; this one measures the
-  // difference). device: zeros, filled by the corner pass; corner_spans_ gets, per corner, the
-  // span pair A2.1 assigns its knots to and whether each knot is that span's end (the domain's
-  // end knot).
-  std::vector<float> corner_table(const Scene& scene) {
-    std::vector<float> corners;
-    corner_index_.clear();
-    corner_spans_.clear();
-    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
-      const Surface& s = scene.surfaces[i];
-      const SurfaceNet<double> net(s);
-      const auto breaks = [](const std::vector<double>& k, int p, int n) {
-        std::vector<int> at;  // first knot index of each distinct value in [k_p, k_n]
-        for (int a = p; a <= n; ++a)
-          if (a == p || k[a] > k[a - 1]) at.push_back(a);
-        return at;
-      };
-      // A2.1: the span [k_j, k_j+1) holding k_a (non-empty), or the last one at the end
-      const auto span_of = [](const std::vector<double>& k, int a, int n) {
-        int j = a;
-        while (j < n && k[j + 1] == k[a]) ++j;
-        if (j < n) return std::make_pair(j, 0);
-        while (!(k[j - 1] < k[j])) --j;
-        return std::make_pair(j - 1, 1);
-      };
-      for (int a : breaks(s.knots_u, s.degree_u, s.count_u))
-        for (int b : breaks(s.knots_v, s.degree_v, s.count_v)) {
-          corner_index_[{static_cast<int>(i), a, b}] = static_cast<int>(corners.size() / 4);
-          const auto [span_u, end_u] = span_of(s.knots_u, a, s.count_u);
-          const auto [span_v, end_v] = span_of(s.knots_v, b, s.count_v);
-          corner_spans_.push_back({static_cast<int>(i), span_u, span_v, end_u, end_v});
-          if (settings_.device_corners) {
-            corners.insert(corners.end(), {0.0f, 0.0f, 0.0f, 1.0f});
-            continue;
-          }
-          const Vec3<double> p = surface_point(net, s.knots_u[a], s.knots_v[b]);
-          corners.insert(corners.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]),
-                                         static_cast<float>(p[2]), 1.0f});
-        }
-    }
-    return corners;
-  }
-
-  // The corner at (knots_u[a], knots_v[b]), found by the first knot index of each value.
-  int corner(const Surface& s, int surface, int a, int b) const {
-    while (a > s.degree_u && s.knots_u[a - 1] == s.knots_u[a]) --a;
-    while (b > s.degree_v && s.knots_v[b - 1] == s.knots_v[b]) --b;
-    return corner_index_.at({surface, a, b});
-  }
-
-  // A grid's KSQuads: every pair of non-empty spans, those without samples included (no samples
-  // captured; drawn, they cover their span: see vk_ksquad::with_empty_spans).
-  std::vector<ksquad::KSQuad> grid_ksquads(const Scene& scene) const {
-    std::vector<ksquad::KSQuad> quads;
-    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
-      const Surface& s = scene.surfaces[i];
-      const std::vector<float> ku(s.knots_u.begin(), s.knots_u.end());
-      const std::vector<float> kv(s.knots_v.begin(), s.knots_v.end());
-      const auto ru = vk_ksquad::with_empty_spans(
-          ksquad::runs_of_grid(samples_[i].u, s.degree_u, s.count_u, ku), s.knots_u, s.degree_u,
-          s.count_u);
-      const auto rv = vk_ksquad::with_empty_spans(
-          ksquad::runs_of_grid(samples_[i].v, s.degree_v, s.count_v, kv), s.knots_v, s.degree_v,
-          s.count_v);
-      for (const ksquad::SpanRun& a : ru)
-        for (const ksquad::SpanRun& b : rv) quads.push_back({static_cast<int>(i), a, b});
-    }
-    return quads;
-  }
-
   // Surface table, per-span stair constants and the Info-KSQuad table (one row per patch).
   void build_tables(const Scene& scene) {
-    surfaces_.clear();
-    patches_.clear();
-    constants_.clear();
+    tables_.surfaces.clear();
+    tables_.patches.clear();
+    tables_.constants.clear();
     params_.clear();
     std::size_t out_base = 0, point_base = 0;
     std::vector<int> param_u(scene.surfaces.size()), param_v(scene.surfaces.size());
@@ -611,7 +432,7 @@ class VkKsquad final : public Strategy {
                                      std::bit_cast<int>(static_cast<float>(s.u_max())),
                                      std::bit_cast<int>(static_cast<float>(s.v_min())),
                                      std::bit_cast<int>(static_cast<float>(s.v_max()))};
-      surfaces_.insert(surfaces_.end(), rec, rec + kSurfaceInts);
+      tables_.surfaces.insert(tables_.surfaces.end(), rec, rec + kSurfaceInts);
       point_base += s.points.size();
       out_base += sm.count();
     }
@@ -626,9 +447,9 @@ class VkKsquad final : public Strategy {
       const std::vector<float> k32(k64.begin(), k64.end());
       StairConstants<float> c{};
       stair_constants(span, direction == 0 ? s.degree_u : s.degree_v, k32.data(), c);
-      const int offset = static_cast<int>(constants_.size());
+      const int offset = static_cast<int>(tables_.constants.size());
       const float* f = reinterpret_cast<const float*>(&c);
-      constants_.insert(constants_.end(), f, f + kConstantFloats);
+      tables_.constants.insert(tables_.constants.end(), f, f + kConstantFloats);
       constant_of.emplace(key, offset);
       return offset;
     };
@@ -645,14 +466,13 @@ class VkKsquad final : public Strategy {
                                  scene, sample_parameters(scene, one_per_span), one_per_span)
                            : (span_grid_samples()
                                   ? ksquad::build_ksquads<float>(scene, samples_, request_.sampling)
-                                  : grid_ksquads(scene));
-    if (settings_.adaptive) corner_index_.clear();
-    const std::vector<float> corner_rows =
-        settings_.adaptive ? corner_table(scene) : std::vector<float>{};
-    corners_ = corner_rows;
+                                  : vk_ksquad::grid_ksquads(scene, samples_));
+    corner_table_ = settings_.adaptive ? vk_ksquad::corner_table(scene, !settings_.device_corners)
+                                       : vk_ksquad::Corners{};
+    corners_ = corner_table_.rows;
     corner_jobs_.clear();
     if (settings_.adaptive && settings_.device_corners)
-      for (const auto& [surface, span_u, span_v, end_u, end_v] : corner_spans_)
+      for (const auto& [surface, span_u, span_v, end_u, end_v] : corner_table_.spans)
         corner_jobs_.insert(corner_jobs_.end(),
                             {surface * kSurfaceInts, span_u, span_v, constants(surface, 0, span_u),
                              constants(surface, 1, span_v), end_u, end_v, 0});
@@ -662,7 +482,7 @@ class VkKsquad final : public Strategy {
       int c[4] = {0, 0, 0, 0};
       if (settings_.adaptive)
         for (int k = 0; k < 4; ++k)
-          c[k] = corner(s, q.surface, q.u.span + (k & 1), q.v.span + (k >> 1));
+          c[k] = corner_table_.at(s, q.surface, q.u.span + (k & 1), q.v.span + (k >> 1));
       // A2.1 puts a span's end knot in the next non-empty span (the last span keeps the end).
       const auto next_span = [](const std::vector<double>& k, int span, int count) {
         for (int t = span + 1; t < count; ++t)
@@ -707,7 +527,7 @@ class VkKsquad final : public Strategy {
                                          std::bit_cast<int>(u_hi),
                                          std::bit_cast<int>(v_lo),
                                          std::bit_cast<int>(v_hi)};
-            patches_.insert(patches_.end(), row, row + kPatchInts);
+            tables_.patches.insert(tables_.patches.end(), row, row + kPatchInts);
             stats_.implied_vertices += vk_ksquad::quad_domain_vertices(lu, lv);
             stats_.max_level = std::max({stats_.max_level, lu, lv});
           }
@@ -716,9 +536,9 @@ class VkKsquad final : public Strategy {
     // without samples last in their group, drawn by render() only. (Captured with level 0 among
     // the others, the patches after them got wrong samples on lavapipe -- tan256 grid 64x64:
     // 1e7 ulps -- as if the evaluation stage's gl_PrimitiveID skipped the discarded ones.)
-    std::vector<std::array<int, kPatchInts>> rows(patches_.size() / kPatchInts);
+    std::vector<std::array<int, kPatchInts>> rows(tables_.patches.size() / kPatchInts);
     for (std::size_t k = 0; k < rows.size(); ++k)
-      std::copy_n(&patches_[kPatchInts * k], kPatchInts, rows[k].begin());
+      std::copy_n(&tables_.patches[kPatchInts * k], kPatchInts, rows[k].begin());
     const auto key = [&](const std::array<int, kPatchInts>& row) {
       const Surface& s = scene.surfaces[row[0]];
       return std::make_tuple(s.degree_u, s.degree_v,
@@ -727,7 +547,7 @@ class VkKsquad final : public Strategy {
     std::stable_sort(rows.begin(), rows.end(),
                      [&](const auto& a, const auto& b) { return key(a) < key(b); });
     for (std::size_t k = 0; k < rows.size(); ++k)
-      std::copy(rows[k].begin(), rows[k].end(), &patches_[kPatchInts * k]);
+      std::copy(rows[k].begin(), rows[k].end(), &tables_.patches[kPatchInts * k]);
     // A draw also ends where its vertices would pass vk-vertices-per-draw (see
     // kDefaultVerticesPerDraw); adaptive patches are counted at the level cap.
     const auto make_draws = [&](bool with_empty) {
@@ -780,9 +600,9 @@ class VkKsquad final : public Strategy {
     corner_jobs_buf_ = storage(corner_jobs_, "KSQuad corner jobs");
     levels_ = vulkan::Buffer(device_, 8 * patch_count_ * sizeof(float),
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chosen levels");
-    surfaces_buf_ = storage(surfaces_, "surface table");
-    patches_buf_ = storage(patches_, "Info-KSQuad table");
-    constants_buf_ = storage(constants_, "stair constants");
+    surfaces_buf_ = storage(tables_.surfaces, "surface table");
+    patches_buf_ = storage(tables_.patches, "Info-KSQuad table");
+    constants_buf_ = storage(tables_.constants, "stair constants");
     points_ = storage(homogeneous_points(scene), "control points");
     params_buf_ = storage(params_, "parameters");
     positions_ = vulkan::Buffer(device_, output_floats * sizeof(float),
@@ -896,8 +716,8 @@ class VkKsquad final : public Strategy {
 
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;
-  std::vector<int> surfaces_, patches_;
-  std::vector<float> constants_, params_;
+  vk_ksquad::HostTables tables_;
+  std::vector<float> params_;
   std::vector<float> corners_;
   vulkan::Buffer trim_surfaces_buf_;
   vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_,
@@ -907,8 +727,7 @@ class VkKsquad final : public Strategy {
   std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
   KsquadSettings settings_;
   ModeConstants mode_{};
-  std::map<std::array<int, 3>, int> corner_index_;
-  std::vector<std::array<int, 5>> corner_spans_;  // surface, span_u, span_v, end_u, end_v
+  vk_ksquad::Corners corner_table_;
   std::optional<double> evaluate_s_;
   KsquadStatistics stats_;
 };
