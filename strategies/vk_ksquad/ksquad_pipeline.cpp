@@ -2,36 +2,43 @@
 
 #include <array>
 #include <string_view>
+#include <vector>
 
 namespace nurbs::embedded {
 extern const std::string_view vk_ksquad_vert;
 extern const std::string_view vk_ksquad_tesc;
 extern const std::string_view vk_ksquad_tese;
+extern const std::string_view vk_ksquad_geom;
 extern const std::string_view vk_ksquad_frag;
 }  // namespace nurbs::embedded
 
 namespace nurbs::vk_ksquad {
 
 VkPipeline make_pipeline(const vulkan::Device& device, VkPipelineLayout layout, bool raster,
-                         VkRenderPass pass, int du, int dv, std::uint32_t width,
+                         bool geometry, VkRenderPass pass, int du, int dv, std::uint32_t width,
                          std::uint32_t height) {
   const VkDevice d = device.handle();
   struct Modules {
     VkDevice d;
-    VkShaderModule m[4];
+    std::vector<VkShaderModule> m;
     ~Modules() {
-      for (VkShaderModule x : m)
-        if (x) vkDestroyShaderModule(d, x, nullptr);
+      for (VkShaderModule x : m) vkDestroyShaderModule(d, x, nullptr);
     }
-  } modules{d,
-            {device.shader_module(embedded::vk_ksquad_vert),
-             device.shader_module(embedded::vk_ksquad_tesc),
-             device.shader_module(embedded::vk_ksquad_tese),
-             raster ? device.shader_module(embedded::vk_ksquad_frag) : VK_NULL_HANDLE}};
-  const VkShaderStageFlagBits stage_bits[4] = {
-      VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
-      VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, VK_SHADER_STAGE_FRAGMENT_BIT};
-  // ksquad.tese: kRaster, kDegreeU, kDegreeV
+  } modules{d, {}};
+  std::vector<VkShaderStageFlagBits> stage_bits;
+  const auto add = [&](VkShaderStageFlagBits bit, std::string_view spirv) {
+    modules.m.push_back(device.shader_module(spirv));
+    stage_bits.push_back(bit);
+  };
+  add(VK_SHADER_STAGE_VERTEX_BIT, embedded::vk_ksquad_vert);
+  if (geometry) {
+    add(VK_SHADER_STAGE_GEOMETRY_BIT, embedded::vk_ksquad_geom);
+  } else {
+    add(VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT, embedded::vk_ksquad_tesc);
+    add(VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, embedded::vk_ksquad_tese);
+  }
+  if (raster) add(VK_SHADER_STAGE_FRAGMENT_BIT, embedded::vk_ksquad_frag);
+  // ksquad.tese, ksquad.geom: kRaster, kDegreeU, kDegreeV; ksquad.tesc: kRaster
   const std::int32_t constants[3] = {raster ? 1 : 0, du, dv};
   const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
   VkSpecializationInfo specialization{};
@@ -39,21 +46,22 @@ VkPipeline make_pipeline(const vulkan::Device& device, VkPipelineLayout layout, 
   specialization.pMapEntries = entries;
   specialization.dataSize = sizeof constants;
   specialization.pData = constants;
-  std::array<VkPipelineShaderStageCreateInfo, 4> stages{};
-  for (int k = 0; k < 4; ++k) {
-    stages[k] = {};
+  std::vector<VkPipelineShaderStageCreateInfo> stages(stage_bits.size());
+  for (std::size_t k = 0; k < stages.size(); ++k) {
     stages[k].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     stages[k].stage = stage_bits[k];
     stages[k].module = modules.m[k];
     stages[k].pName = "main";
+    if (stage_bits[k] != VK_SHADER_STAGE_VERTEX_BIT &&
+        stage_bits[k] != VK_SHADER_STAGE_FRAGMENT_BIT)
+      stages[k].pSpecializationInfo = &specialization;
   }
-  stages[1].pSpecializationInfo = &specialization;  // ksquad.tesc: kRaster only
-  stages[2].pSpecializationInfo = &specialization;
   VkPipelineVertexInputStateCreateInfo vertex_input{};
   vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
   VkPipelineInputAssemblyStateCreateInfo assembly{};
   assembly.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO;
-  assembly.topology = VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
+  assembly.topology =
+      geometry ? VK_PRIMITIVE_TOPOLOGY_POINT_LIST : VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
   VkPipelineTessellationStateCreateInfo tessellation{};
   tessellation.sType = VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO;
   tessellation.patchControlPoints = 1;
@@ -88,11 +96,11 @@ VkPipeline make_pipeline(const vulkan::Device& device, VkPipelineLayout layout, 
   blend.pAttachments = &blend_attachment;
   VkGraphicsPipelineCreateInfo info{};
   info.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO;
-  info.stageCount = raster ? 4 : 3;
+  info.stageCount = static_cast<std::uint32_t>(stages.size());
   info.pStages = stages.data();
   info.pVertexInputState = &vertex_input;
   info.pInputAssemblyState = &assembly;
-  info.pTessellationState = &tessellation;
+  info.pTessellationState = geometry ? nullptr : &tessellation;
   info.pRasterizationState = &rasterization;
   if (raster) {
     info.pViewportState = &viewport_state;

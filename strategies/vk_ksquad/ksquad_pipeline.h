@@ -17,9 +17,10 @@ inline constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
 // Capture (rasterization discarded) or raster (the evaluation stage's kRaster = 1, a fragment
 // stage, depth test, a width x height viewport); the degrees are the evaluation stage's
-// specialization constants (0: read from the surface table).
+// specialization constants (0: read from the surface table). `geometry`: the GS mapping's
+// vertex + geometry stages (ksquad.geom) instead of the tessellation stages.
 VkPipeline make_pipeline(const vulkan::Device& device, VkPipelineLayout layout, bool raster,
-                         VkRenderPass pass, int du, int dv, std::uint32_t width,
+                         bool geometry, VkRenderPass pass, int du, int dv, std::uint32_t width,
                          std::uint32_t height);
 
 // The render target of render(): RGBA8 colour (copied out by tests), 32-bit depth, a render

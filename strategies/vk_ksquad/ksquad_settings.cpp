@@ -89,10 +89,11 @@ std::array<float, 16> view_projection(const std::array<double, 3>& eye,
 KsquadSettings ksquad_settings(const StrategyOptions& options) {
   KsquadSettings a;
   if (auto it = options.extra.find("vk-mode"); it != options.extra.end() && !it->second.empty()) {
-    if (it->second != "uniform" && it->second != "adaptive")
+    if (it->second != "uniform" && it->second != "adaptive" && it->second != "gs")
       throw std::invalid_argument("vk-ksquad option vk-mode = '" + it->second +
-                                  "': must be uniform or adaptive");
+                                  "': must be uniform, adaptive or gs");
     a.adaptive = it->second == "adaptive";
+    a.gs = it->second == "gs";
   }
   if (auto it = options.extra.find("vk-corners");
       it != options.extra.end() && !it->second.empty()) {

@@ -15,7 +15,7 @@ namespace nurbs::vk_ksquad {
 // Patches per vkCmdDraw, bounded by the vertices the tessellator makes for them (see the .cpp).
 inline constexpr std::uint64_t kDefaultVerticesPerDraw = 16384;
 
-// Settings (StrategyOptions.extra). Adaptive mode: vk-mode = uniform|adaptive, vk-eye and
+// Settings (StrategyOptions.extra). vk-mode = uniform|adaptive|gs. Adaptive mode: vk-eye and
 // vk-center = "x,y,z" (default: the scene's bounding sphere seen from (1, 0.8, 0.6) at 2.5
 // radii), vk-fov = degrees (45), vk-viewport = "WxH" (1024x768), vk-mu = pixels (4),
 // vk-corners = device|host (where the KSQuad corners of eq. 3 are evaluated; device),
@@ -24,6 +24,7 @@ inline constexpr std::uint64_t kDefaultVerticesPerDraw = 16384;
 // vk-vertices-per-draw = N (kDefaultVerticesPerDraw; 0 = one draw per degree pair).
 struct KsquadSettings {
   bool adaptive = false;
+  bool gs = false;  // vk-mode = gs: 003 §4's GS-based mapping (ksquad.geom), span grid T <= 8
   std::vector<double> eye, center, viewport;
   double fov = 45, mu = 4;
   int max_level = 0;

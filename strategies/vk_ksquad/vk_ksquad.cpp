@@ -95,11 +95,17 @@ struct ModeConstants {
 };
 static_assert(sizeof(ModeConstants) == 104);
 
-// The corner pass (ksquad_corners.comp) shares the tables, the set and the push constants.
+// The corner pass (ksquad_corners.comp) and the GS mapping (ksquad.geom, stage added only where
+// the geometry-shader feature is enabled: VkKsquad::mode_stages) share the tables, the set and the
+// push constants.
 constexpr VkShaderStageFlags kModeStages = VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
                                            VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT |
                                            VK_SHADER_STAGE_COMPUTE_BIT;
 constexpr std::uint32_t kCornerGroup = 64;  // ksquad_corners.comp: local_size_x
+// ksquad.geom: max_vertices, the strips of span grid T = kGsMaxSteps (T strips of 2 (T + 1))
+constexpr std::uint32_t kGsMaxVertices = 144;
+constexpr int kGsMaxSteps = 8;
+static_assert(kGsMaxSteps * 2 * (kGsMaxSteps + 1) == kGsMaxVertices);
 constexpr VkQueryPipelineStatisticFlags kStatistics =
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_CONTROL_SHADER_PATCHES_BIT |
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_EVALUATION_SHADER_INVOCATIONS_BIT;
@@ -113,8 +119,9 @@ void memory_barrier(VkCommandBuffer cb, VkPipelineStageFlags src_stage, VkAccess
   vkCmdPipelineBarrier(cb, src_stage, dst_stage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
 }
 
-vulkan::Requirements ksquad_requirements() {
+vulkan::Requirements ksquad_requirements(bool geometry = false) {
   vulkan::Requirements r;
+  r.geometry_shader = geometry;
   r.tessellation_shader = true;
   r.vertex_pipeline_stores = true;
   r.pipeline_statistics = true;
@@ -140,7 +147,7 @@ Capabilities ksquad_capabilities() {
 class VkKsquad final : public Strategy {
  public:
   VkKsquad(int device_index, const KsquadSettings& settings, const trim_direct::Settings& trim)
-      : device_(device_index, ksquad_requirements()),
+      : device_(device_index, ksquad_requirements(settings.gs)),
         queries_(device_, kStatistics),
         classifier_(device_),
         trim_settings_(trim),
@@ -153,6 +160,13 @@ class VkKsquad final : public Strategy {
       throw std::invalid_argument(
           fmt::format("vk-ksquad: vk-max-level {} exceeds maxTessellationGenerationLevel {}",
                       settings_.max_level, cap));
+    const VkPhysicalDeviceLimits& limits = device_.limits();
+    if (settings_.gs && (limits.maxGeometryOutputVertices < kGsMaxVertices ||
+                         limits.maxGeometryTotalOutputComponents < kGsMaxVertices * 7))
+      throw vulkan::MissingFeature(
+          fmt::format("vk-mode=gs needs {} geometry output vertices of 7 components (ksquad.geom)",
+                      kGsMaxVertices));
+    if (settings_.gs) record_.details["vk_mode"] = "gs";
     if (settings_.adaptive) {
       record_.details["vk_mode"] = "adaptive";
       record_.details["vk_corners"] = settings_.device_corners ? "device" : "host";
@@ -176,6 +190,12 @@ class VkKsquad final : public Strategy {
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
     refuse_unsupported(name(), capabilities(), scene, request);
+    if (settings_.gs && (request.sampling.mode != SamplingMode::span_grid ||
+                         request.sampling.span_steps > kGsMaxSteps))
+      throw RefusedError(fmt::format(
+          "vk-ksquad vk-mode=gs: span grids of at most {} steps only (a KSQuad's KSDice must fit "
+          "one geometry-shader invocation's output, 003 §4)",
+          kGsMaxSteps));
     const bool trimmed = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
                                      [](const Surface& s) { return s.trim.has_value(); });
     if (settings_.adaptive && trimmed)
@@ -620,7 +640,7 @@ class VkKsquad final : public Strategy {
   // Once per strategy (STYLE.md: compiled shaders are created once, never in evaluate()).
   void create_pipeline() {
     const VkDevice d = device_.handle();
-    std::vector<VkShaderStageFlags> stages(kBuffers, kModeStages);
+    std::vector<VkShaderStageFlags> stages(kBuffers, mode_stages());
     for (int k = kFirstTrimBinding; k < kFirstTrimBinding + kTrimBindings; ++k)
       stages[k] = VK_SHADER_STAGE_FRAGMENT_BIT;
     set_ = std::make_unique<vulkan::StorageSet>(device_, stages);
@@ -628,7 +648,7 @@ class VkKsquad final : public Strategy {
     layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
     layout_info.setLayoutCount = 1;
     layout_info.pSetLayouts = &set_->layout();
-    const VkPushConstantRange push{kModeStages, 0, sizeof(ModeConstants)};
+    const VkPushConstantRange push{mode_stages(), 0, sizeof(ModeConstants)};
     layout_info.pushConstantRangeCount = 1;
     layout_info.pPushConstantRanges = &push;
     vulkan::check(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_),
@@ -663,7 +683,7 @@ class VkKsquad final : public Strategy {
   VkPipeline pipeline_for(Pipelines& pipelines, bool raster, const Draw& draw) {
     auto& pipeline = pipelines[{draw.du, draw.dv}];
     if (!pipeline)
-      pipeline = vk_ksquad::make_pipeline(device_, layout_, raster,
+      pipeline = vk_ksquad::make_pipeline(device_, layout_, raster, settings_.gs,
                                           raster ? raster_->pass() : render_pass_, draw.du, draw.dv,
                                           image_width(), image_height());
     return pipeline;
@@ -678,7 +698,7 @@ class VkKsquad final : public Strategy {
                             nullptr);
     ModeConstants mode = mode_;
     mode.patch_base = static_cast<std::int32_t>(count);
-    vkCmdPushConstants(cb, layout_, kModeStages, 0, sizeof mode, &mode);
+    vkCmdPushConstants(cb, layout_, mode_stages(), 0, sizeof mode, &mode);
     vkCmdDispatch(cb, (count + kCornerGroup - 1) / kCornerGroup, 1, 1);
     memory_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                    VK_PIPELINE_STAGE_TESSELLATION_CONTROL_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
@@ -692,11 +712,14 @@ class VkKsquad final : public Strategy {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.at({draw.du, draw.dv}));
       ModeConstants mode = mode_;
       mode.patch_base = static_cast<std::int32_t>(draw.first);
-      vkCmdPushConstants(cb, layout_, kModeStages, 0, sizeof mode, &mode);
+      vkCmdPushConstants(cb, layout_, mode_stages(), 0, sizeof mode, &mode);
       vkCmdDraw(cb, draw.count, 1, 0, 0);
     }
   }
 
+  VkShaderStageFlags mode_stages() const {
+    return kModeStages | (settings_.gs ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
+  }
   std::uint32_t image_width() const { return static_cast<std::uint32_t>(settings_.viewport[0]); }
   std::uint32_t image_height() const { return static_cast<std::uint32_t>(settings_.viewport[1]); }
 

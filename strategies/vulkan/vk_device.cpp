@@ -108,6 +108,7 @@ std::string missing_feature(VkPhysicalDevice d, const Requirements& req) {
     return missing("vertexPipelineStoresAndAtomics");
   if (req.pipeline_statistics && !f.pipelineStatisticsQuery)
     return missing("pipelineStatisticsQuery");
+  if (req.geometry_shader && !f.geometryShader) return missing("geometryShader");
   return {};
 }
 
@@ -191,6 +192,7 @@ Device::Device(int device_index, const Requirements& requirements) {
     enabled.tessellationShader = requirements.tessellation_shader;
     enabled.vertexPipelineStoresAndAtomics = requirements.vertex_pipeline_stores;
     enabled.pipelineStatisticsQuery = requirements.pipeline_statistics;
+    enabled.geometryShader = requirements.geometry_shader;
     VkDeviceCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
     info.queueCreateInfoCount = 1;

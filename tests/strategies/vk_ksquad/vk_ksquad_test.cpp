@@ -405,3 +405,59 @@ TEST_F(VkKsquadTest, RenderDrawsTheSurfaceOffscreen) {
 
 }  // namespace
 }  // namespace nurbs
+
+namespace nurbs {
+namespace {
+
+std::unique_ptr<Strategy> gs_strategy() {
+  StrategyOptions options;
+  options.extra = {{"vk-mode", "gs"}};
+  return make_vk_ksquad(options);
+}
+
+// 003 §4's GS-based mapping (ksquad.geom): the geometry stage generates each KSQuad's span-grid
+// lattice itself; as accurate as the tessellator mappings at its own samples, normals included.
+TEST_F(VkKsquadTest, GsMappingWithinBudgetOnItsLattice) {
+  auto gs = gs_strategy();
+  EXPECT_EQ(gs->device().details.at("vk_mode"), "gs");
+  for (const char* scene_name : {"patch144", "teapot", "torus", "degree-9"}) {
+    const Scene scene = *make_builtin_scene(scene_name);
+    const Accuracy acc = run(*gs, scene, span_grid(8), true);
+    EXPECT_EQ(acc.non_finite, 0u) << scene_name;
+    EXPECT_LE(acc.max_ulp, 64.0) << scene_name;
+    ASSERT_TRUE(acc.max_normal_angle_deg.has_value());
+    EXPECT_LE(*acc.max_normal_angle_deg, 1.0) << scene_name;
+    std::cout << scene_name << " gs span8: max_ulp " << acc.max_ulp << ", normals "
+              << *acc.max_normal_angle_deg << " deg\n";
+  }
+}
+
+// The bound 003 §4 gives for this mapping: a KSQuad's KSDice must fit one invocation's output,
+// so past span grid 8 (144 vertices of 7 components: ksquad.geom) it refuses, as it does grids.
+TEST_F(VkKsquadTest, GsMappingRefusesWhatOneInvocationCannotEmit) {
+  auto gs = gs_strategy();
+  const Scene scene = *make_builtin_scene("patch144");
+  EXPECT_THROW(gs->prepare(scene, EvalRequest{span_grid(9), Precision::f32, false}), RefusedError);
+  EXPECT_THROW(gs->prepare(scene, EvalRequest{grid(16, 16), Precision::f32, false}), RefusedError);
+}
+
+// render(): the GS mapping's triangle strips cover what the tessellator's lattice covers (the
+// same vertices, triangulated differently along the diagonals).
+TEST_F(VkKsquadTest, GsRenderCoversWhatTheTessellatorCovers) {
+  const Scene scene = *make_builtin_scene("teapot");
+  const EvalRequest request{span_grid(8), Precision::f32, false};
+  auto gs = gs_strategy();
+  gs->prepare(scene, request);
+  ASSERT_TRUE(ksquad_render(*gs));
+  strategy_->prepare(scene, request);
+  ASSERT_TRUE(ksquad_render(*strategy_));
+  const double by_gs = static_cast<double>(ksquad_rendered_pixels(*gs));
+  const double by_tessellator = static_cast<double>(ksquad_rendered_pixels(*strategy_));
+  EXPECT_GT(by_gs, 1024.0 * 768 / 20);
+  EXPECT_NEAR(by_gs, by_tessellator, 0.005 * by_tessellator);
+  std::cout << "teapot span8 render: " << by_gs << " pixels (gs), " << by_tessellator
+            << " (tessellator)\n";
+}
+
+}  // namespace
+}  // namespace nurbs
