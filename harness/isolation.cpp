@@ -152,6 +152,7 @@ json spec_to_json(const MeasurementSpec& spec) {
           {"normals", spec.request.normals},
           {"repetitions", spec.repetitions},
           {"deforming_frames", spec.deforming_frames},
+          {"images", spec.images.string()},
           {"device_wait_s", device_wait_limit_s()}};
 }
 
@@ -175,6 +176,7 @@ MeasurementSpec spec_from_json(const json& j) {
   spec.request.normals = j.at("normals");
   spec.repetitions = j.at("repetitions");
   spec.deforming_frames = j.at("deforming_frames");
+  spec.images = j.at("images").get<std::string>();
   device_wait_limit_s() = j.at("device_wait_s");
   return spec;
 }
@@ -425,7 +427,8 @@ Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpe
     score_deforming(*spec.entry, scene, spec.request, spec.deforming_frames, *result,
                     references.precision(), spec.trim_band, r);
   else
-    score_measurement(*spec.entry, scene, spec.request, *result, references, spec.trim_band, r);
+    score_measurement(*spec.entry, scene, spec.request, *result, references, spec.trim_band, r,
+                      spec.images);
   return r;
 }
 
@@ -493,7 +496,7 @@ Record measure_with(const IsolationSettings& isolation, const MeasurementSpec& s
              ? measure_deforming(*spec.entry, spec.options, scene, spec.request,
                                  spec.deforming_frames, references.precision(), spec.trim_band)
              : measure(*spec.entry, spec.options, scene, spec.request, spec.repetitions, references,
-                       spec.trim_band);
+                       spec.trim_band, spec.images);
 }
 
 int measure_server(int socket) {
@@ -530,7 +533,8 @@ int measure_child(const fs::path& directory) {
   const std::optional<EvalResult> result =
       spec.deforming_frames > 0
           ? time_deforming(*spec.entry, spec.options, scene, spec.request, spec.deforming_frames, r)
-          : time_measurement(*spec.entry, spec.options, scene, spec.request, spec.repetitions, r);
+          : time_measurement(*spec.entry, spec.options, scene, spec.request, spec.repetitions, r,
+                             spec.images);
   if (result) write_eval_result(directory / "result.bin", *result);
   // Last: its presence says the child finished.
   write_file_atomically(directory / "record.json", record_to_json(r).dump());

@@ -38,6 +38,9 @@ struct MeasurementSpec {
   int repetitions = 5;
   int deforming_frames = 0;             // > 0: measure_deforming with this many frames
   double trim_band = kDefaultTrimBand;  // scoring only: the parent's side
+  // run --images DIR (empty: none). The child writes the picture (only it holds the strategy);
+  // the parent, which scores, writes the trim masks. Not for the deforming benchmark.
+  std::filesystem::path images{};
 };
 
 // measure() / measure_deforming() in-process (mode none) or in a child process; the record's

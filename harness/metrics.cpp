@@ -89,7 +89,7 @@ void count_trim_figures(const Surface& surface, int index, const SurfaceResult& 
                     index, r.inside.size(), n));
   const double band = scoring.band * domain_diagonal(surface);
   for (std::size_t k = 0; k < n; ++k) {
-    if (!(ref.trim_distance[k] >= band)) {
+    if (in_trim_band(ref.trim_distance[k], band)) {
       ++figures.boundary;
       continue;
     }

@@ -20,6 +20,13 @@ namespace nurbs {
 // the parameter).
 inline constexpr double kDefaultTrimBand = 1e-7;
 
+// A sample nearer to the trim boundary than `band_units` ((u, v) units: band x the surface's
+// domain_diagonal) is in the boundary band, where its classification is not scored; NaN-safe (a
+// distance that is not a number is in the band).
+inline bool in_trim_band(double distance, double band_units) {
+  return !(distance >= band_units);
+}
+
 struct TrimScoring {
   double band = kDefaultTrimBand;  // fraction of each trimmed surface's domain_diagonal
   // Capabilities::trims: the strategy's classification is scored, and a trimmed surface without

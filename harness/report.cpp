@@ -615,6 +615,70 @@ ReportSection many_surfaces(const std::vector<ResultSet>& sets, const Labeller& 
   return s;
 }
 
+// The phases of one frame of 000's Fig 8 with trims, as a record measured them: evaluate, then
+// classify (a strategy that trims) and draw (render: a strategy that draws from where it
+// evaluated). A strategy without a render path is timed without the draw, which the table says.
+double trimmed_frame_s(const Record& r) {
+  double s = r.evaluate.median_s;
+  for (const char* phase : {"classify", "render"})
+    if (auto it = r.extra_phases.find(phase); it != r.extra_phases.end()) s += it->second.median_s;
+  return s;
+}
+std::string trimmed_frame_phases(const Record& r) {
+  std::string phases = "evaluate";
+  if (r.extra_phases.contains("classify")) phases += " + classify";
+  phases += r.extra_phases.contains("render") ? " + draw" : " (no draw path)";
+  if (r.trimming == "untrimmed") phases += ", untrimmed";
+  return phases;
+}
+
+ReportSection fig8_trimmed_ducks(const std::vector<ResultSet>& sets, const Labeller& label,
+                                 json& charts) {
+  const std::string run =
+      "nurbsbench run --scenes many-ducks-1,many-ducks-2,many-ducks-4,many-ducks-8,many-ducks-16,"
+      "many-ducks-32,many-ducks-64 --strategies all --samples 16x16 --repetitions 5 --threads 1 "
+      "--out DIR";
+  ReportSection s =
+      section("fig8_trimmed_ducks",
+              "Krishnamurthy 2007 Fig 8 as it ran: frames per second vs number of ducks, one third "
+              "trimmed (many-ducks-N, 16×16 samples per surface)",
+              run, sets);
+  auto rows = one_per_measurement(
+      rows_where(sets,
+                 [](const Record& r) {
+                   return is_measurement(r) && numbered_scene(r.scene, "many-ducks-").has_value();
+                 }),
+      label);
+  const bool has_16 = std::any_of(rows.begin(), rows.end(),
+                                  [](const Row& r) { return r.record->samples == "16x16"; });
+  if (has_16) std::erase_if(rows, [](const Row& r) { return r.record->samples != "16x16"; });
+  if (!show_rows(s, rows, run, sets)) return s;
+  std::vector<Series> frames;
+  std::map<std::string, std::string> phases;
+  for (const Row& r : rows) {
+    const std::string l = has_16 ? label(r) : label(r) + " " + r.record->samples;
+    add_point(frames, l, *numbered_scene(r.record->scene, "many-ducks-"),
+              1 / trimmed_frame_s(*r.record));
+    phases.emplace(l, trimmed_frame_phases(*r.record));
+  }
+  charts["charts"].push_back(lines_chart(s.id, "ducks", "frames per second", frames, true, true));
+  s.has_chart = true;
+  s.tables.push_back(series_table("Frames per second (evaluate + classify + draw, medians)",
+                                  "ducks", frames, points_text, report_number));
+  ReportTable what{"What each frame holds", {"strategy", "phases timed"}, {}};
+  for (const auto& [l, p] : phases) what.rows.push_back({l, p});
+  s.tables.push_back(std::move(what));
+  s.notes.push_back(
+      "Ducks 0, 3, 6, ... are trimmed (each surface: a rounded rectangle with a hole, exact "
+      "rational curves). A strategy that trims classifies every sample (classify); glu-nurbs "
+      "tessellates the trimmed faces natively (its evaluate is the trimmed tessellation, and it "
+      "classifies nothing: untrimmed); the others evaluate the whole surfaces (untrimmed). GPU "
+      "strategies on a software rasterizer (llvmpipe, lavapipe) are CPU figures. One thread: the "
+      "frame rate of one application thread, as 000 drew, and no OpenMP team to oversubscribe a "
+      "shared machine.");
+  return s;
+}
+
 ReportSection accuracy_heatmap(const std::vector<ResultSet>& sets, const Labeller& label,
                                json& charts) {
   const std::string run = "nurbsbench run --scenes all --strategies all --samples 64x64 --out DIR";
@@ -788,6 +852,61 @@ ReportSection phases_section(const std::vector<ResultSet>& sets, const Labeller&
   return s;
 }
 
+// Issue 15, 000 §4: the trim texture's misclassification rate outside the band as a function of
+// its resolution R, one line per (strategy, scene, tessellation tolerance), from the runs whose
+// device recorded trim_resolution (scripts/trim_texture_study.sh: one results set per R and
+// tolerance), and what the lookup pass costs next to the evaluation.
+ReportSection trim_texture_section(const std::vector<ResultSet>& sets, json& charts) {
+  const std::string run = "scripts/trim_texture_study.sh --out DIR";
+  ReportSection s = section("trim_texture_resolution",
+                            "Krishnamurthy 2007 §4: trim-texture misclassification rate outside "
+                            "the band vs trim-texture resolution R",
+                            run, sets);
+  const auto rows = rows_where(sets, [](const Record& r) {
+    return is_measurement(r) && r.trimming == "classified" &&
+           r.device.details.contains("trim_resolution") && r.accuracy && r.accuracy->trim &&
+           r.accuracy->trim->misclassified_rate;
+  });
+  if (!show_rows(s, rows, run, sets)) return s;
+  // The study's sets are folders of one parent; the script regenerates them all and the report.
+  s.command = fmt::format("scripts/trim_texture_study.sh --out {}",
+                          rows.front().set->directory.parent_path().string());
+  auto detail = [](const Row& r, const char* key) {
+    const auto it = r.record->device.details.find(key);
+    return it == r.record->device.details.end() ? std::string("?") : it->second;
+  };
+  std::vector<Series> rates, drawn, classify_share;
+  for (const Row& r : rows) {
+    const double resolution = std::stod(detail(r, "trim_resolution"));
+    const std::string label = fmt::format("{} {} tol {}", r.record->strategy, r.record->scene,
+                                          detail(r, "trim_tolerance"));
+    const double rate = *r.record->accuracy->trim->misclassified_rate;
+    add_point(rates, label, resolution, rate);
+    // A log axis cannot show 0: such points are left off the chart (the table has them).
+    add_point(drawn, label, resolution, rate > 0 ? rate : std::nan(""));
+    if (const auto c = r.record->extra_phases.find("classify"); c != r.record->extra_phases.end())
+      add_point(classify_share, label, resolution,
+                c->second.median_s / r.record->evaluate.median_s);
+  }
+  charts["charts"].push_back(lines_chart(s.id, "trim texture resolution R (texels per side)",
+                                         "misclassified rate outside the band", drawn, true, true));
+  s.has_chart = true;
+  auto rate_text = [](double x) { return fmt::format("{:.3g}", x); };
+  s.tables.push_back(series_table(
+      "Misclassified samples outside the band / samples outside the band, per R (columns: "
+      "strategy, scene, tessellation tolerance as a fraction of the (u,v) domain diagonal)",
+      "R", rates, points_text, rate_text));
+  s.tables.push_back(
+      series_table("classify (trim-texture lookup pass) median time / evaluate median time, per R",
+                   "R", classify_share, points_text, rate_text));
+  s.notes.push_back(
+      "A sample is misclassified only within d = (1/2 + 2^-(s+1)) x texel diagonal + tolerance of "
+      "the exact boundary (s = GL_SUBPIXEL_BITS; tests/strategies/gl_pingpong/"
+      "trim_texture_test.cpp), so the rate falls about as 1/R until the tessellation tolerance "
+      "dominates. GL on llvmpipe: times are CPU times.");
+  return s;
+}
+
 ReportSection measurements_section(const std::vector<ResultSet>& sets) {
   ReportSection s{"measurements",
                   "Every measurement, with throughput as a fraction of the store-bandwidth limit",
@@ -926,9 +1045,11 @@ Report build_report(const std::vector<ResultSet>& sets) {
   report.sections.push_back(frame_section(sets, label, charts));
   report.sections.push_back(memory_section(sets));
   report.sections.push_back(many_surfaces(sets, label, charts));
+  report.sections.push_back(fig8_trimmed_ducks(sets, label, charts));
   report.sections.push_back(accuracy_heatmap(sets, label, charts));
   report.sections.push_back(accuracy_vs_degree(sets, label, charts));
   report.sections.push_back(phases_section(sets, label, charts));
+  report.sections.push_back(trim_texture_section(sets, charts));
   report.sections.push_back(measurements_section(sets));
   // Each chart carries what its caption needs, so the plotter knows nothing about the report.
   for (json& chart : charts["charts"])

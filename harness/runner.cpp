@@ -5,6 +5,7 @@
 #include <exception>
 #include <stdexcept>
 
+#include "harness/error_image.h"
 #include "harness/strategy_guard.h"
 #include "scenes/deforming.h"
 #include "strategies/device_wait.h"
@@ -68,7 +69,7 @@ bool runnable(const StrategyEntry& entry, const Scene& scene, const EvalRequest&
 void score(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
            const std::vector<SurfaceSamples>& requested, EvalResult& result,
            ReferenceCache* references, ReferencePrecision reference_precision, double trim_band,
-           Record& r) {
+           Record& r, const std::filesystem::path& images = {}) {
   const std::vector<SurfaceSamples> produced = result_samples(result);
   const bool as_requested = same_samples(produced, requested);
   if (!as_requested) {
@@ -78,12 +79,15 @@ void score(const StrategyEntry& entry, const Scene& scene, const EvalRequest& re
   }
   orient_normals(scene, result);
   const TrimScoring trim{trim_band, entry.capabilities().trims};
-  r.accuracy =
+  std::vector<ReferenceSurface> own_reference;
+  const std::vector<ReferenceSurface>& reference =
       as_requested && references != nullptr
-          ? measure_accuracy(scene, result, references->get(scene, request), trim)
-          : measure_accuracy(
-                scene, result,
-                evaluate_reference(scene, produced, request.normals, reference_precision), trim);
+          ? references->get(scene, request)
+          : (own_reference =
+                 evaluate_reference(scene, produced, request.normals, reference_precision));
+  r.accuracy = measure_accuracy(scene, result, reference, trim);
+  if (!images.empty() && trim.strategy_trims && scene.has_trims())
+    write_trim_masks(images, entry.name, scene, trim_masks(scene, result, reference, trim_band));
   r.throughput_pts_per_s =
       r.evaluate.median_s > 0 ? static_cast<double>(r.points) / r.evaluate.median_s : 0;
   r.status = Status::ok;
@@ -120,16 +124,17 @@ void guarded(Record& r, Measurement&& measurement) {
 
 Record measure(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
                const EvalRequest& request, int repetitions, ReferenceCache& references,
-               double trim_band) {
+               double trim_band, const std::filesystem::path& images) {
   Record r = measurement_record(entry, scene, request, repetitions, 0);
-  if (auto result = time_measurement(entry, options, scene, request, repetitions, r))
-    score_measurement(entry, scene, request, *result, references, trim_band, r);
+  if (auto result = time_measurement(entry, options, scene, request, repetitions, r, images))
+    score_measurement(entry, scene, request, *result, references, trim_band, r, images);
   return r;
 }
 
 std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
                                            const StrategyOptions& options, const Scene& scene,
-                                           const EvalRequest& request, int repetitions, Record& r) {
+                                           const EvalRequest& request, int repetitions, Record& r,
+                                           const std::filesystem::path& images) {
   announce_phase("probe");
   if (!runnable(entry, scene, request, r)) return std::nullopt;
   std::optional<EvalResult> last;
@@ -161,6 +166,12 @@ std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
       r.extra_phases[phase] = PhaseStats::of(seconds);
     };
     time_render("render", &Strategy::render);
+    // Before render_via_read_back, which draws into the same target.
+    if (!images.empty() && r.extra_phases.contains("render"))
+      if (std::optional<RenderedImage> picture = strategy->last_render())
+        write_render_image(
+            render_image_path(images, entry.name, scene.name), *picture,
+            fmt::format("{} on {} ({}, {})", entry.name, scene.name, r.precision, r.samples));
     time_render("render_via_read_back", &Strategy::render_via_read_back);
     // The full path, each phase timed where it runs, as a user pays it per update.
     std::vector<double> upload_s, read_back_s, end_to_end_s;
@@ -189,11 +200,11 @@ std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
 }
 
 void score_measurement(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
-                       EvalResult& result, ReferenceCache& references, double trim_band,
-                       Record& r) {
+                       EvalResult& result, ReferenceCache& references, double trim_band, Record& r,
+                       const std::filesystem::path& images) {
   guarded(r, [&] {
     score(entry, scene, request, sample_parameters(scene, request.sampling), result, &references,
-          references.precision(), trim_band, r);
+          references.precision(), trim_band, r, images);
   });
 }
 

@@ -4,6 +4,7 @@
 // (unavailable, refused, a throw) comes back as a Record; the caller's run goes on.
 #pragma once
 
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -31,9 +32,12 @@ class ReferenceCache {
 // On a trimmed scene, a strategy that trims has its classify() timed after each evaluate() as
 // extra phase "classify" (part of end_to_end, and of each frame of measure_deforming), and its
 // classification scored with the boundary band `trim_band` (metrics.h TrimScoring).
+// `images` (run --images DIR; empty: none): the picture of a strategy that drew
+// (Strategy::last_render after the timed render()s) and, for a strategy that classified a trimmed
+// scene on a grid, its trim masks (error_image.h names the files).
 Record measure(const StrategyEntry& entry, const StrategyOptions& options, const Scene& scene,
                const EvalRequest& request, int repetitions, ReferenceCache& references,
-               double trim_band = kDefaultTrimBand);
+               double trim_band = kDefaultTrimBand, const std::filesystem::path& images = {});
 
 // The deforming-surface benchmark (003 §2): setup prepares frame 0 of deformed_scene(scene, f)
 // (scenes/deforming.h); then for f = 1..frames the scene is deformed (not timed: the application
@@ -57,17 +61,20 @@ Record measurement_record(const StrategyEntry& entry, const Scene& scene,
                           const EvalRequest& request, int repetitions, int deforming_frames);
 // The strategy's half: availability, refusal, setup, warm-up, repetitions (or frames), read back,
 // timings into r. Returns the last read back when there is something to score; nullopt when r is
-// already final (unavailable, refused, failed, timed_out).
+// already final (unavailable, refused, failed, timed_out). Writes the picture into `images`: the
+// strategy's process is the one that holds it.
 std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
                                            const StrategyOptions& options, const Scene& scene,
-                                           const EvalRequest& request, int repetitions, Record& r);
+                                           const EvalRequest& request, int repetitions, Record& r,
+                                           const std::filesystem::path& images = {});
 std::optional<EvalResult> time_deforming(const StrategyEntry& entry, const StrategyOptions& options,
                                          const Scene& scene, const EvalRequest& request, int frames,
                                          Record& r);
 // The harness's half: accuracy against the reference (normals oriented first, trims scored with
-// `trim_band`), throughput, status.
+// `trim_band`), throughput, status; the trim masks into `images` (they need the reference).
 void score_measurement(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
-                       EvalResult& result, ReferenceCache& references, double trim_band, Record& r);
+                       EvalResult& result, ReferenceCache& references, double trim_band, Record& r,
+                       const std::filesystem::path& images = {});
 // Against the reference of frame `frames` of the deforming scene.
 void score_deforming(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
                      int frames, EvalResult& result, ReferencePrecision reference_precision,

@@ -119,6 +119,11 @@ class GuardedStrategy final : public Strategy {
     enter("classify");
     return inner_->classify();
   }
+  // Reading the picture back is a driver call like drawing it: a crash there is the render's.
+  std::optional<RenderedImage> last_render() override {
+    enter("render");
+    return inner_->last_render();
+  }
 
  private:
   void enter(std::string_view phase) {

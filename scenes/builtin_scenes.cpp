@@ -13,6 +13,7 @@
 
 #include "reference/validation.h"
 #include "scenes/cad_import/cad_import.h"
+#include "scenes/many_ducks.h"
 #include "scenes/scene_json.h"
 #include "scenes/trimmed_plate.h"
 
@@ -284,14 +285,23 @@ const std::vector<std::pair<BuiltinSceneInfo, Generator>>& generators() {
   return list;
 }
 
-std::optional<int> parse_many(std::string_view name) {
-  if (!name.starts_with("many-")) return std::nullopt;
-  const std::string_view digits = name.substr(5);
+// N of "<prefix>N" for N in 1..max.
+std::optional<int> parse_numbered(std::string_view name, std::string_view prefix, int max) {
+  if (!name.starts_with(prefix)) return std::nullopt;
+  const std::string_view digits = name.substr(prefix.size());
   int n = 0;
   const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), n);
-  if (error != std::errc() || end != digits.data() + digits.size() || n < 1 || n > kMaxManyPatches)
+  if (error != std::errc() || end != digits.data() + digits.size() || n < 1 || n > max)
     return std::nullopt;
   return n;
+}
+
+// The numbered scene families: many-N and many-ducks-N.
+std::optional<Scene> numbered_scene(std::string_view name) {
+  if (const auto n = parse_numbered(name, "many-", kMaxManyPatches)) return many_scene(*n);
+  if (const auto n = parse_numbered(name, "many-ducks-", kMaxManyDucks))
+    return many_ducks_scene(embedded_scene("duck", embedded::duck_json), *n);
+  return std::nullopt;
 }
 
 }  // namespace
@@ -303,6 +313,11 @@ std::vector<BuiltinSceneInfo> builtin_scenes() {
     out.push_back(
         {fmt::format("many-{}", n),
          fmt::format("{} bicubic Bezier patches (any many-N, N = 1..{})", n, kMaxManyPatches)});
+  for (int n : {1, 64})
+    out.push_back({fmt::format("many-ducks-{}", n),
+                   fmt::format("{} ducks, every third trimmed (any many-ducks-N, N = 1..{}; 000 "
+                               "Fig 8 with trims)",
+                               n, kMaxManyDucks)});
   return out;
 }
 
@@ -313,8 +328,8 @@ std::optional<Scene> make_builtin_scene(std::string_view name) {
       validate_scene(scene, fmt::format("built-in scene {}", name));
       return scene;
     }
-  if (const auto n = parse_many(name)) {
-    Scene scene = many_scene(*n);
+  if (auto numbered = numbered_scene(name)) {
+    Scene scene = std::move(*numbered);
     validate_scene(scene, fmt::format("built-in scene {}", name));
     return scene;
   }
@@ -367,8 +382,9 @@ Scene load_scene(std::string_view name_or_path) {
   std::vector<std::string> names;
   for (const BuiltinSceneInfo& info : builtin_scenes()) names.push_back(info.name);
   throw InputError(fmt::format(
-      "scene '{}': neither a file nor a built-in scene (built-in: {}, many-N for N = 1..{})",
-      name_or_path, fmt::join(names, ", "), kMaxManyPatches));
+      "scene '{}': neither a file nor a built-in scene (built-in: {}, many-N for N = 1..{}, "
+      "many-ducks-N for N = 1..{})",
+      name_or_path, fmt::join(names, ", "), kMaxManyPatches, kMaxManyDucks));
 }
 
 }  // namespace nurbs

@@ -54,6 +54,19 @@ Scene trimmed_plate_scene(const TrimmedPlateShape& shape) {
       plate.points.push_back({2.0 * i, 2.0 * j, 0.6 * std::sin(0.9 * i) * std::cos(0.7 * j)});
   plate.weights.assign(plate.points.size(), 1.0);
 
+  plate.trim = trimmed_plate_trim(shape, 0, 1, 0, 1);
+
+  Scene scene;
+  scene.name = "trimmed-plate";
+  scene.description =
+      "bicubic plate trimmed to a rounded rectangle (lines + rational quarter circles) with a "
+      "circular hole (rational quadratic): inside area known in closed form";
+  scene.surfaces.push_back(std::move(plate));
+  return scene;
+}
+
+Trim trimmed_plate_trim(const TrimmedPlateShape& shape, double u0, double u1, double v0,
+                        double v1) {
   const double lo = shape.low, hi = shape.high, r = shape.corner_radius;
   TrimLoop outer;
   outer.curves = {
@@ -63,16 +76,13 @@ Scene trimmed_plate_scene(const TrimmedPlateShape& shape) {
       line({lo, hi - r}, {lo, lo + r}), quarter_arc({lo, lo + r}, {lo, lo}, {lo + r, lo})};
   TrimLoop hole;
   hole.curves = {circle(shape.hole_center_u, shape.hole_center_v, shape.hole_radius)};
-  plate.trim = Trim{};
-  plate.trim->loops = {outer, hole};
-
-  Scene scene;
-  scene.name = "trimmed-plate";
-  scene.description =
-      "bicubic plate trimmed to a rounded rectangle (lines + rational quarter circles) with a "
-      "circular hole (rational quadratic): inside area known in closed form";
-  scene.surfaces.push_back(std::move(plate));
-  return scene;
+  Trim trim;
+  trim.loops = {outer, hole};
+  // Built on [0, 1]^2, where the shape is given; the identity map leaves it bit for bit.
+  for (TrimLoop& loop : trim.loops)
+    for (TrimCurve& curve : loop.curves)
+      for (Point2& p : curve.points) p = {u0 + (u1 - u0) * p[0], v0 + (v1 - v0) * p[1]};
+  return trim;
 }
 
 }  // namespace nurbs

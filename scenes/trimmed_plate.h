@@ -20,4 +20,10 @@ struct TrimmedPlateShape {
 
 Scene trimmed_plate_scene(const TrimmedPlateShape& shape = {});
 
+// The plate's two loops (rounded rectangle, then the hole) mapped from [0, 1]^2 onto the domain
+// [u0, u1] x [v0, v1] of another surface. The map is affine, so the curves stay exact rational
+// curves (circles become ellipses when the domain is not square) and the inside area scales by
+// (u1 - u0)(v1 - v0).
+Trim trimmed_plate_trim(const TrimmedPlateShape& shape, double u0, double u1, double v0, double v1);
+
 }  // namespace nurbs

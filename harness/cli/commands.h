@@ -78,6 +78,7 @@ struct RunOptions {
   std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
   IsolationOptions isolation;
   std::optional<std::string> trim_band;  // --trim-band FRACTION (absent: kDefaultTrimBand)
+  std::string images;                    // --images DIR (empty: no pictures)
 };
 int run_command(const RunOptions& options);
 
@@ -109,6 +110,7 @@ struct ReportOptions {
   std::string out;                   // default: <first results>/report
   std::string python = "/usr/bin/python3";
   int error_images = 3;  // heat maps of the N worst (strategy, scene) pairs, re-evaluated here
+  int trim_masks = 3;    // trim masks of the N pairs with the most misclassified samples
 };
 int report_command(const ReportOptions& options);
 

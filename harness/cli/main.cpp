@@ -131,6 +131,11 @@ int main(int argc, char** argv) {
                       "vk-mode=adaptive, vk-eye=x,y,z, vk-center=x,y,z, vk-mu=4 (vk-ksquad)");
   run_cmd->add_option("--trim-band", run.trim_band, kTrimBandHelp)->type_name("FRACTION");
   run_cmd->add_option("--out", run.out, "output directory (default results/latest)");
+  run_cmd
+      ->add_option("--images", run.images,
+                   "write DIR/<strategy>__<scene>.png (what a drawing strategy drew) and, for a "
+                   "strategy that trims, DIR/<strategy>__<scene>__mask<surface>.png (PNG)")
+      ->type_name("DIR");
   add_isolation_options(run_cmd, run.isolation);
 
   LodOptions lod;
@@ -175,6 +180,10 @@ int main(int argc, char** argv) {
   report_cmd->add_option("--error-images", report.error_images,
                          "error heat maps of the N worst (strategy, scene) pairs, re-evaluated on "
                          "this machine (default 3; 0: none)");
+  report_cmd->add_option(
+      "--trim-masks", report.trim_masks,
+      "trim masks of the N (strategy, trimmed scene) pairs with the most "
+      "misclassified samples, re-evaluated on this machine (default 3; 0: none)");
 
   RecommendOptions recommend;
   auto* recommend_cmd = app.add_subcommand(

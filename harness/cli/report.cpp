@@ -6,6 +6,7 @@
 
 #include <cctype>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <set>
@@ -103,6 +104,84 @@ std::optional<Sampling> sampling_of(const Record& r) {
   return std::nullopt;
 }
 
+// A measured pair evaluated again on this machine, for a picture of it: the record's sampling
+// (large grids at 256x256: a picture needs no more, and it bounds the time), its precision, the
+// classification when the strategy trims, and the reference at the same (u, v).
+struct Redone {
+  Scene scene;
+  Sampling sampling;
+  EvalResult result;
+  std::vector<ReferenceSurface> reference;
+};
+
+// Throws std::runtime_error saying why the pair cannot be redone here.
+Redone redo(const Record& r) {
+  const StrategyEntry* entry = find_strategy(r.strategy);
+  if (!entry) throw std::runtime_error("strategy not in this build");
+  const Availability availability = entry->probe();
+  if (!availability.available) throw std::runtime_error("unavailable here: " + availability.reason);
+  std::optional<Sampling> sampling = sampling_of(r);
+  if (!sampling) throw std::runtime_error("samples '" + r.samples + "' have no image layout");
+  if (sampling->mode == SamplingMode::grid && sampling->grid_u * sampling->grid_v > 65536)
+    sampling->grid_u = sampling->grid_v = 256;
+  Redone d{load_scene(r.scene), *sampling, {}, {}};
+  EvalRequest request{*sampling, parse_precision(r.precision), false};
+  if (auto refused = refusal_reason(entry->capabilities(), d.scene, request))
+    throw std::runtime_error("refused: " + *refused);
+  std::unique_ptr<Strategy> strategy = entry->create(StrategyOptions{0, {}});
+  strategy->prepare(d.scene, request);
+  strategy->evaluate();
+  if (entry->capabilities().trims && d.scene.has_trims()) strategy->classify();
+  d.result = strategy->read_back();
+  const std::vector<SurfaceSamples> produced = result_samples(d.result);
+  if (!same_samples(produced, sample_parameters(d.scene, *sampling)))
+    throw std::runtime_error("it chose its own samples, which have no (u, v) image layout");
+  d.reference = evaluate_reference(d.scene, produced, false, ReferencePrecision::long_double);
+  return d;
+}
+
+using Draw = std::function<std::pair<std::string, std::string>(const Record&, const Redone&)>;
+// The records `eligible` keeps, worst first by `worse`.
+std::vector<const Record*> worst_records(
+    const std::vector<ResultSet>& sets, const std::function<bool(const Record&)>& eligible,
+    const std::function<bool(const Record&, const Record&)>& worse) {
+  std::vector<const Record*> worst;
+  for (const ResultSet& set : sets)
+    for (const Record& r : set.results.records)
+      if (r.status == Status::ok && r.role != "limit" && r.accuracy && eligible(r))
+        worst.push_back(&r);
+  std::stable_sort(worst.begin(), worst.end(),
+                   [&](const Record* a, const Record* b) { return worse(*a, *b); });
+  return worst;
+}
+
+// Draws the first `count` (strategy, scene) pairs of `worst`, each redone here and drawn by `draw`
+// (which returns the image's file name and a note), into s's images and `table` (its `figure`
+// column from the record); a pair that cannot be drawn is listed with the reason and the next one
+// is tried, up to three times `count` pairs.
+void draw_worst(const std::vector<const Record*>& worst, int count, const Draw& draw,
+                const std::function<std::string(const Record&)>& figure, ReportSection& s,
+                ReportTable table) {
+  std::set<std::pair<std::string, std::string>> done;
+  int drawn = 0;
+  for (const Record* r : worst) {
+    if (drawn >= count || static_cast<int>(done.size()) >= 3 * count) break;
+    if (!done.insert({r->strategy, r->scene}).second) continue;
+    std::string image = "-";
+    try {
+      const auto [name, note] = draw(*r, redo(*r));
+      s.images.push_back(name);
+      ++drawn;
+      image = fmt::format("{} ({})", name, note);
+    } catch (const std::exception& e) {
+      image = fmt::format("not drawn: {}", e.what());
+    }
+    table.rows.push_back({r->strategy, r->scene, r->samples, r->precision, figure(*r), image});
+  }
+  if (table.rows.empty()) return;
+  s.tables.push_back(std::move(table));
+}
+
 // Error heat maps of the `count` worst (strategy, scene) pairs, re-evaluated here (so only for
 // strategies and scenes this machine has); a pair that cannot be redone says why.
 ReportSection error_maps(const std::vector<ResultSet>& sets, int count, const fs::path& out) {
@@ -111,70 +190,77 @@ ReportSection error_maps(const std::vector<ResultSet>& sets, int count, const fs
   s.title = fmt::format(
       "Error heat maps of the {} worst (strategy, scene) pairs that can be redrawn here", count);
   s.command = "nurbsbench eval --scene S --strategy X --samples NxM --error-image F.png";
-  std::vector<const Record*> worst;
-  for (const ResultSet& set : sets)
-    for (const Record& r : set.results.records)
-      if (r.status == Status::ok && r.role != "limit" && r.accuracy) worst.push_back(&r);
-  std::stable_sort(worst.begin(), worst.end(), [](const Record* a, const Record* b) {
-    return a->accuracy->max_ulp > b->accuracy->max_ulp;
-  });
-  std::set<std::pair<std::string, std::string>> done;
-  ReportTable table{"Pairs drawn (re-evaluated on this machine; colour = f32 ulps, log scale)",
-                    {"strategy", "scene", "samples", "precision", "max_ulp in results", "image"},
-                    {}};
-  // A pair that cannot be drawn is listed with the reason and the next one is tried, up to three
-  // times `count` pairs.
-  int drawn = 0;
-  for (const Record* r : worst) {
-    if (drawn >= count || static_cast<int>(done.size()) >= 3 * count) break;
-    if (!done.insert({r->strategy, r->scene}).second) continue;
-    std::string image = "-";
-    try {
-      const StrategyEntry* entry = find_strategy(r->strategy);
-      if (!entry) throw std::runtime_error("strategy not in this build");
-      const Availability availability = entry->probe();
-      if (!availability.available)
-        throw std::runtime_error("unavailable here: " + availability.reason);
-      std::optional<Sampling> sampling = sampling_of(*r);
-      if (!sampling) throw std::runtime_error("samples '" + r->samples + "' have no image layout");
-      // Large grids are drawn at 256x256: a heat map needs no more, and it bounds the time.
-      if (sampling->mode == SamplingMode::grid && sampling->grid_u * sampling->grid_v > 65536)
-        sampling->grid_u = sampling->grid_v = 256;
-      const Scene scene = load_scene(r->scene);
-      EvalRequest request{*sampling, parse_precision(r->precision), false};
-      if (auto refused = refusal_reason(entry->capabilities(), scene, request))
-        throw std::runtime_error("refused: " + *refused);
-      std::unique_ptr<Strategy> strategy = entry->create(StrategyOptions{0, {}});
-      strategy->prepare(scene, request);
-      strategy->evaluate();
-      const EvalResult result = strategy->read_back();
-      const std::vector<SurfaceSamples> produced = result_samples(result);
-      if (!same_samples(produced, sample_parameters(scene, *sampling)))
-        throw std::runtime_error("it chose its own samples, which have no (u, v) image layout");
-      const auto reference =
-          evaluate_reference(scene, produced, false, ReferencePrecision::long_double);
-      std::vector<ErrorGrid> grids = error_grids(scene, result, reference);
-      const std::size_t surface = std::min<std::size_t>(
-          static_cast<std::size_t>(r->accuracy->worst_surface), grids.size() - 1);
-      std::string name = fmt::format("error-{}-{}.png", r->strategy, r->scene);
-      for (char& c : name)
-        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
-      write_error_images(out / name, {grids[surface]},
-                         fmt::format("{} on {} ({}, {}), surface {}", r->strategy, r->scene,
-                                     r->precision, sampling->label(), surface));
-      s.images.push_back(name);
-      ++drawn;
-      image = fmt::format("{} (surface {}, {})", name, surface, sampling->label());
-    } catch (const std::exception& e) {
-      image = fmt::format("not drawn: {}", e.what());
-    }
-    table.rows.push_back({r->strategy, r->scene, r->samples, r->precision,
-                          report_number(r->accuracy->max_ulp), image});
-  }
-  if (table.rows.empty())
-    s.no_data = "no data in these results: no measured accuracy to map";
-  else
-    s.tables.push_back(std::move(table));
+  const auto worst = worst_records(
+      sets, [](const Record&) { return true; },
+      [](const Record& a, const Record& b) { return a.accuracy->max_ulp > b.accuracy->max_ulp; });
+  draw_worst(
+      worst, count,
+      [&](const Record& r, const Redone& d) {
+        std::vector<ErrorGrid> grids = error_grids(d.scene, d.result, d.reference);
+        const std::size_t surface = std::min<std::size_t>(
+            static_cast<std::size_t>(r.accuracy->worst_surface), grids.size() - 1);
+        const std::string name =
+            safe_file_name(fmt::format("error-{}-{}.png", r.strategy, r.scene));
+        write_error_images(out / name, {grids[surface]},
+                           fmt::format("{} on {} ({}, {}), surface {}", r.strategy, r.scene,
+                                       r.precision, d.sampling.label(), surface));
+        return std::pair{name, fmt::format("surface {}, {}", surface, d.sampling.label())};
+      },
+      [](const Record& r) { return report_number(r.accuracy->max_ulp); }, s,
+      ReportTable{"Pairs drawn (re-evaluated on this machine; colour = f32 ulps, log scale)",
+                  {"strategy", "scene", "samples", "precision", "max_ulp in results", "image"},
+                  {}});
+  if (s.tables.empty()) s.no_data = "no data in these results: no measured accuracy to map";
+  return s;
+}
+
+// Trim masks of the `count` (strategy, scene) pairs with the most misclassified samples, among
+// strategies that classified against trims; re-evaluated here like the error maps.
+ReportSection trim_mask_maps(const std::vector<ResultSet>& sets, int count, const fs::path& out) {
+  ReportSection s;
+  s.id = "trim_masks";
+  s.title = fmt::format(
+      "Trim masks of the {} (strategy, trimmed scene) pairs with the most misclassified samples",
+      count);
+  s.command =
+      "nurbsbench run --scenes S --strategies X --samples NxM --images DIR (writes "
+      "DIR/X__S__maskI.png)";
+  const auto misclassified = [](const Record& r) {
+    return static_cast<double>(*r.accuracy->trim->misclassified);
+  };
+  const auto worst = worst_records(
+      sets,
+      [](const Record& r) {
+        return r.trimming == "classified" && r.accuracy->trim && r.accuracy->trim->misclassified;
+      },
+      [&](const Record& a, const Record& b) { return misclassified(a) > misclassified(b); });
+  draw_worst(
+      worst, count,
+      [&](const Record& r, const Redone& d) {
+        const std::vector<TrimMask> masks =
+            trim_masks(d.scene, d.result, d.reference, r.accuracy->trim->band);
+        if (masks.empty()) throw std::runtime_error("no trimmed surface with a classification");
+        const TrimMask& mask = *std::max_element(
+            masks.begin(), masks.end(),
+            [](const TrimMask& a, const TrimMask& b) { return a.misclassified < b.misclassified; });
+        const std::string name = safe_file_name(
+            fmt::format("trim-mask-{}-{}-{}.png", r.strategy, r.scene, mask.surface));
+        write_trim_mask(out / name, mask,
+                        fmt::format("trim mask of {} on {} ({}, {}), surface {}", r.strategy,
+                                    r.scene, r.precision, d.sampling.label(), mask.surface));
+        return std::pair{name, fmt::format("surface {}, {}: {} misclassified here", mask.surface,
+                                           d.sampling.label(), mask.misclassified)};
+      },
+      [&](const Record& r) { return fmt::format("{:g}", misclassified(r)); }, s,
+      ReportTable{
+          "Pairs drawn (re-evaluated on this machine; light = inside, dark = outside, "
+          "orange = trim band, magenta = misclassified)",
+          {"strategy", "scene", "samples", "precision", "misclassified in results", "image"},
+          {}});
+  if (s.tables.empty())
+    s.no_data =
+        "no data in these results: no strategy classified samples against trims (run a trimmed "
+        "scene, e.g. --scenes trimmed-plate, with a strategy that trims)";
   return s;
 }
 
@@ -189,11 +275,16 @@ int report_command(const ReportOptions& options) {
       options.out.empty() ? fs::path(options.results.front()) / "report" : fs::path(options.out);
   if (options.error_images < 0 || options.error_images > 50)
     throw InputError(fmt::format("--error-images = {}: must be in 0..50", options.error_images));
+  if (options.trim_masks < 0 || options.trim_masks > 50)
+    throw InputError(fmt::format("--trim-masks = {}: must be in 0..50", options.trim_masks));
   Report report = build_report(sets);
 
   fs::create_directories(out);
   if (options.error_images > 0)
     report.sections.insert(report.sections.end() - 1, error_maps(sets, options.error_images, out));
+  if (options.trim_masks > 0)
+    report.sections.insert(report.sections.end() - 1,
+                           trim_mask_maps(sets, options.trim_masks, out));
   write_file_atomically(out / "charts.json", report.charts.dump(1) + "\n");
   const auto not_drawn = draw_charts(report, out, options.python);
   for (ReportSection& s : report.sections)

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/commands.h"
+#include "harness/error_image.h"
 #include "harness/machine.h"
 #include "harness/results_writer.h"
 #include "harness/runner.h"
@@ -91,6 +92,13 @@ int run_command(const RunOptions& options) {
     for (const Sampling& sampling : samplings) sample_parameters(scene, sampling);
   const StrategyOptions strategy_options{
       threads, backend_extra(options.gl, options.device, options.strategy_options)};
+  if (!options.images.empty()) {
+    if (deforming)
+      throw InputError(
+          fmt::format("--images = {}: not with --deforming (pictures are of single measurements)",
+                      options.images));
+    prepare_image_directory("--images", options.images);
+  }
 
   nlohmann::json settings = {{"scenes", nlohmann::json::array()},
                              {"strategies", nlohmann::json::array()},
@@ -131,10 +139,10 @@ int run_command(const RunOptions& options) {
                                    scene.name, sampling.label())
                     << std::flush;
         EvalRequest request{sampling, precision, options.normals};
-        writer.append(measure_with(
-            isolation,
-            {entry, strategy_options, request, options.repetitions, options.deforming, trim_band},
-            scene, references));
+        writer.append(measure_with(isolation,
+                                   {entry, strategy_options, request, options.repetitions,
+                                    options.deforming, trim_band, options.images},
+                                   scene, references));
       }
     }
   if (progress) std::cerr << "\r\x1b[K";

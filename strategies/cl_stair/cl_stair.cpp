@@ -1,5 +1,7 @@
 #include "strategies/cl_stair/cl_stair.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cstring>
 #include <optional>
@@ -8,13 +10,14 @@
 #include <vector>
 
 #include "reference/nurbs_math.h"
-#include "strategies/cl_stair/stair_basis.h"
 #include "strategies/ksquad/ksquad_table.h"
 #include "strategies/opencl/cl_device.h"
+#include "strategies/stair_basis/stair.h"
 #include "strategies/trim_direct/trim_tables.h"
 
 namespace nurbs::embedded {
 extern const std::string_view cl_stair_kernel;
+extern const std::string_view cl_stair_basis_header;
 extern const std::string_view cl_trim_direct_header;
 extern const std::string_view cl_stair_classify_kernel;
 }  // namespace nurbs::embedded
@@ -32,6 +35,7 @@ Capabilities stair_capabilities() {
   c.normals = false;  // positions only, as the paper's pipeline
   c.sampling.explicit_list = false;
   c.trims = true;  // classify(): direct trimming, strategies/trim_direct/ (classify.cl)
+  c.updates_control_points = true;  // re-sends only the control points (003 §5)
   return c;
 }
 
@@ -45,10 +49,13 @@ struct Program {
 cl_program build_stair(const opencl::Context& ctx, Precision precision) {
   if (precision == Precision::f64 && !ctx.has_fp64())
     throw RefusedError("precision f64: the OpenCL device has no cl_khr_fp64");
-  const std::string options = precision == Precision::f64
-                                  ? "-DREAL=double -DSTAIR_FP64"
-                                  : "-DREAL=float -cl-fp32-correctly-rounded-divide-sqrt";
-  return ctx.build(std::string(embedded::cl_stair_kernel), options);
+  const bool f64 = precision == Precision::f64;
+  // The single-source stair basis, then the kernels that use it.
+  const std::string source =
+      std::string(f64 ? "#pragma OPENCL EXTENSION cl_khr_fp64 : enable\n" : "") +
+      std::string(embedded::cl_stair_basis_header) + "\n" + std::string(embedded::cl_stair_kernel);
+  return ctx.build(
+      source, f64 ? "-DSB_REAL=double" : "-DSB_REAL=float -cl-fp32-correctly-rounded-divide-sqrt");
 }
 
 // The classify program: the single-source classifier (trim_direct.h) and classify.cl, in the
@@ -75,11 +82,14 @@ class ClStair final : public Strategy {
   Capabilities capabilities() const override { return stair_capabilities(); }
   DeviceInfo device() const override { return record_; }
 
+  // The programs are built on the first prepare() of their precision and kept (a JIT build is
+  // tens of milliseconds on PoCL, far more than an upload): "program_builds" in the record counts
+  // them.
   void prepare(const Scene& scene, const EvalRequest& request) override {
     release();
     refuse_unsupported(name(), capabilities(), scene, request);
     request_ = request;
-    program_.program = build_stair(ctx_, request.precision);
+    refuse_local_memory(scene);
     samples_ = sample_parameters(scene, request.sampling);
     if (request.precision == Precision::f32) {
       upload<float>(scene);
@@ -169,9 +179,105 @@ class ClStair final : public Strategy {
     return out;
   }
 
+  // Only the homogeneous control points move (003 §5): the tables, knots, parameters, KSQuads and
+  // trims of prepare() stay. The scene must have the prepared scene's surfaces and net sizes.
+  void update_control_points(const Scene& scene) override {
+    if (request_.precision == Precision::f32)
+      write_points<float>(scene);
+    else
+      write_points<double>(scene);
+  }
+
   DeviceTimes device_times() const override { return {kernel_s_}; }
 
  private:
+  // A program and its one kernel, built once per precision.
+  struct Built {
+    Program program;
+    cl_kernel kernel = nullptr;
+    ~Built() {
+      if (kernel) clReleaseKernel(kernel);
+    }
+  };
+
+  // The precision's evaluate_ksquads and classify_trim kernels, building the program on first use.
+  cl_kernel stair_kernel(Precision precision) {
+    return kernel_of(stair_[precision == Precision::f64], build_stair, precision,
+                     "evaluate_ksquads");
+  }
+  cl_kernel classify_kernel(Precision precision) {
+    return kernel_of(classify_[precision == Precision::f64], build_classify, precision,
+                     "classify_trim");
+  }
+  cl_kernel kernel_of(Built& b, cl_program (*build)(const opencl::Context&, Precision),
+                      Precision precision, const char* name) {
+    if (!b.kernel) {
+      b.program.program = build(ctx_, precision);
+      ++program_builds_;
+      record_.details["program_builds"] = std::to_string(program_builds_);
+      cl_int status = CL_SUCCESS;
+      b.kernel = clCreateKernel(b.program.program, name, &status);
+      opencl::check(status, name);
+    }
+    return b.kernel;
+  }
+
+  // The KSQuad's control points are cached in local memory sized for the scene's largest degrees
+  // (evaluate_ksquads' `cp`), beside the kernel's own local arrays (both directions' constants):
+  // refused when that exceeds the device's local memory, naming both. PoCL on the CPU and every
+  // OpenCL 1.2 full-profile device (>= 32 KiB) fit degree 15 in double (8 KiB + 4.6 KiB).
+  void refuse_local_memory(const Scene& scene) {
+    int pu = 1, pv = 1;
+    for (const Surface& s : scene.surfaces) {
+      pu = std::max(pu, s.degree_u);
+      pv = std::max(pv, s.degree_v);
+    }
+    const std::size_t scalar = request_.precision == Precision::f32 ? 4 : 8;
+    cp_bytes_ = static_cast<std::size_t>(4 * (pu + 1) * (pv + 1)) * scalar;
+    cl_kernel kernel = stair_kernel(request_.precision);
+    cl_ulong fixed = 0, available = 0;
+    opencl::check(clGetKernelWorkGroupInfo(kernel, ctx_.device(), CL_KERNEL_LOCAL_MEM_SIZE,
+                                           sizeof fixed, &fixed, nullptr),
+                  "clGetKernelWorkGroupInfo (CL_KERNEL_LOCAL_MEM_SIZE)");
+    opencl::check(clGetDeviceInfo(ctx_.device(), CL_DEVICE_LOCAL_MEM_SIZE, sizeof available,
+                                  &available, nullptr),
+                  "clGetDeviceInfo (CL_DEVICE_LOCAL_MEM_SIZE)");
+    // CL_KERNEL_LOCAL_MEM_SIZE counts a __local argument at the size last set: subtract ours.
+    const cl_ulong own = fixed >= last_cp_bytes_ ? fixed - last_cp_bytes_ : fixed;
+    if (own + cp_bytes_ > available)
+      throw RefusedError(fmt::format(
+          "cl-stair: degree ({}, {}) in {} needs {} bytes of local memory per work-group (control "
+          "point cache {} + stair constants {}), CL_DEVICE_LOCAL_MEM_SIZE is {}",
+          pu, pv, to_string(request_.precision), own + cp_bytes_, cp_bytes_, own, available));
+    record_.details["local_mem_bytes"] = std::to_string(own + cp_bytes_);
+    // Private memory has no device limit to check in OpenCL 1.2 (a GPU spills): recorded only.
+    cl_ulong private_bytes = 0;
+    opencl::check(clGetKernelWorkGroupInfo(kernel, ctx_.device(), CL_KERNEL_PRIVATE_MEM_SIZE,
+                                           sizeof private_bytes, &private_bytes, nullptr),
+                  "clGetKernelWorkGroupInfo (CL_KERNEL_PRIVATE_MEM_SIZE)");
+    record_.details["private_mem_bytes"] = std::to_string(private_bytes);
+  }
+
+  template <typename T>
+  void write_points(const Scene& scene) {
+    std::vector<T> points;
+    for (const Surface& s : scene.surfaces) {
+      const SurfaceNet<T> net(s);
+      for (const Vec4<T>& h : net.homogeneous) points.insert(points.end(), h.begin(), h.end());
+    }
+    if (points.size() != points_count_)
+      throw std::invalid_argument(fmt::format(
+          "cl-stair: update_control_points got {} control point reals, prepare() had {}",
+          points.size(), points_count_));
+    if (points.empty()) return;
+    cl_event done = nullptr;
+    opencl::check(clEnqueueWriteBuffer(ctx_.queue(), points_, CL_FALSE, 0,
+                                       points.size() * sizeof(T), points.data(), 0, nullptr, &done),
+                  "clEnqueueWriteBuffer (control points)");
+    opencl::wait(done, "clEnqueueWriteBuffer (control points)");
+    clReleaseEvent(done);
+  }
+
   template <typename T>
   void upload(const Scene& scene) {
     std::vector<int> surfaces, quads;
@@ -215,14 +321,15 @@ class ClStair final : public Strategy {
     quads_buf_ = upload_buffer(quads, "KSQuad table");
     knots_ = upload_buffer(knots, "knots");
     points_ = upload_buffer(points, "control points");
+    points_count_ = points.size();
     params_ = upload_buffer(params, "parameters");
     out_ = ctx_.buffer(CL_MEM_WRITE_ONLY, total_ * 3 * sizeof(T), "output positions");
-    cl_int status = CL_SUCCESS;
-    kernel_ = clCreateKernel(program_.program, "evaluate_ksquads", &status);
-    opencl::check(status, "clCreateKernel");
+    kernel_ = stair_kernel(request_.precision);
     cl_mem args[] = {surfaces_, quads_buf_, knots_, points_, params_, out_};
     for (cl_uint k = 0; k < 6; ++k)
       opencl::check(clSetKernelArg(kernel_, k, sizeof(cl_mem), &args[k]), "clSetKernelArg");
+    opencl::check(clSetKernelArg(kernel_, 6, cp_bytes_, nullptr), "clSetKernelArg (local cache)");
+    last_cp_bytes_ = cp_bytes_;
     cl_event uploaded = nullptr;
     opencl::check(clEnqueueMarkerWithWaitList(ctx_.queue(), 0, nullptr, &uploaded),
                   "clEnqueueMarkerWithWaitList");
@@ -240,10 +347,7 @@ class ClStair final : public Strategy {
                      [](const Surface& s) { return s.trim.has_value(); }))
       return;
     const auto tables = trim_direct::build_tables<T>(scene, trim_settings_);
-    classify_program_.program = build_classify(ctx_, request_.precision);
-    cl_int status = CL_SUCCESS;
-    classify_kernel_ = clCreateKernel(classify_program_.program, "classify_trim", &status);
-    opencl::check(status, "clCreateKernel (classify_trim)");
+    classify_kernel_ = classify_kernel(request_.precision);
     trim_reals_ = upload_buffer(tables.reals, "trim tables (reals)");
     trim_ints_ = upload_buffer(tables.ints, "trim tables (ints)");
     std::size_t out = 0;
@@ -317,10 +421,9 @@ class ClStair final : public Strategy {
     return mem;
   }
 
+  // What prepare() made for one scene; the programs and kernels stay (~ClStair releases them).
   void release() {
-    if (kernel_) clReleaseKernel(kernel_);
     kernel_ = nullptr;
-    if (classify_kernel_) clReleaseKernel(classify_kernel_);
     classify_kernel_ = nullptr;
     for (TrimLaunch& t : trim_launches_)
       for (cl_mem m : {t.u, t.v})
@@ -330,10 +433,6 @@ class ClStair final : public Strategy {
                       &trim_ints_, &inside_, &reads_}) {
       if (*m) clReleaseMemObject(*m);
       *m = nullptr;
-    }
-    for (Program* p : {&program_, &classify_program_}) {
-      if (p->program) clReleaseProgram(p->program);
-      p->program = nullptr;
     }
     classified_ = false;
     upload_s_ = 0;
@@ -350,7 +449,9 @@ class ClStair final : public Strategy {
   opencl::Context ctx_;
   DeviceInfo record_;
   trim_direct::Settings trim_settings_;
-  Program program_, classify_program_;
+  Built stair_[2], classify_[2];  // [0] f32, [1] f64
+  int program_builds_ = 0;
+  std::size_t cp_bytes_ = 0, last_cp_bytes_ = 0, points_count_ = 0;
   cl_kernel classify_kernel_ = nullptr;
   cl_mem trim_reals_ = nullptr, trim_ints_ = nullptr, inside_ = nullptr, reads_ = nullptr;
   std::vector<TrimLaunch> trim_launches_;
@@ -369,9 +470,13 @@ class ClStair final : public Strategy {
 }  // namespace
 
 std::vector<double> stair_basis_on_device(int span, int degree, const std::vector<double>& knots,
-                                          const std::vector<double>& u, Precision precision) {
-  opencl::Context ctx(0);
-  Program program{build_stair(ctx, precision)};
+                                          const std::vector<double>& u, Precision precision,
+                                          bool derivative) {
+  // One context and one program per precision for all the calls of a test process.
+  static opencl::Context ctx(0);
+  static Program programs[2];
+  Program& program = programs[precision == Precision::f64];
+  if (!program.program) program.program = build_stair(ctx, precision);
   cl_int status = CL_SUCCESS;
   cl_kernel kernel = clCreateKernel(program.program, "stair_basis_test", &status);
   opencl::check(status, "clCreateKernel");
@@ -404,6 +509,8 @@ std::vector<double> stair_basis_on_device(int span, int degree, const std::vecto
   clSetKernelArg(kernel, 3, sizeof(cl_mem), &ub);
   clSetKernelArg(kernel, 4, sizeof(int), &n);
   clSetKernelArg(kernel, 5, sizeof(cl_mem), &ob);
+  const cl_int derivative_arg = derivative ? 1 : 0;
+  clSetKernelArg(kernel, 6, sizeof(cl_int), &derivative_arg);
   const std::size_t local = std::min(kGroupSize, ctx.max_work_group()), global = local;
   opencl::check(
       clEnqueueNDRangeKernel(ctx.queue(), kernel, 1, nullptr, &global, &local, 0, nullptr, nullptr),

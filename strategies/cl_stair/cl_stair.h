@@ -4,7 +4,11 @@
 // fall in it. The host bins grid parameters by span once in prepare(); span-grid samples are
 // binned natively (span s's T+1 samples belong to KSQuad s, its end knot included). Explicit
 // lists are refused (not separable). float32 by default, float64 where the device has
-// cl_khr_fp64. Degree <= 9 (the kernel's local arrays).
+// cl_khr_fp64. Degree <= 15 (the validation limit); the control-point cache in local memory is
+// sized for the scene's largest degrees and refused, naming CL_DEVICE_LOCAL_MEM_SIZE, where the
+// device has less. The programs are built once per precision (first prepare()), and
+// update_control_points() re-sends only the control points (003 §5); DeviceInfo::details
+// "program_builds" counts the builds, "local_mem_bytes" is the kernel's local memory.
 //
 // Trims (Capabilities::trims): classify() runs direct trimming (Schollmeyer & Fröhlich 2009) on
 // the device, classify.cl with the single-source strategies/trim_direct/trim_direct.h, one
@@ -30,9 +34,11 @@ StrategyEntry cl_stair_entry();
 
 namespace nurbs {
 
-// Tests: the kernel's own stair basis (stair.cl, kernel stair_basis_test) at parameters `u` of
-// span `span`, on OpenCL device 0: (degree + 1) values per parameter. OpenCL builds only.
+// Tests: the OpenCL build of the stair basis (stair.cl, kernel stair_basis_test) at parameters
+// `u` of span `span`, on OpenCL device 0: (degree + 1) values per parameter, the basis or (with
+// `derivative`) its derivative. OpenCL builds only.
 std::vector<double> stair_basis_on_device(int span, int degree, const std::vector<double>& knots,
-                                          const std::vector<double>& u, Precision precision);
+                                          const std::vector<double>& u, Precision precision,
+                                          bool derivative = false);
 
 }  // namespace nurbs

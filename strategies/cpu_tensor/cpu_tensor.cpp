@@ -3,9 +3,13 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <algorithm>
+#include <optional>
+#include <stdexcept>
 #include <variant>
 
 #include "reference/nurbs_math.h"
+#include "strategies/cpu_tensor/row_trim.h"
 #include "strategies/cpu_tensor/tensor_kernels.h"
 #include "strategies/strategy_options.h"
 
@@ -17,6 +21,7 @@ Capabilities tensor_capabilities() {
   c.max_degree = kMaxDegree;
   // Only the separable samplings: an explicit list has no rows to share basis tables across.
   c.sampling.explicit_list = false;
+  c.trims = true;
   return c;
 }
 
@@ -146,10 +151,33 @@ class CpuTensor final : public Strategy {
       prepared_ = prepare_all<float>(scene);
     else
       prepared_ = prepare_all<double>(scene);
+    prepare_trims(scene);
   }
 
   void evaluate() override {
     std::visit([this](auto& p) { evaluate_all(p); }, prepared_);
+  }
+
+  // In double whatever the evaluation's precision, on the samples' double parameters: the
+  // reference classifies those, and a float-rounded u would move samples across the boundary by
+  // more than the band on a domain far from 0.
+  bool classify() override {
+    const int rows = static_cast<int>(trim_rows_.size());
+#pragma omp parallel num_threads(threads_)
+    {
+      tensor::RowTrimClassifier::Scratch scratch;
+      // Dynamic: a row's cost is the number of pieces it meets, uneven across a face.
+#pragma omp for schedule(dynamic, 16)
+      for (int r = 0; r < rows; ++r) {
+        const auto [surface, a] = trim_rows_[r];
+        const SurfaceSamples& samples = samples_[surface];
+        const std::size_t columns = samples.v.size();
+        trims_[surface]->classify_row(samples.u[a], samples.v.data(), columns,
+                                      inside_[surface].data() + a * columns, scratch);
+      }
+    }
+    classified_ = true;
+    return true;
   }
 
   EvalResult read_back() override {
@@ -159,6 +187,7 @@ class CpuTensor final : public Strategy {
       out.surfaces[i].samples = samples_[i];
       out.surfaces[i].positions = positions_[i];
       out.surfaces[i].normals = normals_[i];
+      if (classified_ && trims_[i]) out.surfaces[i].inside = inside_[i];
     }
     return out;
   }
@@ -193,6 +222,29 @@ class CpuTensor final : public Strategy {
       p.unresolved.assign(threads_, std::vector<unsigned char>(longest_row));
     }
     return p;
+  }
+
+  // The row index of every trimmed surface, its mask's storage and the (surface, u sample) rows
+  // classify() spreads over the threads.
+  void prepare_trims(const Scene& scene) {
+    trims_.clear();
+    inside_.assign(scene.surfaces.size(), {});
+    trim_rows_.clear();
+    classified_ = false;
+    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+      const Surface& s = scene.surfaces[i];
+      if (!s.trim) {
+        trims_.emplace_back();
+        continue;
+      }
+      if (!std::is_sorted(samples_[i].v.begin(), samples_[i].v.end()))
+        throw std::logic_error(
+            "cpu-tensor: v samples out of order; the row fill needs them sorted");
+      trims_.emplace_back(std::in_place, *s.trim);
+      inside_[i].assign(samples_[i].count(), 0);
+      for (std::size_t a = 0; a < samples_[i].u.size(); ++a)
+        trim_rows_.emplace_back(static_cast<int>(i), a);
+    }
   }
 
   template <typename T>
@@ -267,6 +319,10 @@ class CpuTensor final : public Strategy {
   std::vector<SurfaceSamples> samples_;
   std::variant<Prepared<float>, Prepared<double>> prepared_;
   std::vector<PointArray> positions_, normals_;
+  std::vector<std::optional<tensor::RowTrimClassifier>> trims_;  // per surface
+  std::vector<std::vector<std::uint8_t>> inside_;                // per surface, after classify()
+  std::vector<std::pair<int, std::size_t>> trim_rows_;           // (surface, u sample)
+  bool classified_ = false;
 };
 
 }  // namespace

@@ -3,12 +3,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 
 #include "reference/nurbs_math.h"
 #include "strategies/gl_context/gl_context.h"
+#include "strategies/gl_context/grid_renderer.h"
 #include "strategies/gl_pingpong/basis_passes.h"
 #include "strategies/strategy_options.h"
+#include "strategies/trim_texture/trim_texture.h"
 
 namespace nurbs {
 namespace {
@@ -28,8 +31,12 @@ Capabilities pingpong_capabilities() {
   c.fp32 = true;
   c.fp64 = false;  // RGBA32F textures, as in the paper
   c.sampling = SamplingModes{true, true, false};
+  c.trims = true;  // 000 §4's trim texture (strategies/trim_texture)
   return c;
 }
+
+// The image the render phases draw: glsl-deboor's size, so the two compare.
+constexpr int kRenderSize = 512;
 
 // One tile of the evaluation grid: u-chunk cu x v-chunk cv, its running sum ping-pongs between
 // sum[0] and sum[1] (the paper's tex1/tex2); `result` is where the divide pass wrote the points.
@@ -49,7 +56,9 @@ struct SurfaceOnGpu {
 
 class GlPingPong final : public Strategy {
  public:
-  GlPingPong(gl::Platform platform, bool packed, int tile_option) : packed_(packed) {
+  GlPingPong(gl::Platform platform, bool packed, int tile_option,
+             const trim_texture::Options& trim_options)
+      : packed_(packed) {
     try {
       context_ = gl::Context::create(platform);
     } catch (const gl::UnavailableError& e) {
@@ -58,10 +67,14 @@ class GlPingPong final : public Strategy {
     programs_ = std::make_unique<Programs>(*context_, packed_);
     tile_ = std::min(context_->max_texture_size(), context_->max_viewport());
     if (tile_option > 0) tile_ = std::min(tile_, tile_option);
+    trims_ =
+        std::make_unique<trim_texture::TrimTextures>(*context_, trim_options, std::string(name()));
   }
 
   ~GlPingPong() override {
     context_->make_current();
+    renderer_.reset();
+    trims_.reset();
     surfaces_.clear();
     programs_.reset();
     if (query_) context_->gl().DeleteQueries(1, &query_);
@@ -78,12 +91,14 @@ class GlPingPong final : public Strategy {
     d.details["passes"] = std::to_string(passes_);
     d.details["passes_basis"] = std::to_string(basis_passes_);
     d.details["bytes_uploaded"] = std::to_string(bytes_uploaded_);
+    trims_->add_details(d);
     return d;
   }
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
     refuse_unsupported(name(), capabilities(), scene, request);
     samples_ = sample_parameters(scene, request.sampling);
+    view_ = gl::orthographic_view(scene);
     context_->make_current();
     surfaces_.clear();
     bytes_uploaded_ = 0;
@@ -91,6 +106,7 @@ class GlPingPong final : public Strategy {
     tile_count_ = 0;
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
       surfaces_.push_back(upload_surface(scene.surfaces[i], samples_[i]));
+    trims_->prepare(scene, samples_);
     context_->finish("gl-pingpong upload");
     context_->check("gl-pingpong upload");
   }
@@ -111,7 +127,58 @@ class GlPingPong final : public Strategy {
 
   DeviceTimes device_times() const override { return {device_evaluate_s_}; }
 
+  bool classify() override { return trims_->classify(); }
+
+  // 000 §4's rendering pass, as glsl-deboor draws (the shared grid renderer): each tile's result
+  // texture holds sample (a, b) at texel (b, a). A grid tiled over several textures is drawn
+  // tile by tile, so the cells between two tiles are not drawn (tiles exist only past
+  // GL_MAX_TEXTURE_SIZE samples per side or with the test option "tile").
+  bool render() override {
+    context_->make_current();
+    renderer().begin_frame();
+    for (std::size_t i = 0; i < surfaces_.size(); ++i)
+      for (const Tile& t : surfaces_[i].tiles) {
+        const gl::Texture& result = t.sum[t.result];
+        const int first_u = static_cast<int>(surfaces_[i].u_begin[static_cast<std::size_t>(t.cu)]);
+        const int first_v = static_cast<int>(surfaces_[i].v_begin[static_cast<std::size_t>(t.cv)]);
+        const auto trim = trims_->grid_trim(i, first_u, first_v);
+        renderer().draw(gl::GridPoints{&result, result.height(), result.width(), 0, 0, false},
+                        view_.data(), trim ? &*trim : nullptr);
+      }
+    renderer().end_frame("gl-pingpong render");
+    context_->finish("gl-pingpong render");
+    return true;
+  }
+
+  bool render_via_read_back() override {
+    const EvalResult result = read_positions();
+    context_->make_current();
+    renderer().begin_frame();
+    for (std::size_t i = 0; i < result.surfaces.size(); ++i) {
+      const SurfaceSamples& samples = result.surfaces[i].samples;
+      const auto trim = trims_->grid_trim(i);
+      renderer().draw(result.surfaces[i].positions.f32(), static_cast<int>(samples.u.size()),
+                      static_cast<int>(samples.v.size()), view_.data(), trim ? &*trim : nullptr);
+    }
+    renderer().end_frame("gl-pingpong render via read-back");
+    context_->finish("gl-pingpong render via read-back");
+    return true;
+  }
+
+  std::optional<RenderedImage> last_render() override {
+    return gl::last_picture(*context_, renderer_.get());
+  }
+
   EvalResult read_back() override {
+    EvalResult out = read_positions();
+    for (std::size_t i = 0; i < out.surfaces.size(); ++i)
+      out.surfaces[i].inside = trims_->read_mask(i);
+    return out;
+  }
+
+ private:
+  // The positions only: what the traditional render path (002 §4.1) reads back.
+  EvalResult read_positions() {
     context_->make_current();
     const gl::Functions& gl = context_->gl();
     EvalResult out;
@@ -147,7 +214,13 @@ class GlPingPong final : public Strategy {
     return out;
   }
 
- private:
+  // Created at the first draw: a run that never renders allocates no framebuffer.
+  gl::GridRenderer& renderer() {
+    if (!renderer_)
+      renderer_ = std::make_unique<gl::GridRenderer>(*context_, kRenderSize, kRenderSize);
+    return *renderer_;
+  }
+
   std::vector<BasisChunk> upload_chunks(const std::vector<double>& parameters, int degree,
                                         int count, const std::vector<float>& knots,
                                         std::vector<std::size_t>& begins) {
@@ -239,6 +312,9 @@ class GlPingPong final : public Strategy {
   bool packed_;
   std::unique_ptr<gl::Context> context_;
   std::unique_ptr<Programs> programs_;
+  std::unique_ptr<trim_texture::TrimTextures> trims_;
+  std::unique_ptr<gl::GridRenderer> renderer_;
+  std::array<float, 16> view_{};
   int tile_ = 0;
   std::vector<SurfaceSamples> samples_;
   std::vector<SurfaceOnGpu> surfaces_;
@@ -264,8 +340,10 @@ StrategyEntry entry(std::string name, bool packed_entry) {
           [packed_entry](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
             const auto it = options.extra.find("packed");
             const bool packed = packed_entry || (it != options.extra.end() && it->second == "1");
+            const std::string_view strategy = packed ? "gl-pingpong-packed" : "gl-pingpong";
             return std::make_unique<GlPingPong>(gl::platform_option(options), packed,
-                                                positive_option(options, "tile", "gl-pingpong"));
+                                                positive_option(options, "tile", strategy),
+                                                trim_texture::parse_options(options, strategy));
           }};
 }
 

@@ -9,9 +9,11 @@
 
 #include "reference/validation.h"
 #include "strategies/gl_context/gl_context.h"
+#include "strategies/gl_context/grid_renderer.h"
 #include "strategies/glsl_deboor/deboor_evaluator.h"
 #include "strategies/glsl_deboor/renderer.h"
 #include "strategies/strategy_options.h"
+#include "strategies/trim_texture/trim_texture.h"
 
 namespace nurbs {
 namespace {
@@ -24,29 +26,6 @@ constexpr const char* kSource =
 // raster cost visible next to the evaluation without dominating it).
 constexpr int kRenderSize = 512;
 
-// Column-major orthographic view looking down -z at the scene's control-point bounding box,
-// scaled so the box fits in 90% of clip space in every axis (so nothing is clipped).
-std::array<float, 16> orthographic_view(const Scene& scene) {
-  Point3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  for (const Surface& s : scene.surfaces)
-    for (const Point3& p : s.points)
-      for (int c = 0; c < 3; ++c) {
-        lo[c] = std::min(lo[c], p[c]);
-        hi[c] = std::max(hi[c], p[c]);
-      }
-  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-30});
-  const double scale = 1.8 / extent;
-  std::array<float, 16> m{};
-  m[0] = static_cast<float>(scale);
-  m[5] = static_cast<float>(scale);
-  m[10] = static_cast<float>(-scale);
-  m[12] = static_cast<float>(-scale * 0.5 * (lo[0] + hi[0]));
-  m[13] = static_cast<float>(-scale * 0.5 * (lo[1] + hi[1]));
-  m[14] = static_cast<float>(scale * 0.5 * (lo[2] + hi[2]));
-  m[15] = 1;
-  return m;
-}
-
 Capabilities deboor_capabilities() {
   Capabilities c;
   c.max_degree = kMaxDegree;  // one program per degree, compiled in prepare()
@@ -55,12 +34,13 @@ Capabilities deboor_capabilities() {
   c.fp32 = true;
   c.fp64 = false;  // RGBA32F textures, as in the paper
   c.sampling = SamplingModes{true, true, false};
+  c.trims = true;  // 000 §4's trim texture, shared with gl-pingpong (strategies/trim_texture)
   return c;
 }
 
 class GlslDeBoor final : public Strategy {
  public:
-  GlslDeBoor(gl::Platform platform, int tile_option) {
+  GlslDeBoor(gl::Platform platform, int tile_option, const trim_texture::Options& trim_options) {
     try {
       context_ = gl::Context::create(platform);
     } catch (const gl::UnavailableError& e) {
@@ -69,11 +49,13 @@ class GlslDeBoor final : public Strategy {
     tile_ = std::min(context_->max_texture_size(), context_->max_viewport());
     if (tile_option > 0) tile_ = std::min(tile_, tile_option);
     evaluator_ = std::make_unique<glsl_deboor::Evaluator>(*context_, tile_);
+    trims_ = std::make_unique<trim_texture::TrimTextures>(*context_, trim_options, "glsl-deboor");
   }
 
   ~GlslDeBoor() override {
     context_->make_current();
     renderer_.reset();
+    trims_.reset();
     evaluator_.reset();
     if (query_) context_->gl().DeleteQueries(1, &query_);
   }
@@ -88,15 +70,17 @@ class GlslDeBoor final : public Strategy {
     d.details["quads"] = std::to_string(evaluator_->quads());
     d.details["passes"] = std::to_string(2 * evaluator_->pages().size());
     d.details["bytes_uploaded"] = std::to_string(bytes_uploaded_);
+    trims_->add_details(d);
     return d;
   }
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
     refuse_unsupported(name(), capabilities(), scene, request);
     samples_ = sample_parameters(scene, request.sampling);
-    view_ = orthographic_view(scene);
+    view_ = gl::orthographic_view(scene);
     context_->make_current();
     bytes_uploaded_ = evaluator_->prepare(scene, samples_);
+    trims_->prepare(scene, samples_);
     context_->finish("glsl-deboor upload");
   }
 
@@ -118,15 +102,21 @@ class GlslDeBoor final : public Strategy {
 
   bool render() override {
     context_->make_current();
-    renderer().draw_without_read_back(*evaluator_, view_.data());
+    renderer().draw_without_read_back(*evaluator_, view_.data(), trims_.get());
     context_->finish("glsl-deboor render");
     context_->check("glsl-deboor render");
     return true;
   }
 
+  std::optional<RenderedImage> last_render() override {
+    return gl::last_picture(*context_, renderer_ ? &renderer_->grid() : nullptr);
+  }
+
+  bool classify() override { return trims_->classify(); }
+
   bool render_via_read_back() override {
     context_->make_current();
-    renderer().draw_with_read_back(*evaluator_, view_.data());
+    renderer().draw_with_read_back(*evaluator_, view_.data(), trims_.get());
     context_->finish("glsl-deboor render via read-back");
     context_->check("glsl-deboor render via read-back");
     return true;
@@ -142,6 +132,7 @@ class GlslDeBoor final : public Strategy {
       r.samples = samples_[i];
       r.positions = PointArray(Precision::f32, samples_[i].count());
       std::copy(xyz[i].begin(), xyz[i].end(), r.positions.f32());
+      r.inside = trims_->read_mask(i);
     }
     return out;
   }
@@ -156,6 +147,7 @@ class GlslDeBoor final : public Strategy {
 
   std::unique_ptr<gl::Context> context_;
   std::unique_ptr<glsl_deboor::Evaluator> evaluator_;
+  std::unique_ptr<trim_texture::TrimTextures> trims_;
   std::unique_ptr<glsl_deboor::Renderer> renderer_;
   std::array<float, 16> view_{};
   int tile_ = 0;
@@ -182,8 +174,9 @@ StrategyEntry glsl_deboor_entry() {
           deboor_probe,
           deboor_capabilities,
           [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-            return std::make_unique<GlslDeBoor>(gl::platform_option(options),
-                                                positive_option(options, "tile", "glsl-deboor"));
+            return std::make_unique<GlslDeBoor>(
+                gl::platform_option(options), positive_option(options, "tile", "glsl-deboor"),
+                trim_texture::parse_options(options, "glsl-deboor"));
           }};
 }
 

@@ -9,7 +9,9 @@
 // of the control and pass-1 textures and [out0_s, out0_s + NV) of the output, so each pass is one
 // render target for the whole scene; surfaces go to a new page when a texture side would exceed
 // the device limit. Options (StrategyOptions.extra): "gl" = osmesa | egl (default egl); "tile" =
-// largest texture side to use (default GL_MAX_TEXTURE_SIZE; small values exercise the paging).
+// largest texture side to use (default GL_MAX_TEXTURE_SIZE; small values exercise the paging);
+// "trim-resolution", "trim-tolerance": 000 §4's trim texture, as gl-pingpong (strategies/
+// trim_texture), which 002 does not have: glsl-deboor draws the same way, so it trims the same way.
 #pragma once
 
 #include "strategies/registry.h"

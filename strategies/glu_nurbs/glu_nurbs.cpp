@@ -1,5 +1,6 @@
 #include "strategies/glu_nurbs/glu_nurbs.h"
 
+#include "reference/trim_classify.h"
 #include "reference/validation.h"
 
 #if NURBSBENCH_HAVE_GLU
@@ -62,6 +63,94 @@ void GLAPIENTRY on_error(GLenum code) {
   if (glu_error == 0) glu_error = code;
 }
 
+// A trim curve as GLU takes it: a polyline (gluPwlCurve) for a degree-1 curve with unit weights,
+// whose control polygon is the curve; otherwise gluNurbsCurve with (u, v) points
+// (GLU_MAP1_TRIM_2) or, when rational, homogeneous (u w, v w, w) points (GLU_MAP1_TRIM_3).
+struct GluTrimCurve {
+  bool polyline = false;
+  std::vector<GLfloat> knots, points;
+  GLint order = 0, stride = 2;
+  GLenum type = GLU_MAP1_TRIM_2;
+};
+using GluTrimLoop = std::vector<GluTrimCurve>;
+
+// The curve run backwards: the same points, t -> a + b - t.
+TrimCurve reversed(const TrimCurve& c) {
+  TrimCurve r = c;
+  std::reverse(r.points.begin(), r.points.end());
+  std::reverse(r.weights.begin(), r.weights.end());
+  const double a = c.knots.front(), b = c.knots.back();
+  for (std::size_t k = 0; k < c.knots.size(); ++k)
+    r.knots[k] = a + b - c.knots[c.knots.size() - 1 - k];
+  return r;
+}
+
+// Twice the signed area of the loop's control polygon (every curve's points in order): positive
+// when counter-clockwise. A curve turns the way its control polygon turns (variation diminishing),
+// and the polygon of lines is the loop itself.
+double control_polygon_area(const TrimLoop& loop) {
+  std::vector<Point2> polygon;
+  for (const TrimCurve& c : loop.curves)
+    polygon.insert(polygon.end(), c.points.begin(), c.points.end());
+  double twice_area = 0;
+  for (std::size_t k = 0; k < polygon.size(); ++k) {
+    const Point2& a = polygon[k];
+    const Point2& b = polygon[(k + 1) % polygon.size()];
+    twice_area += a[0] * b[1] - b[0] * a[1];
+  }
+  return twice_area;
+}
+
+// GLU keeps the region to the left of each trim curve (outer loops counter-clockwise, holes
+// clockwise), where the scene's rule is even-odd and orientation-free. The two agree when a loop
+// nested inside an even number of others (depth 0, 2, ...: a boundary of the face's outside) runs
+// counter-clockwise and one inside an odd number (a hole) clockwise: the depth is counted with the
+// reference's even-odd classifier (a point of the loop against each other loop alone), the
+// direction from the signed area of the loop's control polygon, and a loop the wrong way round is
+// reversed.
+std::vector<TrimLoop> glu_oriented_loops(const Trim& trim) {
+  std::vector<TrimLoop> loops = trim.loops;
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    const Point2 on_loop = trim.loops[i].curves.front().points.front();
+    SurfaceSamples at;
+    at.tensor = false;
+    at.u = {on_loop[0]};
+    at.v = {on_loop[1]};
+    int depth = 0;
+    for (std::size_t j = 0; j < trim.loops.size(); ++j) {
+      if (j == i) continue;
+      Trim alone = trim;
+      alone.loops = {trim.loops[j]};
+      depth += classify_trim_samples(alone, at, false, TrimScalar::f64, 1).inside[0];
+    }
+    const bool counter_clockwise = control_polygon_area(loops[i]) > 0;
+    if (counter_clockwise != (depth % 2 == 0)) {
+      std::reverse(loops[i].curves.begin(), loops[i].curves.end());
+      for (TrimCurve& c : loops[i].curves) c = reversed(c);
+    }
+  }
+  return loops;
+}
+
+GluTrimCurve make_glu_trim_curve(const TrimCurve& c) {
+  GluTrimCurve g;
+  const bool rational =
+      std::any_of(c.weights.begin(), c.weights.end(), [](double w) { return w != 1.0; });
+  g.polyline = c.degree == 1 && !rational && c.knots.front() == c.knots[1] &&
+               c.knots.back() == c.knots[c.knots.size() - 2];
+  g.order = c.degree + 1;
+  g.stride = rational ? 3 : 2;
+  g.type = rational ? GLU_MAP1_TRIM_3 : GLU_MAP1_TRIM_2;
+  g.knots.assign(c.knots.begin(), c.knots.end());
+  for (std::size_t k = 0; k < c.points.size(); ++k) {
+    const double w = rational ? c.weights[k] : 1.0;
+    g.points.push_back(static_cast<GLfloat>(c.points[k][0] * w));
+    g.points.push_back(static_cast<GLfloat>(c.points[k][1] * w));
+    if (rational) g.points.push_back(static_cast<GLfloat>(w));
+  }
+  return g;
+}
+
 // One surface as GLU takes it: float knots, control points homogeneous (x w, y w, z w, w) for
 // GL_MAP2_VERTEX_4 when rational, Cartesian for GL_MAP2_VERTEX_3 when not, u-major (the scene's
 // order: s_stride = count_v * coordinates); plus the degree-1 texture-coordinate surface whose
@@ -75,6 +164,7 @@ struct GluSurface {
   std::array<GLfloat, 8> domain_corners{};
   GLfloat step_u = 1, step_v = 1;  // GLU_U_STEP/GLU_V_STEP: samples per unit parameter length
   double u_min = 0, u_max = 0, v_min = 0, v_max = 0;
+  std::vector<GluTrimLoop> trim_loops;  // oriented for GLU (glu_oriented_loops)
 };
 
 GluSurface make_glu_surface(const Surface& s, const Sampling& grid) {
@@ -108,6 +198,11 @@ GluSurface make_glu_surface(const Surface& s, const Sampling& grid) {
   // up, so it samples at least that densely, and every knot lies on a sample.
   g.step_u = static_cast<GLfloat>((grid.grid_u - 1) / (g.u_max - g.u_min));
   g.step_v = static_cast<GLfloat>((grid.grid_v - 1) / (g.v_max - g.v_min));
+  if (s.trim)
+    for (const TrimLoop& loop : glu_oriented_loops(*s.trim)) {
+      GluTrimLoop& glu_loop = g.trim_loops.emplace_back();
+      for (const TrimCurve& c : loop.curves) glu_loop.push_back(make_glu_trim_curve(c));
+    }
   return g;
 }
 
@@ -171,6 +266,17 @@ class GluNurbsStrategy final : public Strategy {
                       g.order_v, g.type);
       gluNurbsSurface(renderer_, 4, g.domain_knots_u.data(), 4, g.domain_knots_v.data(), 4, 2,
                       g.domain_corners.data(), 2, 2, GL_MAP2_TEXTURE_COORD_2);
+      for (GluTrimLoop& loop : g.trim_loops) {
+        gluBeginTrim(renderer_);
+        for (GluTrimCurve& c : loop)
+          if (c.polyline)
+            gluPwlCurve(renderer_, static_cast<GLint>(c.points.size() / 2), c.points.data(), 2,
+                        GLU_MAP1_TRIM_2);
+          else
+            gluNurbsCurve(renderer_, static_cast<GLint>(c.knots.size()), c.knots.data(), c.stride,
+                          c.points.data(), c.order, c.type);
+        gluEndTrim(renderer_);
+      }
       gluEndSurface(renderer_);
       if (glu_error != 0)
         throw std::runtime_error(

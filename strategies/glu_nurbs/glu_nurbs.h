@@ -7,6 +7,14 @@
 // as an explicit (u, v) list (SurfaceSamples::tensor == false), measured against the reference
 // there. Runs on the CPU, one thread, and needs no GL context. Built when GLU (libglu1-mesa-dev)
 // is installed.
+// Trimmed surfaces are trimmed natively: each loop goes to GLU between gluBeginTrim/gluEndTrim,
+// degree-1 curves as gluPwlCurve, others as gluNurbsCurve (GLU_MAP1_TRIM_2, or _3 with
+// homogeneous points when rational), oriented first for GLU's rule (the left of each curve is
+// kept: outer loops counter-clockwise, holes clockwise) from the loop's nesting depth and signed
+// area, so that GLU keeps the scene's even-odd face. GLU tessellates only the face and classifies
+// nothing: its records say "untrimmed" (no per-sample classification, no misclassification
+// figure), their errors over its vertices the reference puts inside, and its timing is that of
+// the trimmed tessellation (000's Fig 8 baseline).
 #pragma once
 
 #include "strategies/registry.h"

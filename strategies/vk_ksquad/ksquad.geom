@@ -19,7 +19,8 @@ layout(constant_id = 2) const int kDegreeV = 0;
 #include "ksquad_tables.glsl"
 #undef PATCH
 #define PATCH (mode.patch_base + gl_PrimitiveIDIn)
-#include "stair_basis.glsl"
+// The single-source stair basis (stair_basis, stair_derivative) on the `consts` buffer.
+#include "../stair_basis/stair_basis.h"
 #include "ksquad_point.glsl"
 layout(location = 0) out vec2 trim_uv;
 layout(location = 1) flat out int trim_surface;
@@ -48,8 +49,8 @@ void main() {
         sample_params[2 * slot] = u;
         sample_params[2 * slot + 1] = v;
         if (mode.normals != 0) {
-          // C_KNOT(c, p) = x_{i+1}: the span's end knot belongs to the next span (row + 16..19)
-          const bool u_end = u == C_KNOT(cu, pu), v_end = v == C_KNOT(cv, pv);
+          // SB_KNOT(c, p) = x_{i+1}: the span's end knot belongs to the next span (row + 16..19)
+          const bool u_end = u == SB_KNOT(cu, pu), v_end = v == SB_KNOT(cv, pv);
           write_normal(slot, s, u_end ? patches[row + 16] : span_u,
                        v_end ? patches[row + 17] : span_v, u_end ? patches[row + 18] : cu,
                        v_end ? patches[row + 19] : cv, u, v);

@@ -31,7 +31,8 @@ layout(constant_id = 2) const int kDegreeV = 0;
 #define DEGREE_U(s) (kDegreeU > 0 ? kDegreeU : surfaces[s])
 #define DEGREE_V(s) (kDegreeV > 0 ? kDegreeV : surfaces[(s) + 1])
 #include "ksquad_tables.glsl"
-#include "stair_basis.glsl"
+// The single-source stair basis (stair_basis, stair_derivative) on the `consts` buffer.
+#include "../stair_basis/stair_basis.h"
 #include "ksquad_point.glsl"
 // From the control stage (ksquad.tesc): the patch's row and, adaptive, its piece of the KSQuad.
 layout(location = 0) patch in vec2 piece_corners[4];
@@ -89,9 +90,9 @@ void main() {
   }
   const vec3 position = ksquad_point(s, span_u, span_v, cu, cv, u, v);
   if (kRaster == 0 && mode.normals != 0) {
-    // C_KNOT(c, p) = x_{i+1}: the span's end knot belongs to the next span (row + 16..19).
+    // SB_KNOT(c, p) = x_{i+1}: the span's end knot belongs to the next span (row + 16..19).
     // Adaptive: one normal per capture slot, in the slot's place.
-    const bool u_end = u == C_KNOT(cu, pu), v_end = v == C_KNOT(cv, pv);
+    const bool u_end = u == SB_KNOT(cu, pu), v_end = v == SB_KNOT(cv, pv);
     write_normal(mode.adaptive != 0 ? PATCH * mode.region + adaptive_slot()
                                     : surfaces[s + 8] + a * surfaces[s + 7] + b,
                  s,

@@ -11,7 +11,8 @@ layout(local_size_x = 64) in;
 #include "ksquad_tables.glsl"
 #define DEGREE_U(s) surfaces[s]
 #define DEGREE_V(s) surfaces[(s) + 1]
-#include "stair_basis.glsl"
+// The single-source stair basis (stair_basis, stair_derivative) on the `consts` buffer.
+#include "../stair_basis/stair_basis.h"
 #include "ksquad_point.glsl"
 
 void main() {
@@ -20,8 +21,8 @@ void main() {
   const int j = CORNER_INTS * k;
   const int s = corner_jobs[j], cu = corner_jobs[j + 3], cv = corner_jobs[j + 4];
   const int pu = DEGREE_U(s), pv = DEGREE_V(s);
-  // C_KNOT(c, p - 1) = x_i, C_KNOT(c, p) = x_i+1 (StairConstants::knots)
-  const float u = corner_jobs[j + 5] != 0 ? C_KNOT(cu, pu) : C_KNOT(cu, pu - 1);
-  const float v = corner_jobs[j + 6] != 0 ? C_KNOT(cv, pv) : C_KNOT(cv, pv - 1);
+  // SB_KNOT(c, p - 1) = x_i, SB_KNOT(c, p) = x_i+1 (StairConstants::knots)
+  const float u = corner_jobs[j + 5] != 0 ? SB_KNOT(cu, pu) : SB_KNOT(cu, pu - 1);
+  const float v = corner_jobs[j + 6] != 0 ? SB_KNOT(cv, pv) : SB_KNOT(cv, pv - 1);
   corners[k] = vec4(ksquad_point(s, corner_jobs[j + 1], corner_jobs[j + 2], cu, cv, u, v), 1.0);
 }

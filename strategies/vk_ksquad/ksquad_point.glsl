@@ -1,21 +1,21 @@
 // Evaluating a KSQuad, shared by the evaluation stage (ksquad.tese), the geometry stage of the
 // GS mapping (ksquad.geom) and the corner pass (ksquad_corners.comp). The includer defines
-// DEGREE_U(s) and DEGREE_V(s) and includes ksquad_tables.glsl and stair_basis.glsl first.
+// DEGREE_U(s) and DEGREE_V(s) and includes ksquad_tables.glsl and ../stair_basis/stair_basis.h first.
 
 // The parameter the tessellator's coordinate t gives in the patch's share [lo, hi] of its knot
-// span [x_i, x_i+1] (C_KNOT(c, p - 1) = x_i, C_KNOT(c, p) = x_i+1: StairConstants::knots). Both
+// span [x_i, x_i+1] (SB_KNOT(c, p - 1) = x_i, SB_KNOT(c, p) = x_i+1: StairConstants::knots). Both
 // blends are exact at t = 0 and 1 (and lo, hi are the same floats on both sides of a piece
 // boundary), so the patches meeting on a knot line or a cut evaluate the same parameter there.
 float span_parameter(int c, int p, float lo, float hi, float t) {
   const float f = (1.0 - t) * lo + t * hi;
-  return (1.0 - f) * C_KNOT(c, p - 1) + f * C_KNOT(c, p);
+  return (1.0 - f) * SB_KNOT(c, p - 1) + f * SB_KNOT(c, p);
 }
 
 // S(u, v): the stair basis of the KSQuad's spans and A4.3 on its (p+1)(q+1) homogeneous control
 // points (reference/nurbs_math.h surface_point_from_basis): rows in v first, then u.
 vec3 ksquad_point(int s, int span_u, int span_v, int cu, int cv, float u, float v) {
   const int pu = DEGREE_U(s), pv = DEGREE_V(s), count_v = surfaces[s + 3];
-  float bu[MAX_ORDER], bv[MAX_ORDER];
+  float bu[SB_MAX_ORDER], bv[SB_MAX_ORDER];
   stair_basis(cu, pu, u, bu, pu);
   stair_basis(cv, pv, v, bv, pv);
   vec4 sum = vec4(0.0);
@@ -45,7 +45,7 @@ bool normalize_if_resolved(vec3 n, vec3 a, vec3 b, out vec3 unit) {
 // to it -- on a crease the two one-sided normals differ, and the reference takes that one.
 void write_normal(int slot, int s, int span_u, int span_v, int cu, int cv, float u, float v) {
   const int pu = DEGREE_U(s), pv = DEGREE_V(s), count_v = surfaces[s + 3];
-  float bu[MAX_ORDER], bv[MAX_ORDER], du[MAX_ORDER], dv[MAX_ORDER];
+  float bu[SB_MAX_ORDER], bv[SB_MAX_ORDER], du[SB_MAX_ORDER], dv[SB_MAX_ORDER];
   stair_basis(cu, pu, u, bu, pu);
   stair_basis(cv, pv, v, bv, pv);
   stair_derivative(cu, pu, u, du);

@@ -47,8 +47,8 @@
 #include <tuple>
 
 #include "reference/nurbs_math.h"
-#include "strategies/cl_stair/stair_basis.h"
 #include "strategies/ksquad/ksquad_table.h"
+#include "strategies/stair_basis/stair.h"
 #include "strategies/strategy_options.h"
 #include "strategies/trim_direct/trim_tables.h"
 #include "strategies/vk_ksquad/adaptive_mapping.h"
@@ -77,9 +77,9 @@ using vk_ksquad::ksquad_settings;
 using vk_ksquad::KsquadSettings;
 using vk_ksquad::kSurfaceInts;
 
-constexpr int kConstantFloats = 119;
+constexpr int kConstantFloats = kStairConstantReals;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
-              "stair_basis.glsl reads StairConstants<float> as 119 packed floats");
+              "stair_basis.h reads StairConstants<float> as packed floats");
 constexpr int kBuffers = 14;
 // Bindings 9..11 are the fragment stage's trim test (ksquad.frag): the classifier's tables and
 // one row of kTrimSurfaceInts per surface; 12 is the span grid's sample parameters.
@@ -95,12 +95,11 @@ struct ModeConstants {
 };
 static_assert(sizeof(ModeConstants) == 104);
 
-// The corner pass (ksquad_corners.comp) and the GS mapping (ksquad.geom, stage added only where
-// the geometry-shader feature is enabled: VkKsquad::mode_stages) share the tables, the set and the
-// push constants.
-constexpr VkShaderStageFlags kModeStages = VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
-                                           VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT |
-                                           VK_SHADER_STAGE_COMPUTE_BIT;
+// The stages that read the tables and the push constants; the GS mapping (ksquad.geom) adds its
+// stage only where the geometry-shader feature is enabled (VkKsquad::draw_stages), the corner pass
+// (ksquad_corners.comp) reads the same set through its own layout.
+constexpr VkShaderStageFlags kModeStages =
+    VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT;
 constexpr std::uint32_t kCornerGroup = 64;  // ksquad_corners.comp: local_size_x
 // ksquad.geom: max_vertices, the strips of span grid T = kGsMaxSteps (T strips of 2 (T + 1))
 constexpr std::uint32_t kGsMaxVertices = 144;
@@ -130,6 +129,8 @@ vulkan::Requirements ksquad_requirements(bool geometry = false) {
 
 Capabilities ksquad_capabilities() {
   Capabilities c;
+  // 15, the validation limit: no device limit depends on the degree (net and constants are
+  // storage buffers, one control point per patch; push constants and levels do not grow with it).
   c.max_degree = kStairMaxDegree;
   c.normals = true;  // both modes: derivatives of the same stair basis (stair_derivative)
   c.fp64 = false;    // Vulkan tessellation stages in float; shaderFloat64 is optional
@@ -180,7 +181,6 @@ class VkKsquad final : public Strategy {
       for (const auto& [degrees, pipeline] : pipelines) vkDestroyPipeline(d, pipeline, nullptr);
     if (framebuffer_) vkDestroyFramebuffer(d, framebuffer_, nullptr);
     if (render_pass_) vkDestroyRenderPass(d, render_pass_, nullptr);
-    if (corner_pipeline_) vkDestroyPipeline(d, corner_pipeline_, nullptr);
     if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
   }
 
@@ -640,7 +640,7 @@ class VkKsquad final : public Strategy {
   // Once per strategy (STYLE.md: compiled shaders are created once, never in evaluate()).
   void create_pipeline() {
     const VkDevice d = device_.handle();
-    std::vector<VkShaderStageFlags> stages(kBuffers, mode_stages());
+    std::vector<VkShaderStageFlags> stages(kBuffers, draw_stages() | VK_SHADER_STAGE_COMPUTE_BIT);
     for (int k = kFirstTrimBinding; k < kFirstTrimBinding + kTrimBindings; ++k)
       stages[k] = VK_SHADER_STAGE_FRAGMENT_BIT;
     set_ = std::make_unique<vulkan::StorageSet>(device_, stages);
@@ -648,13 +648,14 @@ class VkKsquad final : public Strategy {
     layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
     layout_info.setLayoutCount = 1;
     layout_info.pSetLayouts = &set_->layout();
-    const VkPushConstantRange push{mode_stages(), 0, sizeof(ModeConstants)};
+    const VkPushConstantRange push{draw_stages(), 0, sizeof(ModeConstants)};
     layout_info.pushConstantRangeCount = 1;
     layout_info.pPushConstantRanges = &push;
     vulkan::check(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_),
                   "vkCreatePipelineLayout");
-    corner_pipeline_ =
-        device_.compute_pipeline(layout_, embedded::vk_ksquad_corners_comp, "ksquad_corners.comp");
+    corner_pass_ = std::make_unique<vulkan::ComputePipeline>(
+        device_, *set_, static_cast<std::uint32_t>(sizeof(ModeConstants)),
+        embedded::vk_ksquad_corners_comp, "ksquad_corners.comp");
 
     // Capture only: a render pass without attachments, rasterization discarded.
     VkSubpassDescription subpass{};
@@ -693,12 +694,11 @@ class VkKsquad final : public Strategy {
   void record_corners(VkCommandBuffer cb) const {
     if (!settings_.adaptive || !settings_.device_corners || corner_jobs_.empty()) return;
     const auto count = static_cast<std::uint32_t>(corner_jobs_.size() / kCornerInts);
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, corner_pipeline_);
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_->handle(), 0,
-                            nullptr);
+    corner_pass_->bind(cb, *set_);
     ModeConstants mode = mode_;
     mode.patch_base = static_cast<std::int32_t>(count);
-    vkCmdPushConstants(cb, layout_, mode_stages(), 0, sizeof mode, &mode);
+    vkCmdPushConstants(cb, corner_pass_->layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof mode,
+                       &mode);
     vkCmdDispatch(cb, (count + kCornerGroup - 1) / kCornerGroup, 1, 1);
     memory_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                    VK_PIPELINE_STAGE_TESSELLATION_CONTROL_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
@@ -712,12 +712,12 @@ class VkKsquad final : public Strategy {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.at({draw.du, draw.dv}));
       ModeConstants mode = mode_;
       mode.patch_base = static_cast<std::int32_t>(draw.first);
-      vkCmdPushConstants(cb, layout_, mode_stages(), 0, sizeof mode, &mode);
+      vkCmdPushConstants(cb, layout_, draw_stages(), 0, sizeof mode, &mode);
       vkCmdDraw(cb, draw.count, 1, 0, 0);
     }
   }
 
-  VkShaderStageFlags mode_stages() const {
+  VkShaderStageFlags draw_stages() const {
     return kModeStages | (settings_.gs ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
   }
   std::uint32_t image_width() const { return static_cast<std::uint32_t>(settings_.viewport[0]); }
@@ -746,7 +746,7 @@ class VkKsquad final : public Strategy {
   vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_,
       corners_buf_, levels_, normals_, sample_params_, corner_jobs_buf_;
   std::vector<int> corner_jobs_;  // kCornerInts per corner (ksquad_corners.comp)
-  VkPipeline corner_pipeline_ = VK_NULL_HANDLE;
+  std::unique_ptr<vulkan::ComputePipeline> corner_pass_;  // ksquad_corners.comp
   std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
   KsquadSettings settings_;
   ModeConstants mode_{};

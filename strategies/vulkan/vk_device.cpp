@@ -308,24 +308,6 @@ VkShaderModule Device::shader_module(std::string_view spirv) const {
   return module;
 }
 
-VkPipeline Device::compute_pipeline(VkPipelineLayout layout, std::string_view spirv,
-                                    const char* what) const {
-  const VkShaderModule module = shader_module(spirv);
-  VkComputePipelineCreateInfo info{};
-  info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
-  info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  info.stage.module = module;
-  info.stage.pName = "main";
-  info.layout = layout;
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  const VkResult created =
-      vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
-  vkDestroyShaderModule(device_, module, nullptr);
-  check(created, (std::string("vkCreateComputePipelines (") + what + ")").c_str());
-  return pipeline;
-}
-
 int Device::memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags wanted) const {
   for (std::uint32_t k = 0; k < memory_.memoryTypeCount; ++k)
     if ((type_bits & (1u << k)) && (memory_.memoryTypes[k].propertyFlags & wanted) == wanted)
@@ -579,6 +561,47 @@ StorageSet::~StorageSet() {
   const VkDevice d = device_.handle();
   if (pool_) vkDestroyDescriptorPool(d, pool_, nullptr);
   if (layout_) vkDestroyDescriptorSetLayout(d, layout_, nullptr);
+}
+
+ComputePipeline::ComputePipeline(const Device& device, const StorageSet& set,
+                                 std::uint32_t push_bytes, std::string_view spirv, const char* what)
+    : device_(device) {
+  const VkDevice d = device_.handle();
+  const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
+  VkPipelineLayoutCreateInfo layout_info{};
+  layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &set.layout();
+  layout_info.pushConstantRangeCount = push_bytes > 0 ? 1 : 0;
+  layout_info.pPushConstantRanges = &push;
+  check(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_), "vkCreatePipelineLayout");
+  const VkShaderModule module = device_.shader_module(spirv);
+  VkComputePipelineCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+  info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = module;
+  info.stage.pName = "main";
+  info.layout = layout_;
+  const VkResult created =
+      vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+  vkDestroyShaderModule(d, module, nullptr);
+  if (created != VK_SUCCESS) {
+    vkDestroyPipelineLayout(d, layout_, nullptr);
+    check(created, fmt::format("vkCreateComputePipelines ({})", what).c_str());
+  }
+}
+
+ComputePipeline::~ComputePipeline() {
+  const VkDevice d = device_.handle();
+  if (pipeline_) vkDestroyPipeline(d, pipeline_, nullptr);
+  if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
+}
+
+void ComputePipeline::bind(VkCommandBuffer cb, const StorageSet& set) const {
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set.handle(), 0,
+                          nullptr);
 }
 
 void StorageSet::write(const std::vector<const Buffer*>& buffers) const {

@@ -119,9 +119,6 @@ class Device {
   // Records `commands` into a one-shot command buffer, submits it and waits for the queue.
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& commands) const;
   VkShaderModule shader_module(std::string_view spirv) const;
-  // A compute pipeline of the embedded SPIR-V `spirv` under `layout`; `what` names it in errors.
-  VkPipeline compute_pipeline(VkPipelineLayout layout, std::string_view spirv,
-                              const char* what) const;
   // Index of a memory type allowed by `type_bits` with `wanted` properties; -1 when none.
   int memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags wanted) const;
 
@@ -158,6 +155,25 @@ class StorageSet {
   VkDescriptorSetLayout layout_ = VK_NULL_HANDLE;
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
+};
+
+// A compute pipeline on one StorageSet's layout with `push_bytes` of push constants (compute
+// stage): the pipeline layout and the pipeline, created once.
+class ComputePipeline {
+ public:
+  ComputePipeline(const Device& device, const StorageSet& set, std::uint32_t push_bytes,
+                  std::string_view spirv, const char* what);
+  ~ComputePipeline();
+  ComputePipeline(const ComputePipeline&) = delete;
+  ComputePipeline& operator=(const ComputePipeline&) = delete;
+  VkPipelineLayout layout() const { return layout_; }
+  // Binds the pipeline and `set` (the one it was made for) to `cb`.
+  void bind(VkCommandBuffer cb, const StorageSet& set) const;
+
+ private:
+  const Device& device_;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
 };
 
 // Two timestamps around the measured work, and optionally the pipeline statistics of it.

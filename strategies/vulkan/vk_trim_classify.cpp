@@ -15,25 +15,10 @@ constexpr std::uint32_t kGroupSize = 64;
 }  // namespace
 
 TrimClassifier::TrimClassifier(const Device& device) : device_(device) {
-  const VkDevice d = device_.handle();
   set_ = std::make_unique<StorageSet>(
       device_, std::vector<VkShaderStageFlags>(kBindings, VK_SHADER_STAGE_COMPUTE_BIT));
-  const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(Launch)};
-  VkPipelineLayoutCreateInfo layout_info{};
-  layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
-  layout_info.setLayoutCount = 1;
-  layout_info.pSetLayouts = &set_->layout();
-  layout_info.pushConstantRangeCount = 1;
-  layout_info.pPushConstantRanges = &push;
-  check(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_), "vkCreatePipelineLayout");
-  pipeline_ =
-      device_.compute_pipeline(layout_, embedded::vk_trim_classify_comp, "trim_classify.comp");
-}
-
-TrimClassifier::~TrimClassifier() {
-  const VkDevice d = device_.handle();
-  if (pipeline_) vkDestroyPipeline(d, pipeline_, nullptr);
-  if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
+  pipeline_ = std::make_unique<ComputePipeline>(
+      device_, *set_, sizeof(Launch), embedded::vk_trim_classify_comp, "trim_classify.comp");
 }
 
 void TrimClassifier::prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples,
@@ -81,13 +66,11 @@ void TrimClassifier::prepare(const Scene& scene, const std::vector<SurfaceSample
 
 void TrimClassifier::record(VkCommandBuffer cb) const {
   if (launches_.empty()) return;
-  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
-  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_->handle(), 0,
-                          nullptr);
+  pipeline_->bind(cb, *set_);
   for (const Launch& l : launches_) {
     const std::uint32_t count = static_cast<std::uint32_t>(l.nu) * static_cast<std::uint32_t>(l.nv);
     if (count == 0) continue;
-    vkCmdPushConstants(cb, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof l, &l);
+    vkCmdPushConstants(cb, pipeline_->layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof l, &l);
     vkCmdDispatch(cb, (count + kGroupSize - 1) / kGroupSize, 1, 1);
   }
   VkMemoryBarrier to_host{};

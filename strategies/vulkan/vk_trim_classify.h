@@ -18,7 +18,6 @@ class TrimClassifier {
  public:
   // The pipeline is created once (STYLE.md: never in evaluate()).
   explicit TrimClassifier(const Device& device);
-  ~TrimClassifier();
   TrimClassifier(const TrimClassifier&) = delete;
   TrimClassifier& operator=(const TrimClassifier&) = delete;
 
@@ -44,8 +43,7 @@ class TrimClassifier {
   };
   const Device& device_;
   std::unique_ptr<StorageSet> set_;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  std::unique_ptr<ComputePipeline> pipeline_;
   trim_direct::TrimTables<float> tables_;
   Buffer reals_, ints_, coords_, inside_, reads_;
   std::vector<Launch> launches_;

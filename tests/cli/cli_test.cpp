@@ -582,7 +582,7 @@ TEST(CliTrim, EvalWritesTheStrategysInsideColumn) {
   EXPECT_NE(r.err.find("band 1e-07"), std::string::npos) << r.err;
 
   // A strategy that does not trim: no column, and the accuracy line says so.
-  const CliResult plain = run_cli({"eval", "--scene", "trimmed-plate", "--strategy", "cpu-tensor",
+  const CliResult plain = run_cli({"eval", "--scene", "trimmed-plate", "--strategy", "cpu-horner",
                                    "--samples", "17x13", "--trim-band", "0.001"});
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   EXPECT_EQ(eval_rows(plain.out, "surface,u,v,x,y,z").size(), 17u * 13u);
@@ -594,7 +594,7 @@ TEST(CliTrim, RunScoresTrimmedScenesWithTheGivenBand) {
   TempDir tmp;
   const std::string out = tmp / "r";
   const CliResult r = run_cli({"run", "--scenes", "trimmed-plate,patch144", "--strategies",
-                               "cpu-coxdeboor,cpu-tensor", "--samples", "33x33", "--repetitions",
+                               "cpu-coxdeboor,cpu-horner", "--samples", "33x33", "--repetitions",
                                "2", "--trim-band", "0.01", "--out", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // By the closed form at u, v = k/32: samples inside, and samples within the band of 0.01 x the
@@ -676,7 +676,7 @@ TEST(CliTrim, SceneFileWithAReversedTrimmedFace) {
   // 0.04 x sqrt(2): exactly the 12 samples 0.05 beside the hole are boundary samples.
   const std::string out = tmp / "r";
   const CliResult run =
-      run_cli({"run", "--scenes", file, "--strategies", "cpu-coxdeboor,cpu-tensor", "--samples",
+      run_cli({"run", "--scenes", file, "--strategies", "cpu-coxdeboor,cpu-horner", "--samples",
                "9x9", "--repetitions", "1", "--normals", "--trim-band", "0.04", "--out", out});
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const json results = json::parse(read_text(fs::path(out) / "results.json"));

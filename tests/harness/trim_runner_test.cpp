@@ -127,7 +127,7 @@ TEST(TrimRunner, TrimmingStrategyWithoutAMaskIsAFailedMeasurement) {
 TEST(TrimRunner, StrategyThatDoesNotTrimIsLabelledUntrimmedNotFailed) {
   const Scene scene = trimmed_plate();
   ReferenceCache references;
-  const Record r = measure(*find_strategy("cpu-tensor"), {}, scene, grid9(), 1, references);
+  const Record r = measure(*find_strategy("cpu-horner"), {}, scene, grid9(), 1, references);
   ASSERT_EQ(r.status, Status::ok) << r.reason;
   EXPECT_EQ(r.trimming, "untrimmed");
   EXPECT_EQ(r.extra_phases.count("classify"), 0u);

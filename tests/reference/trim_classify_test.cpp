@@ -6,10 +6,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <random>
 
 #include "reference/reference_evaluator.h"
+#include "reference/trim_crossings.h"
 #include "scenes/builtin_scenes.h"
 #include "scenes/trimmed_plate.h"
 #include "tests/scenes/trimmed_plate_closed_form.h"
@@ -293,6 +297,120 @@ TEST(TrimClassify, MultiSpanCurveAgreesWithItsDensePolyline) {
   }
   EXPECT_GT(compared, 3000u);
   EXPECT_GT(inside, 1000u);
+}
+
+// ---- The fast classifier's entry points (cpu-tensor): Newton refinement, event-free bounds ----
+
+template <typename T>
+class FastPath : public ::testing::Test {};
+using Scalars = ::testing::Types<double, long double>;
+TYPED_TEST_SUITE(FastPath, Scalars);
+
+// The trims of the plate and of every face of the hammer (real CAD: lines, arcs, splines, seams).
+template <typename T>
+std::vector<TrimPieces<T>> test_trims() {
+  std::vector<TrimPieces<T>> trims = {trim_pieces<T>(plate_trim())};
+  const Scene hammer = *make_builtin_scene("hammer");
+  for (const Surface& s : hammer.surfaces)
+    if (s.trim) trims.push_back(trim_pieces<T>(*s.trim));
+  return trims;
+}
+
+// Newton refinement lands on bisection's root, to within the root's own condition: the forward
+// error of a simple root is eps * sum |c_i B_i(t)| / |g'(t)| (one sign variation: a simple root).
+TYPED_TEST(FastPath, NewtonRefinementFindsTheBisectionsRoot) {
+  using T = TypeParam;
+  std::mt19937 random(15);
+  std::uniform_real_distribution<double> magnitude(0.01, 1.0);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int n = 1 + trial % kMaxDegree;
+    const int change = 1 + static_cast<int>(random() % n);  // c[0..change) > 0 >= c[change..n]
+    T c[kMaxOrder];
+    for (int i = 0; i <= n; ++i) c[i] = T(magnitude(random)) * (i < change ? 1 : -1);
+    if (trial % 3 == 0 && change < n) c[n] = 0;  // a zero end coefficient: still one variation
+    ASSERT_EQ(trim_detail::sign_variations(c, n), 1);
+    const T bisected = trim_detail::bisect_single_root(c, n);
+    const T newton = trim_detail::newton_single_root(c, n);
+    T absolute[kMaxOrder], derivative[kMaxOrder];
+    for (int i = 0; i <= n; ++i) absolute[i] = std::fabs(c[i]);
+    for (int i = 0; i < n; ++i) derivative[i] = T(n) * (c[i + 1] - c[i]);
+    const T slope = std::fabs(trim_detail::bernstein_value(derivative, n - 1, bisected));
+    const T condition = trim_detail::bernstein_value(absolute, n, bisected) / slope;
+    EXPECT_NEAR(static_cast<double>(newton), static_cast<double>(bisected),
+                static_cast<double>(64 * std::numeric_limits<T>::epsilon() * (1 + condition)))
+        << "trial " << trial << " degree " << n;
+  }
+}
+
+// Rows refined by Newton see the events bisection sees, at the same u.
+TYPED_TEST(FastPath, NewtonEventsAreBisectionEvents) {
+  using T = TypeParam;
+  std::vector<T> bisection, newton, scratch;
+  std::size_t events = 0;
+  for (const TrimPieces<T>& trim : test_trims<T>()) {
+    T lo = std::numeric_limits<T>::infinity(), hi = -lo;
+    for (const auto& loop : trim.loops)
+      for (const TrimPiece<T>& piece : loop)
+        for (int i = 0; i <= piece.degree; ++i) {
+          lo = std::min(lo, piece.h[i][1] / piece.h[i][2]);
+          hi = std::max(hi, piece.h[i][1] / piece.h[i][2]);
+        }
+    for (int row = 0; row <= 200; ++row) {
+      const T v = lo + (hi - lo) * T(row) / T(200);
+      bisection.clear();
+      newton.clear();
+      for (const auto& loop : trim.loops)
+        for (std::size_t k = 0; k < loop.size(); ++k) {
+          const TrimPiece<T>& next = loop[(k + 1) % loop.size()];
+          piece_crossing_events(loop[k], next, v, bisection, scratch, RootRefinement::bisection);
+          piece_crossing_events(loop[k], next, v, newton, scratch, RootRefinement::newton);
+        }
+      ASSERT_EQ(newton.size(), bisection.size()) << "row " << row;
+      std::sort(bisection.begin(), bisection.end());
+      std::sort(newton.begin(), newton.end());
+      for (std::size_t e = 0; e < newton.size(); ++e)
+        EXPECT_NEAR(static_cast<double>(newton[e]), static_cast<double>(bisection[e]),
+                    1e-9 * static_cast<double>(1 + std::fabs(bisection[e])))
+            << "row " << row;
+      events += newton.size();
+    }
+  }
+  EXPECT_GT(events, 1000u);
+}
+
+// No event from a piece (and its junction to the next) on any line outside its event-free
+// bounds, down to the nearest T beyond them; and its curve points lie within them.
+TYPED_TEST(FastPath, EventFreeBoundsHoldInT) {
+  using T = TypeParam;
+  std::vector<T> events, scratch;
+  std::size_t pairs = 0;
+  for (const TrimPieces<T>& trim : test_trims<T>())
+    for (const auto& loop : trim.loops)
+      for (std::size_t k = 0; k < loop.size(); ++k) {
+        const TrimPiece<T>& piece = loop[k];
+        const TrimPiece<T>& next = loop[(k + 1) % loop.size()];
+        const auto [lo, hi] = event_free_outside(piece, next);
+        const T width = std::max(hi - lo, T(1e-3));
+        for (T v : {std::nextafter(lo, -std::numeric_limits<T>::infinity()), lo - width / 7,
+                    std::nextafter(hi, std::numeric_limits<T>::infinity()), hi + width / 3}) {
+          for (RootRefinement refinement : {RootRefinement::bisection, RootRefinement::newton})
+            piece_crossing_events(piece, next, v, events, scratch, refinement);
+          EXPECT_TRUE(events.empty()) << "v = " << static_cast<double>(v);
+          events.clear();
+        }
+        for (int s = 0; s <= 8; ++s) {
+          T hv[kMaxOrder], w[kMaxOrder];
+          for (int i = 0; i <= piece.degree; ++i) {
+            hv[i] = piece.h[i][1];
+            w[i] = piece.h[i][2];
+          }
+          const T v = trim_detail::bernstein_value(hv, piece.degree, T(s) / T(8)) /
+                      trim_detail::bernstein_value(w, piece.degree, T(s) / T(8));
+          EXPECT_TRUE(v >= lo && v <= hi) << static_cast<double>(v);
+        }
+        ++pairs;
+      }
+  EXPECT_GT(pairs, 100u);
 }
 
 }  // namespace

@@ -1,12 +1,16 @@
 // glu-nurbs: where GLU samples and what it returns, checked against values computed here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <set>
 #include <utility>
 
 #include "harness/runner.h"
 #include "scenes/builtin_scenes.h"
+#include "scenes/trimmed_plate.h"
 #include "strategies/registry.h"
+#include "tests/scenes/trimmed_plate_closed_form.h"
 
 namespace nurbs {
 namespace {
@@ -105,6 +109,92 @@ TEST(GluNurbs, RefusesWhatItCannotDo) {
   EXPECT_THROW(strategy->prepare(scene, EvalRequest{span, Precision::f32, false}), RefusedError);
   EXPECT_THROW(strategy->prepare(scene, EvalRequest{Sampling{}, Precision::f32, true}),
                RefusedError);
+}
+
+// The trimmed plate's loops with every curve run backwards (outer clockwise, hole
+// counter-clockwise): the same face under the scene's even-odd rule.
+Scene reversed_plate() {
+  Scene scene = trimmed_plate_scene();
+  for (TrimLoop& loop : scene.surfaces[0].trim->loops) {
+    std::reverse(loop.curves.begin(), loop.curves.end());
+    for (TrimCurve& c : loop.curves) {
+      std::reverse(c.points.begin(), c.points.end());
+      std::reverse(c.weights.begin(), c.weights.end());
+      const double a = c.knots.front(), b = c.knots.back();
+      std::vector<double> knots;
+      for (auto k = c.knots.rbegin(); k != c.knots.rend(); ++k) knots.push_back(a + b - *k);
+      c.knots = knots;
+    }
+  }
+  return scene;
+}
+
+// GLU's vertices of the plate against the closed form: the largest signed distance to the face
+// (negative inside) and how many lie deeper than `depth` in the hole.
+std::pair<double, int> against_closed_form(const SurfaceResult& r, double depth) {
+  const TrimmedPlateShape shape;
+  double worst = -INFINITY;
+  int in_hole = 0;
+  for (std::size_t k = 0; k < r.samples.count(); ++k) {
+    const double u = r.samples.u_of(k), v = r.samples.v_of(k);
+    worst = std::max(worst, test::trimmed_plate_signed_distance(shape, u, v));
+    in_hole +=
+        std::hypot(u - shape.hole_center_u, v - shape.hole_center_v) < shape.hole_radius - depth;
+  }
+  return {worst, in_hole};
+}
+
+TEST(GluNurbsTrims, TessellationOfTheTrimmedPlateKeepsOutOfTheHoleAndTheCorners) {
+  if (!glu().probe().available) GTEST_SKIP() << glu().probe().reason;
+  // GLU approximates the trim curves by chords of its own choosing, and puts vertices where the
+  // chords cross its Bezier patches' edges: on the chords, inside an arc by up to the sagitta.
+  // Measured: 4.1e-3 deep in the hole of radius 0.2 (chords of about 0.4 rad, some 16 per circle
+  // at 64x64), 4e-8 outside the rounded rectangle. A vertex of the untrimmed surface lies
+  // anywhere up to 0.2 deep.
+  constexpr double kChordTolerance = 0.01;
+  const Scene plate = trimmed_plate_scene();
+  const EvalResult trimmed = run(plate, 64, 64);
+  ASSERT_EQ(trimmed.surfaces.size(), 1u);
+  ASSERT_GT(trimmed.surfaces[0].samples.count(), 1000u);
+  const auto [worst, in_hole] = against_closed_form(trimmed.surfaces[0], kChordTolerance);
+  EXPECT_EQ(in_hole, 0);
+  EXPECT_LT(worst, kChordTolerance);
+
+  // Not vacuous: the same plate without its trim has vertices deep in the hole and outside.
+  Scene untrimmed = plate;
+  untrimmed.surfaces[0].trim.reset();
+  const auto [untrimmed_worst, untrimmed_in_hole] =
+      against_closed_form(run(untrimmed, 64, 64).surfaces[0], kChordTolerance);
+  EXPECT_GT(untrimmed_in_hole, 100);
+  EXPECT_GT(untrimmed_worst, 0.01);
+
+  // GLU's rule is orientation's (the left of each curve is kept); the loops are oriented by
+  // their nesting first, so loops given the other way round tessellate to the same vertices.
+  const EvalResult backwards = run(reversed_plate(), 64, 64);
+  const SurfaceResult& a = trimmed.surfaces[0];
+  const SurfaceResult& b = backwards.surfaces[0];
+  std::set<std::pair<double, double>> uv_a, uv_b;
+  for (std::size_t k = 0; k < a.samples.count(); ++k)
+    uv_a.insert({a.samples.u_of(k), a.samples.v_of(k)});
+  for (std::size_t k = 0; k < b.samples.count(); ++k)
+    uv_b.insert({b.samples.u_of(k), b.samples.v_of(k)});
+  EXPECT_EQ(uv_a, uv_b);
+}
+
+TEST(GluNurbsTrims, RecordsSayUntrimmedAndScoreTheTrimmedTessellation) {
+  if (!glu().probe().available) GTEST_SKIP() << glu().probe().reason;
+  // GLU chooses its samples and returns no classification of them: its records are "untrimmed"
+  // (no misclassification figure), the errors over the vertices the reference puts inside.
+  ReferenceCache references;
+  Sampling grid;
+  grid.grid_u = grid.grid_v = 32;
+  const Record r = measure(glu(), {}, trimmed_plate_scene(),
+                           EvalRequest{grid, Precision::f32, false}, 1, references);
+  ASSERT_EQ(r.status, Status::ok) << r.reason;
+  EXPECT_EQ(r.trimming, "untrimmed");
+  ASSERT_TRUE(r.accuracy && r.accuracy->trim);
+  EXPECT_FALSE(r.accuracy->trim->misclassified);
+  EXPECT_GT(r.accuracy->trim->inside, 0u);
 }
 
 }  // namespace
