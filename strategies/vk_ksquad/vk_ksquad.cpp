@@ -20,15 +20,20 @@
 //  * Capture: storage-buffer writes from the evaluation stage (vertexPipelineStoresAndAtomics),
 //    rasterization discarded; transform feedback would need a vertex order the tessellator does
 //    not specify.
-//  * Adaptive mode (003 §3.1, local area average): the KSQuad corners S(x_k, y_l) are KSQuad data
-//    computed once per scene on the host (the reference, rounded to float) into one table shared
-//    by the KSQuads meeting there; the control stage projects an edge's two corners with the
-//    camera and sets that edge's level alone from them (ksquad.tesc). A level past the cap
-//    (vk-max-level, at most maxTessellationGenerationLevel) is cut, not capped: each KSQuad is
-//    vk-pieces^2 rows of the Info-KSQuad table and the control stage uses as many as its levels
-//    need, each outer edge cut on its own so the KSQuad across it cuts at the same vertices
-//    (the host cannot cut: it does not know the levels). Past vk-pieces x the cap a level is
-//    capped and counted (KsquadStatistics::capped_edges).
+//  * Adaptive mode (003 §3.1, local area average): the KSQuad corners S(x_k, y_l), one table
+//    shared by the KSQuads meeting there, evaluated on the device by a compute pass before the
+//    draws of every evaluate()/render() (vk-corners=device, the default: 003 §1's "whole NURBS
+//    equation in the GPU without any precomputation on the CPU"; each corner once, with the span
+//    A2.1 assigns it, so neighbours read the same float) or on the host by the reference in
+//    double (vk-corners=host, kept to measure the difference); the control stage projects an
+//    edge's two corners with the camera and sets that edge's level alone from them (ksquad.tesc). A
+//    level past the cap (vk-max-level, at most maxTessellationGenerationLevel) is cut, not capped:
+//    each KSQuad is vk-pieces^2 rows of the Info-KSQuad table and the control stage uses as many as
+//    its levels need, each outer edge cut on its own so the KSQuad across it cuts at the same
+//    vertices (the host cannot cut: it does not know the levels). Past vk-pieces x the cap a level
+//    is capped and counted (KsquadStatistics::capped_edges).
+//  * GS mode (003 §4's first mapping, vk-mode=gs): no tessellator; the geometry stage evaluates
+//    or emits each KSQuad's span-grid lattice (ksquad.geom), T <= 8 by its output limit.
 #include "strategies/vk_ksquad/vk_ksquad.h"
 
 #include <fmt/format.h>
