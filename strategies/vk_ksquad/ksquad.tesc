@@ -6,7 +6,8 @@
 // outer[1] the edge v = 0 and outer[3] the edge v = 1 (along u); inner[0] along u, inner[1]
 // along v.
 //  * uniform: each edge level is the segment count of that edge's own run of samples (Info-KSQuad
-//    table), so two patches sharing an edge choose the same level.
+//    table; the run's piece where it was cut), so two patches sharing an edge choose the same
+//    level.
 //  * adaptive: 003 §3.1's local-area-average test, eq. (3) dist(p(S(corner)), p(S(corner'))) / tau
 //    < mu, read per edge: the edge's level tau is the smallest integer with projected length /
 //    tau < mu pixels. The paper applies the test to the KSQuad's corner pairs without saying how
@@ -16,6 +17,12 @@
 //    levels are the larger of the two opposite edges' (at least 2, so interior vertices sit on
 //    the inner lattice even when both edges are 1).
 layout(vertices = 1) out;
+// Adaptive: this patch's corners in its KSQuad's (fu, fv), (0,0) (1,0) (0,1) (1,1) of the
+// tessellator's domain; the row of the Info-KSQuad table (the evaluation stage reads it from here:
+// its gl_PrimitiveID was seen to skip discarded patches on lavapipe).
+layout(location = 0) patch out vec2 piece_corners[4];
+layout(location = 4) patch out int patch_row;
+layout(constant_id = 0) const int kRaster = 0;  // the render() pipeline (as in ksquad.tese)
 #include "ksquad_tables.glsl"
 
 vec2 project(int corner) {
@@ -32,11 +39,41 @@ float wanted_level(int a, int b) {
   return floor(distance(project(first), project(second)) / mode.mu) + 1.0;
 }
 
+// The index of the vertex where cut k of `cuts` cuts an edge of `level` segments, as a fraction
+// of the edge; cuts past the last are the edge's end.
+float cut_fraction(int k, int cuts, float level) {
+  return k >= cuts ? 1.0 : floor(float(k) * level / float(cuts)) / level;
+}
+
+// Segments of an edge of `level` in piece k of n (pieces past the edge's own cuts: 0).
+float segments(int k, int n, int cuts, float level) {
+  if (k >= cuts) return 0.0;
+  return floor(float(k + 1) * level / float(cuts)) - floor(float(k) * level / float(cuts));
+}
+
+// Corner (k, l) of the pieces: on the KSQuad's outline exactly the cut of that edge; inside, the
+// crossing of the line from cut k of edge 1 (v = 0) to cut k of edge 3 (v = 1) with the line
+// from cut l of edge 0 (u = 0) to cut l of edge 2 (u = 1). Every piece meeting there computes it
+// from the same integers, so they agree to the bit.
+vec2 corner_of(int k, int l, int n_u, int n_v, int cuts[4], float level[4]) {
+  const float a = cut_fraction(k, cuts[1], level[1]), c = cut_fraction(k, cuts[3], level[3]);
+  const float d = cut_fraction(l, cuts[0], level[0]), e = cut_fraction(l, cuts[2], level[2]);
+  if (l == 0) return vec2(k == n_u ? 1.0 : a, 0.0);
+  if (l == n_v) return vec2(k == n_u ? 1.0 : c, 1.0);
+  if (k == 0) return vec2(0.0, d);
+  if (k == n_u) return vec2(1.0, e);
+  const float fu = (a + d * (c - a)) / (1.0 - (e - d) * (c - a));
+  return vec2(fu, d + fu * (e - d));
+}
+
 void main() {
   const int row = PATCH * PATCH_INTS;
   float outer[4];
   if (mode.adaptive == 0) {
-    const float level_u = float(patches[row + 9]), level_v = float(patches[row + 10]);
+    // A run without samples (a grid coarser than the knots) is level 0 (the patch is discarded)
+    // when capturing; drawn, its KSQuad still covers its span, as one segment.
+    const float level_u = max(float(patches[row + 9]), float(kRaster)),
+                level_v = max(float(patches[row + 10]), float(kRaster));
     outer = float[4](level_v, level_u, level_v, level_u);
     gl_TessLevelInner[0] = level_u;
     gl_TessLevelInner[1] = level_v;
@@ -45,13 +82,48 @@ void main() {
               c11 = patches[row + 15];
     const float wanted[4] = float[4](wanted_level(c00, c01), wanted_level(c00, c10),
                                      wanted_level(c10, c11), wanted_level(c01, c11));
+    // A KSQuad's edge past the cap is cut, not capped (003 §4 leaves levels past the tessellator's
+    // 64 open): the KSQuad is drawn as mode.pieces^2 patches (row + 11: this one's index), of
+    // which the first n_u x n_v are used, n_u = ceil(max(L1, L3) / cap) (n_v from L0, L2); each
+    // outer edge e is cut into ceil(L_e / cap) pieces on its own -- so the KSQuad across it, which
+    // computes the same L_e, cuts it at the same vertices -- and pieces past that get a zero-length
+    // stretch of it at its end. Levels past pieces x cap are capped (counted by the host).
+    const float cap = float(mode.max_level);
+    float level[4];
+    int cuts[4];
     for (int e = 0; e < 4; ++e) {
-      outer[e] = min(wanted[e], float(mode.max_level));
-      levels[8 * PATCH + e] = outer[e];
+      level[e] = min(wanted[e], cap * float(mode.pieces));
+      cuts[e] = int(ceil(level[e] / cap));
       levels[8 * PATCH + 4 + e] = wanted[e];
     }
-    gl_TessLevelInner[0] = max(max(outer[1], outer[3]), 2.0);
-    gl_TessLevelInner[1] = max(max(outer[0], outer[2]), 2.0);
+    const int n_u = max(cuts[1], cuts[3]), n_v = max(cuts[0], cuts[2]);
+    const int piece = patches[row + 11], pu = piece % mode.pieces, pv = piece / mode.pieces;
+    if (pu >= n_u || pv >= n_v) {
+      outer = float[4](0.0, 0.0, 0.0, 0.0);  // not needed: discarded
+      gl_TessLevelInner[0] = 0.0;
+      gl_TessLevelInner[1] = 0.0;
+    } else {
+      // Piece corners in the KSQuad's (fu, fv) (corner_of); outer levels: segments of the
+      // KSQuad's edge in this piece (at least 1: a zero-length stretch is one degenerate segment)
+      // or, inside the KSQuad, the larger of the two opposite KSQuad edges' counts.
+      piece_corners[0] = corner_of(pu, pv, n_u, n_v, cuts, level);
+      piece_corners[1] = corner_of(pu + 1, pv, n_u, n_v, cuts, level);
+      piece_corners[2] = corner_of(pu, pv + 1, n_u, n_v, cuts, level);
+      piece_corners[3] = corner_of(pu + 1, pv + 1, n_u, n_v, cuts, level);
+      const float along_u = max(segments(pu, n_u, cuts[1], level[1]),
+                                segments(pu, n_u, cuts[3], level[3]));
+      const float along_v = max(segments(pv, n_v, cuts[0], level[0]),
+                                segments(pv, n_v, cuts[2], level[2]));
+      outer[0] = pu == 0 ? segments(pv, n_v, cuts[0], level[0]) : along_v;
+      outer[2] = pu == n_u - 1 ? segments(pv, n_v, cuts[2], level[2]) : along_v;
+      outer[1] = pv == 0 ? segments(pu, n_u, cuts[1], level[1]) : along_u;
+      outer[3] = pv == n_v - 1 ? segments(pu, n_u, cuts[3], level[3]) : along_u;
+      for (int e = 0; e < 4; ++e) outer[e] = max(outer[e], 1.0);
+      gl_TessLevelInner[0] = max(max(outer[1], outer[3]), 2.0);
+      gl_TessLevelInner[1] = max(max(outer[0], outer[2]), 2.0);
+    }
+    for (int e = 0; e < 4; ++e) levels[8 * PATCH + e] = outer[e];
   }
+  patch_row = PATCH;
   for (int e = 0; e < 4; ++e) gl_TessLevelOuter[e] = outer[e];
 }

@@ -2,17 +2,25 @@
 #extension GL_GOOGLE_include_directive : require
 // Evaluation stage (003 §4's domain shader): evaluates the KSQuad at the tessellator's vertex
 // with the stair basis and writes the result to a storage buffer.
-//  * uniform: the tessellator's coordinate picks the lattice vertex (a, b) of the patch's runs;
-//    the parameter is the requested one, read from the parameter buffer (the float rounding of
-//    what sample_parameters lists), so results are measured at exactly the requested (u, v). The
-//    slot depends only on (a, b): a vertex evaluated twice writes the same value to the same
-//    place.
-//  * adaptive: (u, v) = the KSQuad's span corners blended by gl_TessCoord ((1 - t) x_i + t x_i+1,
-//    exact at t = 0 and 1, so both sides of a knot line see the same parameter), captured with
-//    (u, v) in the patch's region of slots: one per vertex of each outer edge, then the inner
-//    lattice; a slot again depends only on the vertex.
-//  * raster (specialization constant 0 = 1; the render() path, 003 §4's pipeline end to end): the
-//    same evaluation, the position projected to gl_Position and rasterized; nothing is stored.
+//  * uniform (003 §4's uniform mapping): the levels are the segment counts of the patch's runs
+//    (ksquad.tesc), and the slot of a vertex is its lattice index (a, b), so a vertex evaluated
+//    twice writes the same value to the same place. The parameter:
+//     - span grid: the tessellator chooses it: span_parameter() of gl_TessCoord over the patch's
+//       share of its KSQuad's spans (the whole span unless the run was cut), written with the
+//       position and returned as the sample (vk_ksquad.cpp read_back);
+//     - grid (our choice; 003 draws only the tessellator's own lattices): a regular grid of the
+//       domain is not equally spaced from each knot, so no tessellator lattice of a KSQuad holds
+//       its samples. gl_TessCoord picks the lattice vertex (a, b) of the patch's runs and the
+//       parameter is the requested one (the float rounding of sample_parameters), so results
+//       are measured at exactly the requested (u, v).
+//  * adaptive: (u, v) = span_parameter() of gl_TessCoord over the KSQuad, captured with (u, v) in
+//    the patch's region of slots: one per vertex of each outer edge, then the inner lattice; a
+//    slot again depends only on the vertex.
+//  * raster (specialization constant 0 = 1; the render() path, 003 §4's pipeline end to end): in
+//    every mode the parameter is span_parameter() of gl_TessCoord, so every patch spans its share
+//    of its KSQuad up to the knot lines and neighbours share their boundary vertices (a grid's
+//    samples stop short of the knots: rendering them left a gap along every knot line); the
+//    position is projected to gl_Position and rasterized; nothing is stored.
 layout(quads, equal_spacing, ccw) in;
 layout(constant_id = 0) const int kRaster = 0;
 // One pipeline per degree pair of the scene (patches are drawn grouped by it): the degrees as
@@ -25,68 +33,16 @@ layout(constant_id = 2) const int kDegreeV = 0;
 #include "ksquad_tables.glsl"
 // The single-source stair basis (stair_basis, stair_derivative) on the `consts` buffer.
 #include "../stair_basis/stair_basis.h"
+#include "ksquad_point.glsl"
+// From the control stage (ksquad.tesc): the patch's row and, adaptive, its piece of the KSQuad.
+layout(location = 0) patch in vec2 piece_corners[4];
+layout(location = 4) patch in int patch_row;
+#undef PATCH
+#define PATCH patch_row
 // Raster: the fragment stage's trim test (ksquad.frag) classifies the interpolated (u, v).
 layout(location = 0) out vec2 trim_uv;
 layout(location = 1) flat out int trim_surface;
 
-bool normalize_if_resolved(vec3 n, vec3 a, vec3 b, out vec3 unit) {
-  // reference/nurbs_math.h detail::normalize_if_resolved with float's epsilon
-  const float scale = length(a) + length(b);
-  const float len = length(n);
-  if (!(len > 1024.0 * 1.1920929e-7 * scale * scale) || isinf(len) || isnan(len)) return false;
-  unit = n / len;
-  return true;
-}
-
-// Unit normal from the derivatives of the same stair basis (stair_derivative): Su x Sv, or where
-// a tangent vanishes the limit along the surface (reference/nurbs_math.h surface_normal's first
-// two stages, line by line; its third, a nudged neighbour sample, may leave the KSQuad and is not
-// done here: the zero vector is written instead). `span_u`, `cu` (and v) are the span whose
-// basis is used: at a span's end knot the caller passes the next span, as A2.1 assigns the knot
-// to it -- on a crease the two one-sided normals differ, and the reference takes that one.
-void write_normal(int slot, int s, int span_u, int span_v, int cu, int cv, float u, float v) {
-  const int pu = DEGREE_U(s), pv = DEGREE_V(s), count_v = surfaces[s + 3];
-  float bu[SB_MAX_ORDER], bv[SB_MAX_ORDER], du[SB_MAX_ORDER], dv[SB_MAX_ORDER];
-  stair_basis(cu, pu, u, bu, pu);
-  stair_basis(cv, pv, v, bv, pv);
-  stair_derivative(cu, pu, u, du);
-  stair_derivative(cv, pv, v, dv);
-  const int first = surfaces[s + 4] + (span_u - pu) * count_v + (span_v - pv);
-  vec4 a = vec4(0.0), au = vec4(0.0), av = vec4(0.0), auv = vec4(0.0);
-  for (int i = 0; i <= pu; ++i) {
-    vec4 row = vec4(0.0), row_v = vec4(0.0);
-    for (int j = 0; j <= pv; ++j) {
-      const vec4 p = points[first + i * count_v + j];
-      row += bv[j] * p;
-      row_v += dv[j] * p;
-    }
-    a += bu[i] * row;
-    au += du[i] * row;
-    av += bu[i] * row_v;
-    auv += du[i] * row_v;
-  }
-  // The quotient rule for S = A / w (A3.6 / A4.4 to first order in each direction).
-  const vec3 point = a.xyz / a.w;
-  const vec3 su = (au.xyz - au.w * point) / a.w;
-  const vec3 sv = (av.xyz - av.w * point) / a.w;
-  const vec3 suv = (auv.xyz - auv.w * point - au.w * sv - av.w * su) / a.w;
-  vec3 n = vec3(0.0);
-  if (!normalize_if_resolved(cross(su, sv), su, sv, n)) {
-    if (length(su) <= length(sv)) {
-      // side: which end of the v domain the sample is nearer
-      const float v0 = surface_knot_v(s, 0), v1 = surface_knot_v(s, 1);
-      const float side = (v - v0) <= (v1 - v) ? 1.0 : -1.0;
-      if (!normalize_if_resolved(side * cross(suv, sv), suv, sv, n)) n = vec3(0.0);
-    } else {
-      const float u0 = surface_knot_u(s, 0), u1 = surface_knot_u(s, 1);
-      const float side = (u - u0) <= (u1 - u) ? 1.0 : -1.0;
-      if (!normalize_if_resolved(side * cross(su, suv), su, suv, n)) n = vec3(0.0);
-    }
-  }
-  normals[3 * slot] = n.x;
-  normals[3 * slot + 1] = n.y;
-  normals[3 * slot + 2] = n.z;
-}
 
 int adaptive_slot() {
   const vec2 t = gl_TessCoord.xy;
@@ -104,8 +60,7 @@ void main() {
   const int s = patches[row] * SURFACE_INTS;
   const int span_u = patches[row + 1], span_v = patches[row + 2];
   const int cu = patches[row + 3], cv = patches[row + 4];
-  const int pu = DEGREE_U(s), pv = DEGREE_V(s), count_v = surfaces[s + 3];
-  float u, v;
+  const int pu = DEGREE_U(s), pv = DEGREE_V(s);
   int a = 0, b = 0;
   if (mode.adaptive == 0) {
     const int u_begin = patches[row + 5], u_count = patches[row + 6];
@@ -115,30 +70,32 @@ void main() {
     // level raised from 1 to 2 by the tessellator lands on a vertex already there.
     a = u_begin + min(int(round(gl_TessCoord.x * float(level_u))), u_count - 1);
     b = v_begin + min(int(round(gl_TessCoord.y * float(level_v))), v_count - 1);
+  }
+  float u, v;
+  if (mode.adaptive != 0) {
+    // the piece's bilinear map: exact on its edges (t = 0 or 1), which neighbours share
+    const vec2 t = gl_TessCoord.xy;
+    const vec2 f = (1.0 - t.y) * ((1.0 - t.x) * piece_corners[0] + t.x * piece_corners[1]) +
+                   t.y * ((1.0 - t.x) * piece_corners[2] + t.x * piece_corners[3]);
+    u = span_parameter(cu, pu, 0.0, 1.0, f.x);
+    v = span_parameter(cv, pv, 0.0, 1.0, f.y);
+  } else if (kRaster != 0 || mode.span_grid != 0) {
+    u = span_parameter(cu, pu, intBitsToFloat(patches[row + 20]), intBitsToFloat(patches[row + 21]),
+                       gl_TessCoord.x);
+    v = span_parameter(cv, pv, intBitsToFloat(patches[row + 22]), intBitsToFloat(patches[row + 23]),
+                       gl_TessCoord.y);
+  } else {
     u = params[surfaces[s + 5] + a];
     v = params[surfaces[s + 6] + b];
-  } else {
-    // SB_KNOT(c, p - 1) = x_i, SB_KNOT(c, p) = x_{i+1} (StairConstants::knots)
-    u = (1.0 - gl_TessCoord.x) * SB_KNOT(cu, pu - 1) + gl_TessCoord.x * SB_KNOT(cu, pu);
-    v = (1.0 - gl_TessCoord.y) * SB_KNOT(cv, pv - 1) + gl_TessCoord.y * SB_KNOT(cv, pv);
   }
-  float bu[SB_MAX_ORDER], bv[SB_MAX_ORDER];
-  stair_basis(cu, pu, u, bu, pu);
-  stair_basis(cv, pv, v, bv, pv);
-  // A4.3 on the KSQuad's (p+1)(q+1) homogeneous control points (reference/nurbs_math.h
-  // surface_point_from_basis): rows in v first, then u.
-  vec4 sum = vec4(0.0);
-  const int first = surfaces[s + 4] + (span_u - pu) * count_v + (span_v - pv);
-  for (int i = 0; i <= pu; ++i) {
-    vec4 row_sum = vec4(0.0);
-    for (int j = 0; j <= pv; ++j) row_sum += bv[j] * points[first + i * count_v + j];
-    sum += bu[i] * row_sum;
-  }
-  const vec3 position = sum.xyz / sum.w;
-  if (kRaster == 0 && mode.adaptive == 0 && mode.normals != 0) {
-    // SB_KNOT(c, p) = x_{i+1}: the span's end knot belongs to the next span (row + 16..19)
+  const vec3 position = ksquad_point(s, span_u, span_v, cu, cv, u, v);
+  if (kRaster == 0 && mode.normals != 0) {
+    // SB_KNOT(c, p) = x_{i+1}: the span's end knot belongs to the next span (row + 16..19).
+    // Adaptive: one normal per capture slot, in the slot's place.
     const bool u_end = u == SB_KNOT(cu, pu), v_end = v == SB_KNOT(cv, pv);
-    write_normal(surfaces[s + 8] + a * surfaces[s + 7] + b, s,
+    write_normal(mode.adaptive != 0 ? PATCH * mode.region + adaptive_slot()
+                                    : surfaces[s + 8] + a * surfaces[s + 7] + b,
+                 s,
                  u_end ? patches[row + 16] : span_u, v_end ? patches[row + 17] : span_v,
                  u_end ? patches[row + 18] : cu, v_end ? patches[row + 19] : cv, u, v);
   }
@@ -147,10 +104,14 @@ void main() {
     trim_uv = vec2(u, v);
     trim_surface = patches[row];
   } else if (mode.adaptive == 0) {
-    const int o = 3 * (surfaces[s + 8] + a * surfaces[s + 7] + b);
-    positions[o] = position.x;
-    positions[o + 1] = position.y;
-    positions[o + 2] = position.z;
+    const int slot = surfaces[s + 8] + a * surfaces[s + 7] + b;
+    positions[3 * slot] = position.x;
+    positions[3 * slot + 1] = position.y;
+    positions[3 * slot + 2] = position.z;
+    if (mode.span_grid != 0) {
+      sample_params[2 * slot] = u;
+      sample_params[2 * slot + 1] = v;
+    }
   } else {
     const int o = SLOT_FLOATS * (PATCH * mode.region + adaptive_slot());
     positions[o] = u;

@@ -7,22 +7,33 @@
 //    and direction on the host by the tested C++ stair_constants<float> (the same float
 //    arithmetic the device would do, correctly rounded divisions) and read from a storage buffer;
 //    KSQuads sharing a span share its constants.
-//  * Uniform mode samples the request's runs: the levels of a patch are the segment counts of
-//    its u and v runs, and the evaluation stage reads the requested parameter of the vertex it is
-//    given (ksquad.tese), so span-grid T gives the tessellator's (T+1)x(T+1) lattice per KSQuad
-//    -- DESIGN.md's span grid -- and a regular grid gives each KSQuad the sub-grid of samples in
-//    its spans. Runs past maxTessellationGenerationLevel are cut into several patches
-//    (patches.h), never clamped.
+//  * Uniform mode (003 §4's uniform mapping): the levels of a patch are the segment counts of its
+//    u and v runs. Span grid T: the tessellator chooses the samples -- its (T+1)x(T+1) lattice
+//    per KSQuad (DESIGN.md's span grid), the parameter blended from the span's knots by
+//    gl_TessCoord (ksquad.tese span_parameter) and returned with the position, so the samples
+//    are the float rounding of the requested ones. Grid (the paper has no grids; our mapping):
+//    gl_TessCoord indexes the KSQuad's sub-grid of requested samples, evaluated at exactly the
+//    requested parameters; render() instead draws every patch over its span share from the
+//    knots (patches share their boundary vertices on the knot lines; every non-empty span pair
+//    is a patch, samples or not). Runs past maxTessellationGenerationLevel are cut into several
+//    patches (patches.h), never clamped.
 //  * Capture: storage-buffer writes from the evaluation stage (vertexPipelineStoresAndAtomics),
 //    rasterization discarded; transform feedback would need a vertex order the tessellator does
 //    not specify.
-//  * Adaptive mode (003 §3.1, local area average): the KSQuad corners S(x_k, y_l) are KSQuad data
-//    computed once per scene on the host (the reference, rounded to float) into one table shared
-//    by the KSQuads meeting there; the control stage projects an edge's two corners with the
-//    camera and sets that edge's level alone from them (ksquad.tesc). One patch per KSQuad: a
-//    level past the cap (vk-max-level, at most maxTessellationGenerationLevel) is capped and
-//    counted (KsquadStatistics::capped_edges), not cut -- cutting would need the levels on the
-//    host before the draw.
+//  * Adaptive mode (003 §3.1, local area average): the KSQuad corners S(x_k, y_l), one table
+//    shared by the KSQuads meeting there, evaluated on the device by a compute pass before the
+//    draws of every evaluate()/render() (vk-corners=device, the default: 003 §1's "whole NURBS
+//    equation in the GPU without any precomputation on the CPU"; each corner once, with the span
+//    A2.1 assigns it, so neighbours read the same float) or on the host by the reference in
+//    double (vk-corners=host, kept to measure the difference); the control stage projects an
+//    edge's two corners with the camera and sets that edge's level alone from them (ksquad.tesc). A
+//    level past the cap (vk-max-level, at most maxTessellationGenerationLevel) is cut, not capped:
+//    each KSQuad is vk-pieces^2 rows of the Info-KSQuad table and the control stage uses as many as
+//    its levels need, each outer edge cut on its own so the KSQuad across it cuts at the same
+//    vertices (the host cannot cut: it does not know the levels). Past vk-pieces x the cap a level
+//    is capped and counted (KsquadStatistics::capped_edges).
+//  * GS mode (003 §4's first mapping, vk-mode=gs): no tessellator; the geometry stage evaluates
+//    or emits each KSQuad's span-grid lattice (ksquad.geom), T <= 8 by its output limit.
 #include "strategies/vk_ksquad/vk_ksquad.h"
 
 #include <fmt/format.h>
@@ -45,32 +56,39 @@
 #include "strategies/stair_basis/stair.h"
 #include "strategies/strategy_options.h"
 #include "strategies/trim_direct/trim_tables.h"
+#include "strategies/vk_ksquad/adaptive_mapping.h"
+#include "strategies/vk_ksquad/ksquad_layout.h"
+#include "strategies/vk_ksquad/ksquad_pipeline.h"
+#include "strategies/vk_ksquad/ksquad_settings.h"
 #include "strategies/vk_ksquad/patches.h"
+#include "strategies/vk_ksquad/uniform_mapping.h"
 #include "strategies/vk_ksquad/vk_ksquad_strategy.h"
 #include "strategies/vulkan/vk_device.h"
 #include "strategies/vulkan/vk_trim_classify.h"
 
 namespace nurbs::embedded {
-extern const std::string_view vk_ksquad_vert;
-extern const std::string_view vk_ksquad_tesc;
-extern const std::string_view vk_ksquad_tese;
-extern const std::string_view vk_ksquad_frag;
+extern const std::string_view vk_ksquad_corners_comp;
 }  // namespace nurbs::embedded
 
 namespace nurbs {
 namespace {
 
-constexpr int kSurfaceInts = 16;                    // ksquad_tables.glsl: SURFACE_INTS
-constexpr int kPatchInts = 20;                      // ksquad_tables.glsl: PATCH_INTS
-constexpr int kPatchLevelU = 9, kPatchLevelV = 10;  // a patch row's tessellation levels
-constexpr int kSlotFloats = 5;                      // ksquad_tables.glsl: SLOT_FLOATS
+using vk_ksquad::kCornerInts;
+using vk_ksquad::kPatchInts;
+using vk_ksquad::kPatchLevelU;
+using vk_ksquad::kPatchLevelV;
+using vk_ksquad::kSlotFloats;
+using vk_ksquad::ksquad_settings;
+using vk_ksquad::KsquadSettings;
+using vk_ksquad::kSurfaceInts;
+
 constexpr int kConstantFloats = kStairConstantReals;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
               "stair_basis.h reads StairConstants<float> as packed floats");
-constexpr int kBuffers = 12;
+constexpr int kBuffers = 14;
 // Bindings 9..11 are the fragment stage's trim test (ksquad.frag): the classifier's tables and
-// one row of kTrimSurfaceInts per surface.
-constexpr int kFirstTrimBinding = 9;
+// one row of kTrimSurfaceInts per surface; 12 is the span grid's sample parameters.
+constexpr int kFirstTrimBinding = 9, kTrimBindings = 3;
 constexpr int kTrimSurfaceInts = 5;
 
 // ksquad_tables.glsl: Mode (push constants).
@@ -78,127 +96,36 @@ struct ModeConstants {
   float view_projection[16];
   float viewport[2];
   float mu;
-  std::int32_t adaptive, max_level, region, normals, patch_base;
+  std::int32_t adaptive, max_level, region, normals, patch_base, span_grid, pieces;
 };
-static_assert(sizeof(ModeConstants) == 96);
+static_assert(sizeof(ModeConstants) == 104);
 
-std::vector<double> option_numbers(const StrategyOptions& options, const std::string& key,
-                                   std::size_t count, char separator) {
-  const auto it = options.extra.find(key);
-  if (it == options.extra.end() || it->second.empty()) return {};
-  std::vector<double> values;
-  std::size_t start = 0;
-  const std::string& text = it->second;
-  while (start <= text.size()) {
-    const std::size_t end = std::min(text.find(separator, start), text.size());
-    const std::string item = text.substr(start, end - start);
-    std::size_t used = 0;
-    double value = 0;
-    try {
-      value = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !std::isfinite(value))
-      throw std::invalid_argument(
-          fmt::format("vk-ksquad option {} = '{}': expected {} numbers", key, text, count));
-    values.push_back(value);
-    start = end + 1;
-  }
-  if (values.size() != count)
-    throw std::invalid_argument(
-        fmt::format("vk-ksquad option {} = '{}': expected {} numbers", key, text, count));
-  return values;
-}
-
-// Column-major perspective(fov_y) * look_at(eye, center, up = +z, or +y when looking along z).
-std::array<float, 16> view_projection(const std::array<double, 3>& eye,
-                                      const std::array<double, 3>& center, double fov_y_deg,
-                                      double aspect, double near, double far) {
-  using V = std::array<double, 3>;
-  const auto sub = [](V a, V b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
-  const auto cross = [](V a, V b) {
-    return V{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  };
-  const auto dot = [](V a, V b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-  const auto unit = [&](V a) {
-    const double n = std::sqrt(dot(a, a));
-    return V{a[0] / n, a[1] / n, a[2] / n};
-  };
-  const V f = unit(sub(center, eye));
-  const V up = std::abs(f[2]) > 0.99 ? V{0, 1, 0} : V{0, 0, 1};
-  const V r = unit(cross(f, up));
-  const V u = cross(r, f);
-  const double t = 1.0 / std::tan(fov_y_deg * M_PI / 360.0);
-  // Vulkan depth in [0, 1] between near and far (render() only)
-  const double a = far / (far - near), b = -far * near / (far - near);
-  // rows of the product (w = distance along f; x, y, w are all the adaptive test uses)
-  const double rows[4][4] = {
-      {t / aspect * r[0], t / aspect * r[1], t / aspect * r[2], -t / aspect * dot(r, eye)},
-      {t * u[0], t * u[1], t * u[2], -t * dot(u, eye)},
-      {a * f[0], a * f[1], a * f[2], -a * dot(f, eye) + b},
-      {f[0], f[1], f[2], -dot(f, eye)}};
-  std::array<float, 16> m{};
-  for (int c = 0; c < 4; ++c)
-    for (int k = 0; k < 4; ++k) m[4 * c + k] = static_cast<float>(rows[k][c]);
-  return m;
-}
-
-// Patches per vkCmdDraw, bounded by the vertices the tessellator makes for them. Not in the
-// paper, which draws each KSQuad set at once: on lavapipe (Mesa 22.3) one draw's cost grows with
-// the square of its vertex count -- perf puts the time in a loop of libvulkan_lvp.so that stores
-// 0xffff into a 16-bit field of every vertex (by its shape, the draw module resetting vertex ids
-// at each internal flush), and patch144 at 2048x2048 (4M vertices) in one draw took minutes per
-// evaluation. Bounded draws keep it linear; on a GPU they are a handful of
-// draw calls more. Measured on lavapipe, patch144 at 1024x1024: 14 s per evaluation in one draw,
-// 1.2 s with 1024 to 16384 vertices per draw, 2.9 s with 262144.
-constexpr std::uint64_t kDefaultVerticesPerDraw = 16384;
-
-// Settings (StrategyOptions.extra). Adaptive mode: vk-mode = uniform|adaptive, vk-eye and
-// vk-center = "x,y,z" (default: the scene's bounding sphere seen from (1, 0.8, 0.6) at 2.5
-// radii), vk-fov = degrees (45), vk-viewport = "WxH" (1024x768), vk-mu = pixels (4),
-// vk-max-level = N (the device's maxTessellationGenerationLevel). Both modes:
-// vk-vertices-per-draw = N (kDefaultVerticesPerDraw; 0 = one draw per degree pair).
-struct KsquadSettings {
-  bool adaptive = false;
-  std::vector<double> eye, center, viewport;
-  double fov = 45, mu = 4;
-  int max_level = 0;
-  std::uint64_t vertices_per_draw = kDefaultVerticesPerDraw;
-};
-
-KsquadSettings ksquad_settings(const StrategyOptions& options) {
-  KsquadSettings a;
-  if (auto it = options.extra.find("vk-mode"); it != options.extra.end() && !it->second.empty()) {
-    if (it->second != "uniform" && it->second != "adaptive")
-      throw std::invalid_argument("vk-ksquad option vk-mode = '" + it->second +
-                                  "': must be uniform or adaptive");
-    a.adaptive = it->second == "adaptive";
-  }
-  a.eye = option_numbers(options, "vk-eye", 3, ',');
-  a.center = option_numbers(options, "vk-center", 3, ',');
-  a.viewport = option_numbers(options, "vk-viewport", 2, 'x');
-  if (a.viewport.empty()) a.viewport = {1024, 768};
-  if (auto fov = option_numbers(options, "vk-fov", 1, ','); !fov.empty()) a.fov = fov[0];
-  if (auto mu = option_numbers(options, "vk-mu", 1, ','); !mu.empty()) a.mu = mu[0];
-  if (a.mu <= 0 || a.fov <= 0 || a.fov >= 180 || a.viewport[0] < 1 || a.viewport[1] < 1)
-    throw std::invalid_argument("vk-ksquad: vk-mu, vk-fov and vk-viewport must be positive");
-  a.max_level = positive_option(options, "vk-max-level", "vk-ksquad");
-  if (auto it = options.extra.find("vk-vertices-per-draw"); it != options.extra.end())
-    a.vertices_per_draw = it->second == "0" ? 0
-                                            : static_cast<std::uint64_t>(positive_option(
-                                                  options, "vk-vertices-per-draw", "vk-ksquad"));
-  return a;
-}
-constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
+// The stages that read the tables and the push constants; the GS mapping (ksquad.geom) adds its
+// stage only where the geometry-shader feature is enabled (VkKsquad::draw_stages), the corner pass
+// (ksquad_corners.comp) reads the same set through its own layout.
 constexpr VkShaderStageFlags kModeStages =
     VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT;
+constexpr std::uint32_t kCornerGroup = 64;  // ksquad_corners.comp: local_size_x
+// ksquad.geom: max_vertices, the strips of span grid T = kGsMaxSteps (T strips of 2 (T + 1))
+constexpr std::uint32_t kGsMaxVertices = 144;
+constexpr int kGsMaxSteps = 8;
+static_assert(kGsMaxSteps * 2 * (kGsMaxSteps + 1) == kGsMaxVertices);
 constexpr VkQueryPipelineStatisticFlags kStatistics =
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_CONTROL_SHADER_PATCHES_BIT |
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_EVALUATION_SHADER_INVOCATIONS_BIT;
 
-vulkan::Requirements ksquad_requirements() {
+void memory_barrier(VkCommandBuffer cb, VkPipelineStageFlags src_stage, VkAccessFlags src_access,
+                    VkPipelineStageFlags dst_stage, VkAccessFlags dst_access) {
+  VkMemoryBarrier barrier{};
+  barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  barrier.srcAccessMask = src_access;
+  barrier.dstAccessMask = dst_access;
+  vkCmdPipelineBarrier(cb, src_stage, dst_stage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+}
+
+vulkan::Requirements ksquad_requirements(bool geometry = false) {
   vulkan::Requirements r;
+  r.geometry_shader = geometry;
   r.tessellation_shader = true;
   r.vertex_pipeline_stores = true;
   r.pipeline_statistics = true;
@@ -210,10 +137,11 @@ Capabilities ksquad_capabilities() {
   // 15, the validation limit: no device limit depends on the degree (net and constants are
   // storage buffers, one control point per patch; push constants and levels do not grow with it).
   c.max_degree = kStairMaxDegree;
-  c.normals = true;  // uniform mode: derivatives of the same stair basis (stair_derivative)
+  c.normals = true;  // both modes: derivatives of the same stair basis (stair_derivative)
   c.fp64 = false;    // Vulkan tessellation stages in float; shaderFloat64 is optional
   c.sampling.explicit_list = false;  // not a tensor of runs
-  // In adaptive mode the tessellator chooses the samples (uniform mode returns the requested ones).
+  // The tessellator chooses the samples in adaptive mode and for span grids (the float rounding
+  // of the requested ones); a grid's are the requested ones.
   c.chooses_own_samples = true;
   c.updates_control_points = true;  // re-uploads only the control points (and corners)
   // Uniform mode: direct trimming of the requested samples in a compute pass (the shared
@@ -225,7 +153,7 @@ Capabilities ksquad_capabilities() {
 class VkKsquad final : public Strategy {
  public:
   VkKsquad(int device_index, const KsquadSettings& settings, const trim_direct::Settings& trim)
-      : device_(device_index, ksquad_requirements()),
+      : device_(device_index, ksquad_requirements(settings.gs)),
         queries_(device_, kStatistics),
         classifier_(device_),
         trim_settings_(trim),
@@ -238,7 +166,17 @@ class VkKsquad final : public Strategy {
       throw std::invalid_argument(
           fmt::format("vk-ksquad: vk-max-level {} exceeds maxTessellationGenerationLevel {}",
                       settings_.max_level, cap));
-    if (settings_.adaptive) record_.details["vk_mode"] = "adaptive";
+    const VkPhysicalDeviceLimits& limits = device_.limits();
+    if (settings_.gs && (limits.maxGeometryOutputVertices < kGsMaxVertices ||
+                         limits.maxGeometryTotalOutputComponents < kGsMaxVertices * 7))
+      throw vulkan::MissingFeature(
+          fmt::format("vk-mode=gs needs {} geometry output vertices of 7 components (ksquad.geom)",
+                      kGsMaxVertices));
+    if (settings_.gs) record_.details["vk_mode"] = "gs";
+    if (settings_.adaptive) {
+      record_.details["vk_mode"] = "adaptive";
+      record_.details["vk_corners"] = settings_.device_corners ? "device" : "host";
+    }
     create_pipeline();
   }
   ~VkKsquad() override {
@@ -246,8 +184,6 @@ class VkKsquad final : public Strategy {
     const VkDevice d = device_.handle();
     for (const auto& pipelines : {capture_pipelines_, raster_pipelines_})
       for (const auto& [degrees, pipeline] : pipelines) vkDestroyPipeline(d, pipeline, nullptr);
-    if (raster_framebuffer_) vkDestroyFramebuffer(d, raster_framebuffer_, nullptr);
-    if (raster_pass_) vkDestroyRenderPass(d, raster_pass_, nullptr);
     if (framebuffer_) vkDestroyFramebuffer(d, framebuffer_, nullptr);
     if (render_pass_) vkDestroyRenderPass(d, render_pass_, nullptr);
     if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
@@ -259,8 +195,12 @@ class VkKsquad final : public Strategy {
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
     refuse_unsupported(name(), capabilities(), scene, request);
-    if (settings_.adaptive && request.normals)
-      throw RefusedError("vk-ksquad: normals are computed in uniform mode only");
+    if (settings_.gs && (request.sampling.mode != SamplingMode::span_grid ||
+                         request.sampling.span_steps > kGsMaxSteps))
+      throw RefusedError(fmt::format(
+          "vk-ksquad vk-mode=gs: span grids of at most {} steps only (a KSQuad's KSDice must fit "
+          "one geometry-shader invocation's output, 003 §4)",
+          kGsMaxSteps));
     const bool trimmed = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
                                      [](const Surface& s) { return s.trim.has_value(); });
     if (settings_.adaptive && trimmed)
@@ -291,32 +231,26 @@ class VkKsquad final : public Strategy {
       if (settings_.adaptive) {
         // Unwritten capture slots read back as NaN (a quiet NaN's bits in every word).
         vkCmdFillBuffer(cb, positions_.handle(), 0, VK_WHOLE_SIZE, 0x7fc00000u);
-        VkMemoryBarrier filled{};
-        filled.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-        filled.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        filled.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT, 0, 1, &filled, 0,
-                             nullptr, 0, nullptr);
+        memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT,
+                       VK_ACCESS_SHADER_WRITE_BIT);
       }
       queries_.reset(cb);
       queries_.begin(cb);
+      record_corners(cb);
       VkRenderPassBeginInfo begin{};
       begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
       begin.renderPass = render_pass_;
       begin.framebuffer = framebuffer_;
       begin.renderArea.extent = {1, 1};
       vkCmdBeginRenderPass(cb, &begin, VK_SUBPASS_CONTENTS_INLINE);
-      record_draws(cb, capture_pipelines_);
+      record_draws(cb, capture_pipelines_, draws_);
       vkCmdEndRenderPass(cb);
       queries_.end(cb);
-      VkMemoryBarrier to_host{};
-      to_host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-      to_host.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-      to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
-      vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT,
-                           VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
-                           &to_host, 0, nullptr, 0, nullptr);
+      memory_barrier(cb, VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT,
+                     VK_ACCESS_SHADER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
     });
     evaluate_s_ = queries_.elapsed_s();
     const auto counts = queries_.statistics();
@@ -330,9 +264,11 @@ class VkKsquad final : public Strategy {
     positions_.read(host.data(), host.size() * sizeof(float));
     EvalResult out;
     std::size_t base = 0;
+    std::vector<float> uv(span_grid_samples() ? total_ * 2 : 0);
+    if (!uv.empty()) sample_params_.read(uv.data(), uv.size() * sizeof(float));
     for (const SurfaceSamples& s : samples_) {
       SurfaceResult r;
-      r.samples = s;
+      r.samples = uv.empty() ? s : vk_ksquad::chosen_samples(s, uv.data() + 2 * base);
       r.positions = PointArray(Precision::f32, s.count());
       std::memcpy(r.positions.f32(), host.data() + base * 3, s.count() * 3 * sizeof(float));
       if (request_.normals) {
@@ -359,8 +295,8 @@ class VkKsquad final : public Strategy {
     if (points.size() * sizeof(float) != points_.size())
       throw std::invalid_argument("vk-ksquad: update_control_points changed the control nets");
     points_.write(points.data(), points.size() * sizeof(float));
-    if (settings_.adaptive) {  // the corners move with the points
-      corners_ = corner_table(scene);
+    if (settings_.adaptive && !settings_.device_corners) {  // the corners move with the points
+      corners_ = vk_ksquad::corner_table(scene, true).rows;
       corners_buf_.write(corners_.data(), corners_.size() * sizeof(float));
     }
   }
@@ -371,21 +307,23 @@ class VkKsquad final : public Strategy {
   // camera of the adaptive settings; fitted to the scene by default), positions never stored.
   // Returns when the device is done; the runner times it as the `render` phase.
   bool render() override {
-    if (!raster_pass_) create_raster_target();
-    for (const Draw& draw : draws_) pipeline_for(raster_pipelines_, true, draw);
+    if (!raster_)
+      raster_ = std::make_unique<vk_ksquad::RasterTarget>(device_, image_width(), image_height());
+    for (const Draw& draw : raster_draws_) pipeline_for(raster_pipelines_, true, draw);
     device_.submit_and_wait([&](VkCommandBuffer cb) {
       VkClearValue clear[2] = {};
       clear[0].color = {{0.0f, 0.0f, 0.0f, 0.0f}};
       clear[1].depthStencil = {1.0f, 0};
       VkRenderPassBeginInfo begin{};
       begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
-      begin.renderPass = raster_pass_;
-      begin.framebuffer = raster_framebuffer_;
+      begin.renderPass = raster_->pass();
+      begin.framebuffer = raster_->framebuffer();
       begin.renderArea.extent = {image_width(), image_height()};
       begin.clearValueCount = 2;
       begin.pClearValues = clear;
+      record_corners(cb);
       vkCmdBeginRenderPass(cb, &begin, VK_SUBPASS_CONTENTS_INLINE);
-      record_draws(cb, raster_pipelines_);
+      record_draws(cb, raster_pipelines_, raster_draws_);
       vkCmdEndRenderPass(cb);
     });
     return true;
@@ -403,85 +341,40 @@ class VkKsquad final : public Strategy {
   }
 
   std::optional<RenderedImage> last_render() override { return read_image(); }
-
-  // The colour image of the last render(). Row 0 of a Vulkan framebuffer is its top row, so the
-  // rows are already top to bottom (the camera is vk-ksquad's: clip-space +y is down in Vulkan).
   std::optional<RenderedImage> read_image() const {
-    if (!color_) return std::nullopt;
-    const std::size_t pixels = std::size_t{image_width()} * image_height();
-    vulkan::Buffer staging(device_, pixels * 4, 0, "rendered image");
-    device_.submit_and_wait([&](VkCommandBuffer cb) {
-      VkBufferImageCopy region{};
-      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-      region.imageExtent = {image_width(), image_height(), 1};
-      vkCmdCopyImageToBuffer(cb, color_->handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                             staging.handle(), 1, &region);
-    });
-    RenderedImage image;
-    image.width = static_cast<int>(image_width());
-    image.height = static_cast<int>(image_height());
-    image.rgba.resize(pixels * 4);
-    staging.read(image.rgba.data(), pixels * 4);
-    return image;
+    if (!raster_) return std::nullopt;
+    return raster_->read();
   }
 
   // Adaptive mode: the levels the control stage chose, read back from its storage buffer.
   KsquadStatistics statistics() const {
-    KsquadStatistics st = stats_;
-    if (!settings_.adaptive || patch_count_ == 0) return st;
-    std::vector<float> levels(8 * patch_count_);
-    levels_.read(levels.data(), levels.size() * sizeof(float));
-    st.implied_vertices = 0;
-    st.max_level = 0;
-    for (std::size_t k = 0; k < patch_count_; ++k) {
-      const float* o = &levels[8 * k];
-      const int i0 = static_cast<int>(std::max({o[1], o[3], 2.0f}));
-      const int i1 = static_cast<int>(std::max({o[0], o[2], 2.0f}));
-      st.implied_vertices += static_cast<std::uint64_t>(o[0] + o[1] + o[2] + o[3]) +
-                             static_cast<std::uint64_t>(i0 - 1) * (i1 - 1);
-      for (int e = 0; e < 4; ++e) {
-        st.max_level = std::max(st.max_level, static_cast<int>(o[e]));
-        st.capped_edges += o[4 + e] > o[e];
-      }
-    }
-    return st;
+    if (!settings_.adaptive || patch_count_ == 0) return stats_;
+    return vk_ksquad::adaptive_statistics(stats_, tables_, read_levels(),
+                                          settings_.max_level * settings_.pieces);
   }
 
-  // Adaptive mode: every captured vertex on each KSQuad's four edges, keyed by the edge.
+  std::vector<float> read_levels() const {
+    std::vector<float> levels(8 * patch_count_);
+    levels_.read(levels.data(), levels.size() * sizeof(float));
+    return levels;
+  }
+
+  std::vector<PatchLevels> patch_levels() const {
+    if (!settings_.adaptive || patch_count_ == 0) return {};
+    return vk_ksquad::adaptive_patch_levels(tables_, read_levels());
+  }
+
   std::vector<CapturedEdge> captured_edges() const {
-    std::vector<CapturedEdge> edges;
-    if (!settings_.adaptive) return edges;
-    const std::vector<float> slots = read_slots();
-    const int per_edge = settings_.max_level + 1;
-    for (std::size_t k = 0; k < patch_count_; ++k) {
-      const int* row = &patches_[kPatchInts * k];
-      const float* c_u = &constants_[row[3]];
-      const float* c_v = &constants_[row[4]];
-      const int pu = surfaces_[kSurfaceInts * row[0]], pv = surfaces_[kSurfaceInts * row[0] + 1];
-      const float u0 = c_u[pu - 1], u1 = c_u[pu], v0 = c_v[pv - 1], v1 = c_v[pv];
-      // outer edge e: u = u0 (0), v = v0 (1), u = u1 (2), v = v1 (3)
-      const CapturedEdge keys[4] = {{row[0], 0, u0, v0, v1, {}},
-                                    {row[0], 1, v0, u0, u1, {}},
-                                    {row[0], 0, u1, v0, v1, {}},
-                                    {row[0], 1, v1, u0, u1, {}}};
-      // A corner's slot is on one edge only (ksquad.tese: adaptive_slot); an edge holds every
-      // edge-slot vertex whose (u, v) lies on it (t = 0 and 1 give the knots exactly).
-      std::vector<std::array<float, 5>> ring;
-      for (int j = 0; j < 4 * per_edge; ++j) {
-        const float* slot = &slots[kSlotFloats * (k * region_ + j)];
-        if (!std::isnan(slot[0])) ring.push_back({slot[0], slot[1], slot[2], slot[3], slot[4]});
-      }
-      for (int e = 0; e < 4; ++e) {
-        CapturedEdge edge = keys[e];
-        for (const auto& vertex : ring)
-          if (vertex[edge.direction] == edge.fixed) edge.vertices.push_back(vertex);
-        edges.push_back(std::move(edge));
-      }
-    }
-    return edges;
+    if (!settings_.adaptive) return {};
+    return vk_ksquad::adaptive_edges(tables_, read_slots(), region_, settings_.max_level);
   }
 
  private:
+  // Uniform span grid: the tessellator chooses the parameters (ksquad.tese span_parameter).
+  bool span_grid_samples() const {
+    return !settings_.adaptive && request_.sampling.mode == SamplingMode::span_grid;
+  }
+
   static std::vector<float> homogeneous_points(const Scene& scene) {
     std::vector<float> points;
     for (const Surface& s : scene.surfaces) {
@@ -511,27 +404,10 @@ class VkKsquad final : public Strategy {
   }
 
   EvalResult read_back_adaptive() {
-    const std::vector<float> slots = read_slots();
-    EvalResult out;
-    out.surfaces.resize(surface_count_);
-    for (SurfaceResult& r : out.surfaces) r.samples.tensor = false;
-    std::vector<std::vector<float>> xyz(surface_count_);
-    for (std::size_t k = 0; k < patch_count_; ++k) {
-      const int surface = patches_[kPatchInts * k];
-      for (std::size_t j = 0; j < region_; ++j) {
-        const float* slot = &slots[kSlotFloats * (k * region_ + j)];
-        if (std::isnan(slot[0])) continue;
-        out.surfaces[surface].samples.u.push_back(slot[0]);
-        out.surfaces[surface].samples.v.push_back(slot[1]);
-        xyz[surface].insert(xyz[surface].end(), slot + 2, slot + 5);
-      }
-    }
-    for (std::size_t i = 0; i < surface_count_; ++i) {
-      SurfaceResult& r = out.surfaces[i];
-      r.positions = PointArray(Precision::f32, r.samples.count());
-      std::memcpy(r.positions.f32(), xyz[i].data(), xyz[i].size() * sizeof(float));
-    }
-    return out;
+    std::vector<float> slot_normals(request_.normals ? patch_count_ * region_ * 3 : 0);
+    if (!slot_normals.empty())
+      normals_.read(slot_normals.data(), slot_normals.size() * sizeof(float));
+    return vk_ksquad::adaptive_result(tables_, read_slots(), slot_normals, region_, surface_count_);
   }
 
   // The adaptive camera: given, or fitted to the scene's control-point bounding sphere.
@@ -539,77 +415,22 @@ class VkKsquad final : public Strategy {
     mode_ = {};
     mode_.adaptive = settings_.adaptive ? 1 : 0;
     mode_.max_level = settings_.max_level;
+    mode_.pieces = settings_.pieces;
     mode_.region = static_cast<std::int32_t>(region_);
     mode_.normals = request_.normals ? 1 : 0;
+    mode_.span_grid = span_grid_samples() ? 1 : 0;
     mode_.mu = static_cast<float>(settings_.mu);
     mode_.viewport[0] = static_cast<float>(settings_.viewport[0]);
     mode_.viewport[1] = static_cast<float>(settings_.viewport[1]);
-    std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (const Surface& s : scene.surfaces)
-      for (const auto& p : s.points)
-        for (int c = 0; c < 3; ++c) {
-          lo[c] = std::min(lo[c], p[c]);
-          hi[c] = std::max(hi[c], p[c]);
-        }
-    std::array<double, 3> center{}, eye{};
-    const double radius =
-        0.5 * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    const double dir[3] = {1 / std::sqrt(2.0), 0.8 / std::sqrt(2.0), 0.6 / std::sqrt(2.0)};
-    for (int c = 0; c < 3; ++c) {
-      center[c] = settings_.center.empty() ? 0.5 * (lo[c] + hi[c]) : settings_.center[c];
-      eye[c] = settings_.eye.empty() ? center[c] + 2.5 * std::max(radius, 1e-30) * dir[c]
-                                     : settings_.eye[c];
-    }
-    double distance = 0;
-    for (int c = 0; c < 3; ++c)
-      distance += (eye[c] - 0.5 * (lo[c] + hi[c])) * (eye[c] - 0.5 * (lo[c] + hi[c]));
-    distance = std::sqrt(distance);
-    const double far = distance + 1.5 * radius + 1e-30;
-    const double near = std::max(distance - 1.5 * radius, 1e-4 * far);
-    const auto m = view_projection(eye, center, settings_.fov,
-                                   settings_.viewport[0] / settings_.viewport[1], near, far);
+    const auto m = vk_ksquad::scene_camera(scene, settings_);
     std::copy(m.begin(), m.end(), mode_.view_projection);
-  }
-
-  // One corner per (distinct knot value in u, distinct knot value in v) of each surface's domain:
-  // S(x_k, y_l) by the reference, rounded to float; corner_index_ maps (surface, first knot index
-  // of the u value, first knot index of the v value) to its row.
-  std::vector<float> corner_table(const Scene& scene) {
-    std::vector<float> corners;
-    corner_index_.clear();
-    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
-      const Surface& s = scene.surfaces[i];
-      const SurfaceNet<double> net(s);
-      const auto breaks = [](const std::vector<double>& k, int p, int n) {
-        std::vector<int> at;  // first knot index of each distinct value in [k_p, k_n]
-        for (int a = p; a <= n; ++a)
-          if (a == p || k[a] > k[a - 1]) at.push_back(a);
-        return at;
-      };
-      for (int a : breaks(s.knots_u, s.degree_u, s.count_u))
-        for (int b : breaks(s.knots_v, s.degree_v, s.count_v)) {
-          const Vec3<double> p = surface_point(net, s.knots_u[a], s.knots_v[b]);
-          corner_index_[{static_cast<int>(i), a, b}] = static_cast<int>(corners.size() / 4);
-          corners.insert(corners.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]),
-                                         static_cast<float>(p[2]), 1.0f});
-        }
-    }
-    return corners;
-  }
-
-  // The corner at (knots_u[a], knots_v[b]), found by the first knot index of each value.
-  int corner(const Surface& s, int surface, int a, int b) const {
-    while (a > s.degree_u && s.knots_u[a - 1] == s.knots_u[a]) --a;
-    while (b > s.degree_v && s.knots_v[b - 1] == s.knots_v[b]) --b;
-    return corner_index_.at({surface, a, b});
   }
 
   // Surface table, per-span stair constants and the Info-KSQuad table (one row per patch).
   void build_tables(const Scene& scene) {
-    surfaces_.clear();
-    patches_.clear();
-    constants_.clear();
+    tables_.surfaces.clear();
+    tables_.patches.clear();
+    tables_.constants.clear();
     params_.clear();
     std::size_t out_base = 0, point_base = 0;
     std::vector<int> param_u(scene.surfaces.size()), param_v(scene.surfaces.size());
@@ -636,7 +457,7 @@ class VkKsquad final : public Strategy {
                                      std::bit_cast<int>(static_cast<float>(s.u_max())),
                                      std::bit_cast<int>(static_cast<float>(s.v_min())),
                                      std::bit_cast<int>(static_cast<float>(s.v_max()))};
-      surfaces_.insert(surfaces_.end(), rec, rec + kSurfaceInts);
+      tables_.surfaces.insert(tables_.surfaces.end(), rec, rec + kSurfaceInts);
       point_base += s.points.size();
       out_base += sm.count();
     }
@@ -651,9 +472,9 @@ class VkKsquad final : public Strategy {
       const std::vector<float> k32(k64.begin(), k64.end());
       StairConstants<float> c{};
       stair_constants(span, direction == 0 ? s.degree_u : s.degree_v, k32.data(), c);
-      const int offset = static_cast<int>(constants_.size());
+      const int offset = static_cast<int>(tables_.constants.size());
       const float* f = reinterpret_cast<const float*>(&c);
-      constants_.insert(constants_.end(), f, f + kConstantFloats);
+      tables_.constants.insert(tables_.constants.end(), f, f + kConstantFloats);
       constant_of.emplace(key, offset);
       return offset;
     };
@@ -668,18 +489,25 @@ class VkKsquad final : public Strategy {
     const auto quads = settings_.adaptive
                            ? ksquad::build_ksquads<float>(
                                  scene, sample_parameters(scene, one_per_span), one_per_span)
-                           : ksquad::build_ksquads<float>(scene, samples_, request_.sampling);
-    if (settings_.adaptive) corner_index_.clear();
-    const std::vector<float> corner_rows =
-        settings_.adaptive ? corner_table(scene) : std::vector<float>{};
-    corners_ = corner_rows;
+                           : (span_grid_samples()
+                                  ? ksquad::build_ksquads<float>(scene, samples_, request_.sampling)
+                                  : vk_ksquad::grid_ksquads(scene, samples_));
+    corner_table_ = settings_.adaptive ? vk_ksquad::corner_table(scene, !settings_.device_corners)
+                                       : vk_ksquad::Corners{};
+    corners_ = corner_table_.rows;
+    corner_jobs_.clear();
+    if (settings_.adaptive && settings_.device_corners)
+      for (const auto& [surface, span_u, span_v, end_u, end_v] : corner_table_.spans)
+        corner_jobs_.insert(corner_jobs_.end(),
+                            {surface * kSurfaceInts, span_u, span_v, constants(surface, 0, span_u),
+                             constants(surface, 1, span_v), end_u, end_v, 0});
     for (const ksquad::KSQuad& q : quads) {
       const Surface& s = scene.surfaces[q.surface];
       const int cu = constants(q.surface, 0, q.u.span), cv = constants(q.surface, 1, q.v.span);
       int c[4] = {0, 0, 0, 0};
       if (settings_.adaptive)
         for (int k = 0; k < 4; ++k)
-          c[k] = corner(s, q.surface, q.u.span + (k & 1), q.v.span + (k >> 1));
+          c[k] = corner_table_.at(s, q.surface, q.u.span + (k & 1), q.v.span + (k >> 1));
       // A2.1 puts a span's end knot in the next non-empty span (the last span keeps the end).
       const auto next_span = [](const std::vector<double>& k, int span, int count) {
         for (int t = span + 1; t < count; ++t)
@@ -690,51 +518,92 @@ class VkKsquad final : public Strategy {
       const int next_v = next_span(s.knots_v, q.v.span, s.count_v);
       const int cu_next = constants(q.surface, 0, next_u);
       const int cv_next = constants(q.surface, 1, next_v);
+      // Uniform: runs past the cap cut on the host; adaptive: vk-pieces^2 rows per KSQuad, the
+      // control stage uses those its levels need (ksquad.tesc).
       const int piece_cap = settings_.adaptive ? std::numeric_limits<int>::max() : cap;
+      const int pieces = settings_.adaptive ? settings_.pieces * settings_.pieces : 1;
       for (const ksquad::SpanRun& a : vk_ksquad::split_run(q.u, piece_cap))
-        for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, piece_cap)) {
-          const int lu = vk_ksquad::run_level(a), lv = vk_ksquad::run_level(b);
-          const int row[kPatchInts] = {
-              q.surface, q.u.span, q.v.span, cu,   cv,   a.begin, a.count, b.begin, b.count, lu, lv,
-              0,         c[0],     c[1],     c[2], c[3], next_u,  next_v,  cu_next, cv_next};
-          patches_.insert(patches_.end(), row, row + kPatchInts);
-          stats_.implied_vertices += vk_ksquad::quad_domain_vertices(lu, lv);
-          stats_.max_level = std::max({stats_.max_level, lu, lv});
-        }
+        for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, piece_cap))
+          for (int piece = 0; piece < pieces; ++piece) {
+            const int lu = vk_ksquad::run_level(a), lv = vk_ksquad::run_level(b);
+            const auto [u_lo, u_hi] = vk_ksquad::piece_share(q.u, a);
+            const auto [v_lo, v_hi] = vk_ksquad::piece_share(q.v, b);
+            const int row[kPatchInts] = {q.surface,
+                                         q.u.span,
+                                         q.v.span,
+                                         cu,
+                                         cv,
+                                         a.begin,
+                                         a.count,
+                                         b.begin,
+                                         b.count,
+                                         lu,
+                                         lv,
+                                         piece,
+                                         c[0],
+                                         c[1],
+                                         c[2],
+                                         c[3],
+                                         next_u,
+                                         next_v,
+                                         cu_next,
+                                         cv_next,
+                                         std::bit_cast<int>(u_lo),
+                                         std::bit_cast<int>(u_hi),
+                                         std::bit_cast<int>(v_lo),
+                                         std::bit_cast<int>(v_hi)};
+            tables_.patches.insert(tables_.patches.end(), row, row + kPatchInts);
+            stats_.implied_vertices += vk_ksquad::quad_domain_vertices(lu, lv);
+            stats_.max_level = std::max({stats_.max_level, lu, lv});
+          }
     }
-    // Grouped by degree pair, one draw (and one specialised pipeline) each.
-    std::vector<std::array<int, kPatchInts>> rows(patches_.size() / kPatchInts);
+    // Grouped by degree pair, one draw (and one specialised pipeline) each; a grid's patches
+    // without samples last in their group, drawn by render() only. (Captured with level 0 among
+    // the others, the patches after them got wrong samples on lavapipe -- tan256 grid 64x64:
+    // 1e7 ulps -- as if the evaluation stage's gl_PrimitiveID skipped the discarded ones.)
+    std::vector<std::array<int, kPatchInts>> rows(tables_.patches.size() / kPatchInts);
     for (std::size_t k = 0; k < rows.size(); ++k)
-      std::copy_n(&patches_[kPatchInts * k], kPatchInts, rows[k].begin());
-    const auto degrees = [&](const std::array<int, kPatchInts>& row) {
+      std::copy_n(&tables_.patches[kPatchInts * k], kPatchInts, rows[k].begin());
+    const auto key = [&](const std::array<int, kPatchInts>& row) {
       const Surface& s = scene.surfaces[row[0]];
-      return std::make_pair(s.degree_u, s.degree_v);
+      return std::make_tuple(s.degree_u, s.degree_v,
+                             row[kPatchLevelU] == 0 || row[kPatchLevelV] == 0);
     };
     std::stable_sort(rows.begin(), rows.end(),
-                     [&](const auto& a, const auto& b) { return degrees(a) < degrees(b); });
+                     [&](const auto& a, const auto& b) { return key(a) < key(b); });
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      std::copy(rows[k].begin(), rows[k].end(), &tables_.patches[kPatchInts * k]);
     // A draw also ends where its vertices would pass vk-vertices-per-draw (see
     // kDefaultVerticesPerDraw); adaptive patches are counted at the level cap.
-    draws_.clear();
-    std::uint64_t draw_vertices = 0;
-    for (std::size_t k = 0; k < rows.size(); ++k) {
-      std::copy(rows[k].begin(), rows[k].end(), &patches_[kPatchInts * k]);
-      const auto [du, dv] = degrees(rows[k]);
-      const std::uint64_t vertices =
-          settings_.adaptive
-              ? vk_ksquad::quad_domain_vertices(settings_.max_level, settings_.max_level)
-              : vk_ksquad::quad_domain_vertices(rows[k][kPatchLevelU], rows[k][kPatchLevelV]);
-      const bool full = settings_.vertices_per_draw > 0 && draw_vertices > 0 &&
-                        draw_vertices + vertices > settings_.vertices_per_draw;
-      if (draws_.empty() || draws_.back().du != du || draws_.back().dv != dv || full) {
-        draws_.push_back({du, dv, static_cast<std::uint32_t>(k), 0});
-        draw_vertices = 0;
+    const auto make_draws = [&](bool with_empty) {
+      std::vector<Draw> draws;
+      std::uint64_t draw_vertices = 0;
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        const auto [du, dv, empty] = key(rows[k]);
+        if (empty && !with_empty) continue;
+        const std::uint64_t vertices =
+            settings_.adaptive
+                ? vk_ksquad::quad_domain_vertices(settings_.max_level, settings_.max_level)
+                : vk_ksquad::quad_domain_vertices(std::max(rows[k][kPatchLevelU], 1),
+                                                  std::max(rows[k][kPatchLevelV], 1));
+        const bool full = settings_.vertices_per_draw > 0 && draw_vertices > 0 &&
+                          draw_vertices + vertices > settings_.vertices_per_draw;
+        if (draws.empty() || draws.back().du != du || draws.back().dv != dv || full ||
+            draws.back().first + draws.back().count != k) {
+          draws.push_back({du, dv, static_cast<std::uint32_t>(k), 0});
+          draw_vertices = 0;
+        }
+        ++draws.back().count;
+        draw_vertices += vertices;
       }
-      ++draws_.back().count;
-      draw_vertices += vertices;
-    }
+      return draws;
+    };
+    draws_ = make_draws(false);
+    raster_draws_ = make_draws(true);
     record_.details["draws"] = std::to_string(draws_.size());
     patch_count_ = rows.size();
-    stats_.patches_drawn = patch_count_;
+    stats_.patches_drawn = 0;
+    for (const Draw& draw : draws_) stats_.patches_drawn += draw.count;
   }
 
   template <typename V>
@@ -753,37 +622,45 @@ class VkKsquad final : public Strategy {
     const std::size_t output_floats =
         settings_.adaptive ? patch_count_ * region_ * kSlotFloats : total_ * 3;
     corners_buf_ = storage(corners_, "KSQuad corners");
+    corner_jobs_buf_ = storage(corner_jobs_, "KSQuad corner jobs");
     levels_ = vulkan::Buffer(device_, 8 * patch_count_ * sizeof(float),
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "chosen levels");
-    surfaces_buf_ = storage(surfaces_, "surface table");
-    patches_buf_ = storage(patches_, "Info-KSQuad table");
-    constants_buf_ = storage(constants_, "stair constants");
+    surfaces_buf_ = storage(tables_.surfaces, "surface table");
+    patches_buf_ = storage(tables_.patches, "Info-KSQuad table");
+    constants_buf_ = storage(tables_.constants, "stair constants");
     points_ = storage(homogeneous_points(scene), "control points");
     params_buf_ = storage(params_, "parameters");
     positions_ = vulkan::Buffer(device_, output_floats * sizeof(float),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output positions");
-    normals_ = vulkan::Buffer(device_, (request_.normals ? total_ * 3 : 0) * sizeof(float),
+    const std::size_t normal_slots = settings_.adaptive ? patch_count_ * region_ : total_;
+    normals_ = vulkan::Buffer(device_, (request_.normals ? normal_slots * 3 : 0) * sizeof(float),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output normals");
+    sample_params_ = vulkan::Buffer(device_, (span_grid_samples() ? total_ * 2 : 0) * sizeof(float),
+                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output sample parameters");
     set_->write({&surfaces_buf_, &patches_buf_, &constants_buf_, &points_, &params_buf_,
                  &positions_, &corners_buf_, &levels_, &normals_, &classifier_.reals(),
-                 &classifier_.ints(), &trim_surfaces_buf_});
+                 &classifier_.ints(), &trim_surfaces_buf_, &sample_params_, &corner_jobs_buf_});
   }
 
   // Once per strategy (STYLE.md: compiled shaders are created once, never in evaluate()).
   void create_pipeline() {
     const VkDevice d = device_.handle();
-    std::vector<VkShaderStageFlags> stages(kBuffers, kModeStages);
-    for (int k = kFirstTrimBinding; k < kBuffers; ++k) stages[k] = VK_SHADER_STAGE_FRAGMENT_BIT;
+    std::vector<VkShaderStageFlags> stages(kBuffers, draw_stages() | VK_SHADER_STAGE_COMPUTE_BIT);
+    for (int k = kFirstTrimBinding; k < kFirstTrimBinding + kTrimBindings; ++k)
+      stages[k] = VK_SHADER_STAGE_FRAGMENT_BIT;
     set_ = std::make_unique<vulkan::StorageSet>(device_, stages);
     VkPipelineLayoutCreateInfo layout_info{};
     layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
     layout_info.setLayoutCount = 1;
     layout_info.pSetLayouts = &set_->layout();
-    const VkPushConstantRange push{kModeStages, 0, sizeof(ModeConstants)};
+    const VkPushConstantRange push{draw_stages(), 0, sizeof(ModeConstants)};
     layout_info.pushConstantRangeCount = 1;
     layout_info.pPushConstantRanges = &push;
     vulkan::check(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_),
                   "vkCreatePipelineLayout");
+    corner_pass_ = std::make_unique<vulkan::ComputePipeline>(
+        device_, *set_, static_cast<std::uint32_t>(sizeof(ModeConstants)),
+        embedded::vk_ksquad_corners_comp, "ksquad_corners.comp");
 
     // Capture only: a render pass without attachments, rasterization discarded.
     VkSubpassDescription subpass{};
@@ -812,171 +689,44 @@ class VkKsquad final : public Strategy {
   VkPipeline pipeline_for(Pipelines& pipelines, bool raster, const Draw& draw) {
     auto& pipeline = pipelines[{draw.du, draw.dv}];
     if (!pipeline)
-      pipeline = make_pipeline(raster, raster ? raster_pass_ : render_pass_, draw.du, draw.dv);
+      pipeline = vk_ksquad::make_pipeline(device_, layout_, raster, settings_.gs,
+                                          raster ? raster_->pass() : render_pass_, draw.du, draw.dv,
+                                          image_width(), image_height());
     return pipeline;
   }
 
-  void record_draws(VkCommandBuffer cb, const Pipelines& pipelines) {
+  // vk-corners=device: the corner pass, then a barrier so the control stage reads its corners.
+  void record_corners(VkCommandBuffer cb) const {
+    if (!settings_.adaptive || !settings_.device_corners || corner_jobs_.empty()) return;
+    const auto count = static_cast<std::uint32_t>(corner_jobs_.size() / kCornerInts);
+    corner_pass_->bind(cb, *set_);
+    ModeConstants mode = mode_;
+    mode.patch_base = static_cast<std::int32_t>(count);
+    vkCmdPushConstants(cb, corner_pass_->layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof mode,
+                       &mode);
+    vkCmdDispatch(cb, (count + kCornerGroup - 1) / kCornerGroup, 1, 1);
+    memory_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_TESSELLATION_CONTROL_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+  }
+
+  void record_draws(VkCommandBuffer cb, const Pipelines& pipelines,
+                    const std::vector<Draw>& draws) {
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_->handle(), 0,
                             nullptr);
-    for (const Draw& draw : draws_) {
+    for (const Draw& draw : draws) {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.at({draw.du, draw.dv}));
       ModeConstants mode = mode_;
       mode.patch_base = static_cast<std::int32_t>(draw.first);
-      vkCmdPushConstants(cb, layout_, kModeStages, 0, sizeof mode, &mode);
+      vkCmdPushConstants(cb, layout_, draw_stages(), 0, sizeof mode, &mode);
       vkCmdDraw(cb, draw.count, 1, 0, 0);
     }
   }
 
-  // Capture (rasterization discarded) or raster (the evaluation stage's kRaster = 1, a fragment
-  // stage, depth test, the viewport of the adaptive settings).
-  VkPipeline make_pipeline(bool raster, VkRenderPass pass, int du, int dv) const {
-    const VkDevice d = device_.handle();
-    struct Modules {
-      VkDevice d;
-      VkShaderModule m[4];
-      ~Modules() {
-        for (VkShaderModule x : m)
-          if (x) vkDestroyShaderModule(d, x, nullptr);
-      }
-    } modules{d,
-              {device_.shader_module(embedded::vk_ksquad_vert),
-               device_.shader_module(embedded::vk_ksquad_tesc),
-               device_.shader_module(embedded::vk_ksquad_tese),
-               raster ? device_.shader_module(embedded::vk_ksquad_frag) : VK_NULL_HANDLE}};
-    const VkShaderStageFlagBits stage_bits[4] = {
-        VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
-        VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, VK_SHADER_STAGE_FRAGMENT_BIT};
-    // ksquad.tese: kRaster, kDegreeU, kDegreeV
-    const std::int32_t constants[3] = {raster ? 1 : 0, du, dv};
-    const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
-    VkSpecializationInfo specialization{};
-    specialization.mapEntryCount = 3;
-    specialization.pMapEntries = entries;
-    specialization.dataSize = sizeof constants;
-    specialization.pData = constants;
-    std::array<VkPipelineShaderStageCreateInfo, 4> stages{};
-    for (int k = 0; k < 4; ++k) {
-      stages[k] = {};
-      stages[k].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
-      stages[k].stage = stage_bits[k];
-      stages[k].module = modules.m[k];
-      stages[k].pName = "main";
-    }
-    stages[2].pSpecializationInfo = &specialization;
-    VkPipelineVertexInputStateCreateInfo vertex_input{};
-    vertex_input.sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO;
-    VkPipelineInputAssemblyStateCreateInfo assembly{};
-    assembly.sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO;
-    assembly.topology = VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
-    VkPipelineTessellationStateCreateInfo tessellation{};
-    tessellation.sType = VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO;
-    tessellation.patchControlPoints = 1;
-    VkPipelineRasterizationStateCreateInfo rasterization{};
-    rasterization.sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO;
-    rasterization.rasterizerDiscardEnable = raster ? VK_FALSE : VK_TRUE;
-    rasterization.polygonMode = VK_POLYGON_MODE_FILL;
-    rasterization.cullMode = VK_CULL_MODE_NONE;
-    rasterization.lineWidth = 1.0f;
-    const VkViewport viewport{
-        0, 0, static_cast<float>(image_width()), static_cast<float>(image_height()), 0, 1};
-    const VkRect2D scissor{{0, 0}, {image_width(), image_height()}};
-    VkPipelineViewportStateCreateInfo viewport_state{};
-    viewport_state.sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO;
-    viewport_state.viewportCount = 1;
-    viewport_state.pViewports = &viewport;
-    viewport_state.scissorCount = 1;
-    viewport_state.pScissors = &scissor;
-    VkPipelineMultisampleStateCreateInfo multisample{};
-    multisample.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo depth{};
-    depth.sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO;
-    depth.depthTestEnable = VK_TRUE;
-    depth.depthWriteEnable = VK_TRUE;
-    depth.depthCompareOp = VK_COMPARE_OP_LESS;
-    VkPipelineColorBlendAttachmentState blend_attachment{};
-    blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                      VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo blend{};
-    blend.sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO;
-    blend.attachmentCount = 1;
-    blend.pAttachments = &blend_attachment;
-    VkGraphicsPipelineCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO;
-    info.stageCount = raster ? 4 : 3;
-    info.pStages = stages.data();
-    info.pVertexInputState = &vertex_input;
-    info.pInputAssemblyState = &assembly;
-    info.pTessellationState = &tessellation;
-    info.pRasterizationState = &rasterization;
-    if (raster) {
-      info.pViewportState = &viewport_state;
-      info.pMultisampleState = &multisample;
-      info.pDepthStencilState = &depth;
-      info.pColorBlendState = &blend;
-    }
-    info.layout = layout_;
-    info.renderPass = pass;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    vulkan::check(vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
-                  "vkCreateGraphicsPipelines");
-    return pipeline;
+  VkShaderStageFlags draw_stages() const {
+    return kModeStages | (settings_.gs ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
   }
-
   std::uint32_t image_width() const { return static_cast<std::uint32_t>(settings_.viewport[0]); }
   std::uint32_t image_height() const { return static_cast<std::uint32_t>(settings_.viewport[1]); }
-
-  // The render target of render(), made on its first call: RGBA8 colour (copied out by tests),
-  // 32-bit depth, a render pass clearing both, and the raster pipeline.
-  void create_raster_target() {
-    const VkDevice d = device_.handle();
-    color_ = std::make_unique<vulkan::Image>(
-        device_, kColorFormat,
-        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-        VK_IMAGE_ASPECT_COLOR_BIT, image_width(), image_height());
-    depth_ = std::make_unique<vulkan::Image>(
-        device_, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-        VK_IMAGE_ASPECT_DEPTH_BIT, image_width(), image_height());
-    VkAttachmentDescription attachments[2] = {};
-    attachments[0].format = kColorFormat;
-    attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
-    attachments[0].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    attachments[0].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    attachments[0].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-    attachments[0].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    attachments[0].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    attachments[0].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-    attachments[1] = attachments[0];
-    attachments[1].format = VK_FORMAT_D32_SFLOAT;
-    attachments[1].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    attachments[1].finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
-    const VkAttachmentReference color_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-    const VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-    VkSubpassDescription subpass{};
-    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    subpass.colorAttachmentCount = 1;
-    subpass.pColorAttachments = &color_ref;
-    subpass.pDepthStencilAttachment = &depth_ref;
-    VkRenderPassCreateInfo rp{};
-    rp.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
-    rp.attachmentCount = 2;
-    rp.pAttachments = attachments;
-    rp.subpassCount = 1;
-    rp.pSubpasses = &subpass;
-    vulkan::check(vkCreateRenderPass(d, &rp, nullptr, &raster_pass_), "vkCreateRenderPass");
-    const VkImageView views[2] = {color_->view(), depth_->view()};
-    VkFramebufferCreateInfo fb{};
-    fb.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
-    fb.renderPass = raster_pass_;
-    fb.attachmentCount = 2;
-    fb.pAttachments = views;
-    fb.width = image_width();
-    fb.height = image_height();
-    fb.layers = 1;
-    vulkan::check(vkCreateFramebuffer(d, &fb, nullptr, &raster_framebuffer_),
-                  "vkCreateFramebuffer");
-  }
 
   vulkan::Device device_;
   vulkan::QueryPools queries_;
@@ -988,24 +738,24 @@ class VkKsquad final : public Strategy {
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkRenderPass render_pass_ = VK_NULL_HANDLE;
   VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
-  Pipelines capture_pipelines_, raster_pipelines_;  // created once per degree pair, kept
-  std::vector<Draw> draws_;
-  std::unique_ptr<vulkan::Image> color_, depth_;
-  VkRenderPass raster_pass_ = VK_NULL_HANDLE;
-  VkFramebuffer raster_framebuffer_ = VK_NULL_HANDLE;
+  Pipelines capture_pipelines_, raster_pipelines_;   // created once per degree pair, kept
+  std::vector<Draw> draws_, raster_draws_;           // capture: patches with samples; raster: all
+  std::unique_ptr<vk_ksquad::RasterTarget> raster_;  // made on render()'s first call
 
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;
-  std::vector<int> surfaces_, patches_;
-  std::vector<float> constants_, params_;
+  vk_ksquad::HostTables tables_;
+  std::vector<float> params_;
   std::vector<float> corners_;
   vulkan::Buffer trim_surfaces_buf_;
   vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_,
-      corners_buf_, levels_, normals_;
+      corners_buf_, levels_, normals_, sample_params_, corner_jobs_buf_;
+  std::vector<int> corner_jobs_;  // kCornerInts per corner (ksquad_corners.comp)
+  std::unique_ptr<vulkan::ComputePipeline> corner_pass_;  // ksquad_corners.comp
   std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
   KsquadSettings settings_;
   ModeConstants mode_{};
-  std::map<std::array<int, 3>, int> corner_index_;
+  vk_ksquad::Corners corner_table_;
   std::optional<double> evaluate_s_;
   KsquadStatistics stats_;
 };
@@ -1035,6 +785,10 @@ KsquadStatistics ksquad_statistics(const Strategy& strategy) {
 
 std::vector<CapturedEdge> ksquad_captured_edges(const Strategy& strategy) {
   return as_vk_ksquad(strategy).captured_edges();
+}
+
+std::vector<PatchLevels> ksquad_patch_levels(const Strategy& strategy) {
+  return as_vk_ksquad(strategy).patch_levels();
 }
 
 bool ksquad_render(Strategy& strategy) {

@@ -19,8 +19,8 @@ struct KsquadStatistics {
   std::uint64_t evaluation_invocations = 0;  // pipeline statistics: TES invocations (KSDice)
   std::uint64_t implied_vertices = 0;        // sum over patches of the levels' vertex count
   int max_level = 0;                         // largest level set
-  int level_cap = 0;  // uniform: maxTessellationGenerationLevel; adaptive: vk-max-level
-  std::uint64_t capped_edges = 0;  // adaptive: edges that wanted more than level_cap
+  int level_cap = 0;  // per patch. uniform: maxTessellationGenerationLevel; adaptive: vk-max-level
+  std::uint64_t capped_edges = 0;  // adaptive: KSQuad edges past vk-pieces x level_cap
 };
 
 // Adaptive mode: the captured vertices (u, v, x, y, z) of one outer edge of one KSQuad, keyed by
@@ -31,11 +31,21 @@ struct CapturedEdge {
   std::vector<std::array<float, 5>> vertices;
 };
 
+// Adaptive mode, after evaluate(): per patch, the levels its control stage set and wanted (003
+// eq. 3, before the cap) for its four outer edges, read back from the control stage's storage
+// buffer. Edges in the order u = x_i, v = y_j, u = x_i+1, v = y_j+1 of KSQuad (span_u, span_v).
+struct PatchLevels {
+  int surface = 0, span_u = 0, span_v = 0;
+  std::array<float, 4> set{}, wanted{};
+};
+
 std::unique_ptr<Strategy> make_vk_ksquad(const StrategyOptions& options);
 // `strategy` must come from make_vk_ksquad; throws std::invalid_argument otherwise.
 KsquadStatistics ksquad_statistics(const Strategy& strategy);
 // After evaluate() in adaptive mode (empty in uniform mode).
 std::vector<CapturedEdge> ksquad_captured_edges(const Strategy& strategy);
+// After evaluate() in adaptive mode (empty in uniform mode).
+std::vector<PatchLevels> ksquad_patch_levels(const Strategy& strategy);
 // Draws the prepared patches into the offscreen image (003 §4 end to end; timed as `render`
 // where the runner has that phase); the pixels the last render() covered.
 bool ksquad_render(Strategy& strategy);

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "strategies/device_wait.h"
@@ -107,6 +108,7 @@ std::string missing_feature(VkPhysicalDevice d, const Requirements& req) {
     return missing("vertexPipelineStoresAndAtomics");
   if (req.pipeline_statistics && !f.pipelineStatisticsQuery)
     return missing("pipelineStatisticsQuery");
+  if (req.geometry_shader && !f.geometryShader) return missing("geometryShader");
   return {};
 }
 
@@ -190,6 +192,7 @@ Device::Device(int device_index, const Requirements& requirements) {
     enabled.tessellationShader = requirements.tessellation_shader;
     enabled.vertexPipelineStoresAndAtomics = requirements.vertex_pipeline_stores;
     enabled.pipelineStatisticsQuery = requirements.pipeline_statistics;
+    enabled.geometryShader = requirements.geometry_shader;
     VkDeviceCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
     info.queueCreateInfoCount = 1;

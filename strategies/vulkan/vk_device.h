@@ -28,6 +28,7 @@ struct Requirements {
   bool tessellation_shader = false;
   bool vertex_pipeline_stores = false;  // storage-buffer writes from vertex/tessellation stages
   bool pipeline_statistics = false;
+  bool geometry_shader = false;
 };
 
 // Throws std::runtime_error naming the call and the VkResult.

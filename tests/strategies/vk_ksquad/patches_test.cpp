@@ -5,6 +5,9 @@
 
 #include <limits>
 
+#include "reference/sampling.h"
+#include "scenes/builtin_scenes.h"
+
 namespace nurbs::vk_ksquad {
 namespace {
 
@@ -54,6 +57,47 @@ TEST(QuadDomainVertices, UniformLevelsGiveTheLattice) {
 TEST(QuadDomainVertices, InnerLevelOneIsRaisedToTwo) {
   // Outer ring 2*1 + 2*4 = 10 vertices, inner levels (2, 4): 1 x 3 inside.
   EXPECT_EQ(quad_domain_vertices(1, 4), 13u);
+}
+
+// A grid coarser than the knots (tan256: 253 spans, 64 samples): every non-empty span gets a
+// run, in order; the runs holding samples are kept as they were and every sample is in one.
+TEST(WithEmptySpans, EveryNonEmptySpanOnceInOrder) {
+  const Surface s = make_builtin_scene("tan256")->surfaces[0];
+  const std::vector<double> u = grid_parameters(s.u_min(), s.u_max(), 64);
+  const std::vector<float> k32(s.knots_u.begin(), s.knots_u.end());
+  const auto runs = ksquad::runs_of_grid(u, s.degree_u, s.count_u, k32);
+  const auto all = with_empty_spans(runs, s.knots_u, s.degree_u, s.count_u);
+  std::vector<int> spans;
+  for (int i = s.degree_u; i < s.count_u; ++i)
+    if (s.knots_u[i] < s.knots_u[i + 1]) spans.push_back(i);
+  ASSERT_EQ(all.size(), spans.size());
+  std::size_t kept = 0;
+  int samples = 0;
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    EXPECT_EQ(all[k].span, spans[k]);
+    if (all[k].count == 0) {
+      EXPECT_EQ(run_level(all[k]), 0);
+      continue;
+    }
+    ASSERT_LT(kept, runs.size());
+    EXPECT_EQ(all[k].begin, runs[kept].begin);
+    EXPECT_EQ(all[k].count, runs[kept].count);
+    samples += all[k].count;
+    ++kept;
+  }
+  EXPECT_EQ(kept, runs.size());
+  EXPECT_EQ(samples, 64);
+}
+
+TEST(PieceShare, PiecesTileTheSpan) {
+  const ksquad::SpanRun run{4, 10, 101};
+  const auto pieces = split_run(run, 64);
+  ASSERT_EQ(pieces.size(), 2u);
+  EXPECT_EQ(piece_share(run, pieces[0]).first, 0.0f);
+  EXPECT_EQ(piece_share(run, pieces[0]).second, piece_share(run, pieces[1]).first);
+  EXPECT_EQ(piece_share(run, pieces[0]).second, 0.5f);
+  EXPECT_EQ(piece_share(run, pieces[1]).second, 1.0f);
+  EXPECT_EQ(piece_share({4, 10, 1}, {4, 10, 1}), std::make_pair(0.0f, 1.0f));
 }
 
 }  // namespace

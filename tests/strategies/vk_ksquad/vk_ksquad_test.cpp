@@ -34,7 +34,52 @@ Sampling grid(int nu, int nv) {
 }
 
 std::unique_ptr<Strategy> adaptive_strategy(const std::string& eye, const std::string& center,
-                                            const std::string& mu);
+                                            const std::string& mu,
+                                            const std::string& max_level = "",
+                                            const std::string& pieces = "");
+
+// Span grid T: the tessellator chooses the samples (003 §4), so they are its lattice -- in every
+// non-empty span [x_i, x_i+1], x_i + k (x_i+1 - x_i) / T for k = 0..T, computed here in double --
+// to the tessellator's precision, the span's ends exactly the knots as floats. Lavapipe's
+// tessellator (Mesa's port of the D3D11 reference tessellator) steps from the nearer end of an
+// edge by 1 / level rounded to 16.16 fixed point, so vertex k is off k / level by up to about
+// min(k, level - k) 2^-17 (measured at T = 100, cut into two patches of level 50: 5e-5 of the
+// span at the middle); the bound is twice that plus float rounding.
+void expect_span_grid_lattice(const Scene& scene, int steps,
+                              const std::vector<SurfaceSamples>& produced) {
+  ASSERT_EQ(produced.size(), scene.surfaces.size());
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+    const Surface& s = scene.surfaces[i];
+    const SurfaceSamples& p = produced[i];
+    ASSERT_TRUE(p.tensor) << "surface " << i << ": one u per lattice column expected";
+    for (int direction = 0; direction < 2; ++direction) {
+      const std::vector<double>& knots = direction == 0 ? s.knots_u : s.knots_v;
+      const int degree = direction == 0 ? s.degree_u : s.degree_v;
+      const int count = direction == 0 ? s.count_u : s.count_v;
+      const std::vector<double>& got = direction == 0 ? p.u : p.v;
+      const double scale = std::max(std::abs(knots[degree]), std::abs(knots[count]));
+      std::size_t k = 0;
+      for (int span = degree; span < count; ++span) {
+        if (!(knots[span] < knots[span + 1])) continue;
+        for (int step = 0; step <= steps; ++step, ++k) {
+          ASSERT_LT(k, got.size());
+          const double want = step == steps
+                                  ? knots[span + 1]
+                                  : knots[span] + (knots[span + 1] - knots[span]) * step / steps;
+          if (step == 0 || step == steps)
+            EXPECT_EQ(got[k], static_cast<float>(want)) << "surface " << i << " knot";
+          else
+            EXPECT_LE(std::abs(got[k] - want), (std::min(step, steps - step) + 1) * 0x1p-16 *
+                                                       (knots[span + 1] - knots[span]) +
+                                                   4 * FLT_EPSILON * scale)
+                << "surface " << i << " direction " << direction << " span " << span << " step "
+                << step;
+        }
+      }
+      EXPECT_EQ(k, got.size());
+    }
+  }
+}
 
 Accuracy run(Strategy& strategy, const Scene& scene, const Sampling& sampling,
              bool normals = false) {
@@ -42,8 +87,12 @@ Accuracy run(Strategy& strategy, const Scene& scene, const Sampling& sampling,
   strategy.evaluate();
   const EvalResult result = strategy.read_back();
   const auto samples = sample_parameters(scene, sampling);
-  EXPECT_TRUE(same_samples(result_samples(result), samples));
-  return measure_accuracy(scene, result, evaluate_reference(scene, samples, normals));
+  const auto produced = result_samples(result);
+  if (sampling.mode == SamplingMode::span_grid)
+    expect_span_grid_lattice(scene, sampling.span_steps, produced);
+  else
+    EXPECT_TRUE(same_samples(produced, samples));
+  return measure_accuracy(scene, result, evaluate_reference(scene, produced, normals));
 }
 
 class VkKsquadTest : public ::testing::Test {
@@ -63,6 +112,7 @@ TEST_F(VkKsquadTest, WithinBudgetOnEveryBuiltinScene) {
   for (const BuiltinSceneInfo& info : builtin_scenes()) {
     if (info.name == "many-4096") continue;  // the default scene list leaves it out too
     const Scene scene = *make_builtin_scene(info.name);
+    SCOPED_TRACE(info.name);
     for (const Sampling& sampling : {span_grid(16), grid(64, 64)}) {
       Accuracy acc;
       try {
@@ -177,16 +227,16 @@ TEST_F(VkKsquadTest, RefusesWhatItCannotDo) {
   const Scene scene = *make_builtin_scene("patch144");
   EXPECT_THROW(strategy_->prepare(scene, EvalRequest{grid(8, 8), Precision::f64, false}),
                RefusedError);
-  auto adaptive = adaptive_strategy("", "", "4");
-  EXPECT_THROW(adaptive->prepare(scene, EvalRequest{grid(8, 8), Precision::f32, true}),
-               RefusedError);  // normals in uniform mode only
 }
 
 // Adaptive mode (003 §3.1): a close camera so the levels vary over the surface.
 std::unique_ptr<Strategy> adaptive_strategy(const std::string& eye, const std::string& center,
-                                            const std::string& mu) {
+                                            const std::string& mu, const std::string& max_level,
+                                            const std::string& pieces) {
   StrategyOptions options;
-  options.extra = {{"vk-mode", "adaptive"}, {"vk-eye", eye}, {"vk-center", center}, {"vk-mu", mu}};
+  options.extra = {{"vk-mode", "adaptive"},     {"vk-eye", eye},
+                   {"vk-center", center},       {"vk-mu", mu},
+                   {"vk-max-level", max_level}, {"vk-pieces", pieces}};
   return make_vk_ksquad(options);
 }
 
@@ -195,13 +245,19 @@ struct AdaptiveCase {
   const char* eye;
   const char* center;
   const char* mu;
+  const char* max_level = "";
+  const char* pieces = "";
 };
-const AdaptiveCase kAdaptiveCases[] = {
-    {"patch144", "", "", "4"}, {"torus", "", "", "8"}, {"tan16", "", "", "4"}};
+// The last: levels up to 34 with the tessellator capped at 16, so KSQuads are cut into up to
+// three pieces per direction (ksquad.tesc), not capped.
+const AdaptiveCase kAdaptiveCases[] = {{"patch144", "", "", "4"},
+                                       {"torus", "", "", "8"},
+                                       {"tan16", "", "", "4"},
+                                       {"patch144", "", "", "4", "16", "4"}};
 
 TEST_F(VkKsquadTest, AdaptiveStatisticsMatchTheChosenLevels) {
   for (const AdaptiveCase& c : kAdaptiveCases) {
-    auto strategy = adaptive_strategy(c.eye, c.center, c.mu);
+    auto strategy = adaptive_strategy(c.eye, c.center, c.mu, c.max_level, c.pieces);
     const Scene scene = *make_builtin_scene(c.scene);
     strategy->prepare(scene, EvalRequest{span_grid(1), Precision::f32, false});
     strategy->evaluate();
@@ -209,27 +265,29 @@ TEST_F(VkKsquadTest, AdaptiveStatisticsMatchTheChosenLevels) {
     EXPECT_EQ(st.control_patches, st.patches_drawn) << c.scene;
     EXPECT_EQ(st.evaluation_invocations, st.implied_vertices) << c.scene;
     EXPECT_EQ(st.capped_edges, 0u) << c.scene;
+    EXPECT_LE(st.max_level, st.level_cap) << c.scene;
     std::cout << c.scene << " adaptive: " << st.patches_drawn << " patches, max level "
               << st.max_level << ", " << st.evaluation_invocations << " TES invocations\n";
   }
 }
 
-// At the (u, v) it chose, adaptive mode is as accurate as uniform mode.
+// At the (u, v) it chose, adaptive mode is as accurate as uniform mode, normals included.
 TEST_F(VkKsquadTest, AdaptiveWithinBudgetAtItsOwnSamples) {
   for (const AdaptiveCase& c : kAdaptiveCases) {
-    auto strategy = adaptive_strategy(c.eye, c.center, c.mu);
+    auto strategy = adaptive_strategy(c.eye, c.center, c.mu, c.max_level, c.pieces);
     const Scene scene = *make_builtin_scene(c.scene);
-    strategy->prepare(scene, EvalRequest{span_grid(1), Precision::f32, false});
+    strategy->prepare(scene, EvalRequest{span_grid(1), Precision::f32, true});
     strategy->evaluate();
     const EvalResult result = strategy->read_back();
     const auto produced = result_samples(result);
     ASSERT_GT(total_samples(produced), 0u);
-    const Accuracy acc =
-        measure_accuracy(scene, result, evaluate_reference(scene, produced, false));
+    const Accuracy acc = measure_accuracy(scene, result, evaluate_reference(scene, produced, true));
     EXPECT_EQ(acc.non_finite, 0u);
     EXPECT_LE(acc.max_ulp, 64.0) << c.scene;
+    ASSERT_TRUE(acc.max_normal_angle_deg.has_value());
+    EXPECT_LE(*acc.max_normal_angle_deg, 1.0) << c.scene;
     std::cout << c.scene << " adaptive: " << total_samples(produced) << " vertices, max_ulp "
-              << acc.max_ulp << "\n";
+              << acc.max_ulp << ", normals " << *acc.max_normal_angle_deg << " deg\n";
   }
 }
 
@@ -238,7 +296,7 @@ TEST_F(VkKsquadTest, AdaptiveWithinBudgetAtItsOwnSamples) {
 // side evaluates with its own span's basis) -- and both sides hold the same number of vertices.
 TEST_F(VkKsquadTest, AdaptiveMeshHasNoCracksBetweenKsquads) {
   for (const AdaptiveCase& c : kAdaptiveCases) {
-    auto strategy = adaptive_strategy(c.eye, c.center, c.mu);
+    auto strategy = adaptive_strategy(c.eye, c.center, c.mu, c.max_level, c.pieces);
     const Scene scene = *make_builtin_scene(c.scene);
     strategy->prepare(scene, EvalRequest{span_grid(1), Precision::f32, false});
     strategy->evaluate();
@@ -343,6 +401,62 @@ TEST_F(VkKsquadTest, RenderDrawsTheSurfaceOffscreen) {
               0.05 * static_cast<double>(covered));
   std::cout << "teapot render: " << covered << " pixels (uniform span8), " << adaptive_covered
             << " (adaptive)\n";
+}
+
+}  // namespace
+}  // namespace nurbs
+
+namespace nurbs {
+namespace {
+
+std::unique_ptr<Strategy> gs_strategy() {
+  StrategyOptions options;
+  options.extra = {{"vk-mode", "gs"}};
+  return make_vk_ksquad(options);
+}
+
+// 003 §4's GS-based mapping (ksquad.geom): the geometry stage generates each KSQuad's span-grid
+// lattice itself; as accurate as the tessellator mappings at its own samples, normals included.
+TEST_F(VkKsquadTest, GsMappingWithinBudgetOnItsLattice) {
+  auto gs = gs_strategy();
+  EXPECT_EQ(gs->device().details.at("vk_mode"), "gs");
+  for (const char* scene_name : {"patch144", "teapot", "torus", "degree-9"}) {
+    const Scene scene = *make_builtin_scene(scene_name);
+    const Accuracy acc = run(*gs, scene, span_grid(8), true);
+    EXPECT_EQ(acc.non_finite, 0u) << scene_name;
+    EXPECT_LE(acc.max_ulp, 64.0) << scene_name;
+    ASSERT_TRUE(acc.max_normal_angle_deg.has_value());
+    EXPECT_LE(*acc.max_normal_angle_deg, 1.0) << scene_name;
+    std::cout << scene_name << " gs span8: max_ulp " << acc.max_ulp << ", normals "
+              << *acc.max_normal_angle_deg << " deg\n";
+  }
+}
+
+// The bound 003 §4 gives for this mapping: a KSQuad's KSDice must fit one invocation's output,
+// so past span grid 8 (144 vertices of 7 components: ksquad.geom) it refuses, as it does grids.
+TEST_F(VkKsquadTest, GsMappingRefusesWhatOneInvocationCannotEmit) {
+  auto gs = gs_strategy();
+  const Scene scene = *make_builtin_scene("patch144");
+  EXPECT_THROW(gs->prepare(scene, EvalRequest{span_grid(9), Precision::f32, false}), RefusedError);
+  EXPECT_THROW(gs->prepare(scene, EvalRequest{grid(16, 16), Precision::f32, false}), RefusedError);
+}
+
+// render(): the GS mapping's triangle strips cover what the tessellator's lattice covers (the
+// same vertices, triangulated differently along the diagonals).
+TEST_F(VkKsquadTest, GsRenderCoversWhatTheTessellatorCovers) {
+  const Scene scene = *make_builtin_scene("teapot");
+  const EvalRequest request{span_grid(8), Precision::f32, false};
+  auto gs = gs_strategy();
+  gs->prepare(scene, request);
+  ASSERT_TRUE(ksquad_render(*gs));
+  strategy_->prepare(scene, request);
+  ASSERT_TRUE(ksquad_render(*strategy_));
+  const double by_gs = static_cast<double>(ksquad_rendered_pixels(*gs));
+  const double by_tessellator = static_cast<double>(ksquad_rendered_pixels(*strategy_));
+  EXPECT_GT(by_gs, 1024.0 * 768 / 20);
+  EXPECT_NEAR(by_gs, by_tessellator, 0.005 * by_tessellator);
+  std::cout << "teapot span8 render: " << by_gs << " pixels (gs), " << by_tessellator
+            << " (tessellator)\n";
 }
 
 }  // namespace

@@ -1,0 +1,171 @@
+#include "strategies/vk_ksquad/adaptive_mapping.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "reference/nurbs_math.h"
+
+namespace nurbs::vk_ksquad {
+
+// One corner per (distinct knot value in u, distinct knot value in v) of each surface's domain;
+// Corners::index maps (surface, first knot index of the u value, first knot index of the v
+// value) to its row. vk-corners=host: S(x_k, y_l) by the reference, rounded to float (003's
+// "without any precomputation on the CPU" is the device path; this one measures the
+// difference). device: zeros, filled by the corner pass; Corners::spans gets, per corner, the
+// span pair A2.1 assigns its knots to and whether each knot is that span's end (the domain's
+// end knot).
+Corners corner_table(const Scene& scene, bool on_host) {
+  Corners out;
+  std::vector<float>& corners = out.rows;
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+    const Surface& s = scene.surfaces[i];
+    const SurfaceNet<double> net(s);
+    const auto breaks = [](const std::vector<double>& k, int p, int n) {
+      std::vector<int> at;  // first knot index of each distinct value in [k_p, k_n]
+      for (int a = p; a <= n; ++a)
+        if (a == p || k[a] > k[a - 1]) at.push_back(a);
+      return at;
+    };
+    // A2.1: the span [k_j, k_j+1) holding k_a (non-empty), or the last one at the end
+    const auto span_of = [](const std::vector<double>& k, int a, int n) {
+      int j = a;
+      while (j < n && k[j + 1] == k[a]) ++j;
+      if (j < n) return std::make_pair(j, 0);
+      while (!(k[j - 1] < k[j])) --j;
+      return std::make_pair(j - 1, 1);
+    };
+    for (int a : breaks(s.knots_u, s.degree_u, s.count_u))
+      for (int b : breaks(s.knots_v, s.degree_v, s.count_v)) {
+        out.index[{static_cast<int>(i), a, b}] = static_cast<int>(corners.size() / 4);
+        const auto [span_u, end_u] = span_of(s.knots_u, a, s.count_u);
+        const auto [span_v, end_v] = span_of(s.knots_v, b, s.count_v);
+        out.spans.push_back({static_cast<int>(i), span_u, span_v, end_u, end_v});
+        if (!on_host) {
+          corners.insert(corners.end(), {0.0f, 0.0f, 0.0f, 1.0f});
+          continue;
+        }
+        const Vec3<double> p = surface_point(net, s.knots_u[a], s.knots_v[b]);
+        corners.insert(corners.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]),
+                                       static_cast<float>(p[2]), 1.0f});
+      }
+  }
+  return out;
+}
+
+int Corners::at(const Surface& s, int surface, int a, int b) const {
+  while (a > s.degree_u && s.knots_u[a - 1] == s.knots_u[a]) --a;
+  while (b > s.degree_v && s.knots_v[b - 1] == s.knots_v[b]) --b;
+  return index.at({surface, a, b});
+}
+
+KsquadStatistics adaptive_statistics(KsquadStatistics st, const HostTables& tables,
+                                     const std::vector<float>& levels, int most_level) {
+  st.implied_vertices = 0;
+  st.max_level = 0;
+  const float most = static_cast<float>(most_level);
+  for (std::size_t k = 0; k < tables.patch_count(); ++k) {
+    const float* o = &levels[8 * k];
+    if (tables.patches[kPatchInts * k + kPatchPiece] == 0)  // once per KSQuad
+      for (int e = 0; e < 4; ++e) st.capped_edges += o[4 + e] > most;
+    if (o[0] <= 0) continue;  // a piece the KSQuad did not need: discarded
+    const int i0 = static_cast<int>(std::max({o[1], o[3], 2.0f}));
+    const int i1 = static_cast<int>(std::max({o[0], o[2], 2.0f}));
+    st.implied_vertices += static_cast<std::uint64_t>(o[0] + o[1] + o[2] + o[3]) +
+                           static_cast<std::uint64_t>(i0 - 1) * (i1 - 1);
+    for (int e = 0; e < 4; ++e) st.max_level = std::max(st.max_level, static_cast<int>(o[e]));
+  }
+  return st;
+}
+
+std::vector<PatchLevels> adaptive_patch_levels(const HostTables& tables,
+                                               const std::vector<float>& levels) {
+  std::vector<PatchLevels> out;
+  for (std::size_t k = 0; k < tables.patch_count(); ++k) {
+    PatchLevels p;
+    const int* row = &tables.patches[kPatchInts * k];
+    p.surface = row[0];
+    p.span_u = row[1];
+    p.span_v = row[2];
+    std::copy_n(&levels[8 * k], 4, p.set.begin());
+    std::copy_n(&levels[8 * k + 4], 4, p.wanted.begin());
+    out.push_back(p);
+  }
+  return out;
+}
+
+// Adaptive mode: every captured vertex on each KSQuad's four edges, keyed by the edge; a
+// KSQuad cut into pieces contributes the vertices of all its pieces, each (u, v) once.
+std::vector<CapturedEdge> adaptive_edges(const HostTables& tables, const std::vector<float>& slots,
+                                         std::size_t region, int max_level) {
+  std::vector<CapturedEdge> edges;
+  const int per_edge = max_level + 1;
+  std::map<std::array<int, 3>, std::size_t> first_edge;  // KSQuad -> its edges in `edges`
+  for (std::size_t k = 0; k < tables.patch_count(); ++k) {
+    const int* row = &tables.patches[kPatchInts * k];
+    auto [it, added] = first_edge.try_emplace({row[0], row[1], row[2]}, edges.size());
+    if (added) {
+      const float* c_u = &tables.constants[row[3]];
+      const float* c_v = &tables.constants[row[4]];
+      const int pu = tables.surfaces[kSurfaceInts * row[0]];
+      const int pv = tables.surfaces[kSurfaceInts * row[0] + 1];
+      const float u0 = c_u[pu - 1], u1 = c_u[pu], v0 = c_v[pv - 1], v1 = c_v[pv];
+      // outer edge e: u = u0 (0), v = v0 (1), u = u1 (2), v = v1 (3)
+      edges.push_back({row[0], 0, u0, v0, v1, {}});
+      edges.push_back({row[0], 1, v0, u0, u1, {}});
+      edges.push_back({row[0], 0, u1, v0, v1, {}});
+      edges.push_back({row[0], 1, v1, u0, u1, {}});
+    }
+    // A corner's slot is on one edge only (ksquad.tese: adaptive_slot); an edge holds every
+    // edge-slot vertex whose (u, v) lies on it (t = 0 and 1 give the knots exactly).
+    for (int j = 0; j < 4 * per_edge; ++j) {
+      const float* slot = &slots[kSlotFloats * (k * region + j)];
+      if (std::isnan(slot[0])) continue;
+      for (int e = 0; e < 4; ++e) {
+        CapturedEdge& edge = edges[it->second + e];
+        if (slot[edge.direction] != edge.fixed) continue;
+        const bool known =
+            std::any_of(edge.vertices.begin(), edge.vertices.end(),
+                        [&](const auto& v) { return v[0] == slot[0] && v[1] == slot[1]; });
+        if (!known) edge.vertices.push_back({slot[0], slot[1], slot[2], slot[3], slot[4]});
+      }
+    }
+  }
+  return edges;
+}
+
+EvalResult adaptive_result(const HostTables& tables, const std::vector<float>& slots,
+                           const std::vector<float>& slot_normals, std::size_t region,
+                           std::size_t surface_count) {
+  EvalResult out;
+  out.surfaces.resize(surface_count);
+  for (SurfaceResult& r : out.surfaces) r.samples.tensor = false;
+  std::vector<std::vector<float>> xyz(surface_count), normal(surface_count);
+  for (std::size_t k = 0; k < tables.patch_count(); ++k) {
+    const int surface = tables.patches[kPatchInts * k];
+    for (std::size_t j = 0; j < region; ++j) {
+      const float* slot = &slots[kSlotFloats * (k * region + j)];
+      if (std::isnan(slot[0])) continue;
+      out.surfaces[surface].samples.u.push_back(slot[0]);
+      out.surfaces[surface].samples.v.push_back(slot[1]);
+      xyz[surface].insert(xyz[surface].end(), slot + 2, slot + 5);
+      if (!slot_normals.empty()) {
+        const float* n = &slot_normals[3 * (k * region + j)];
+        normal[surface].insert(normal[surface].end(), n, n + 3);
+      }
+    }
+  }
+  for (std::size_t i = 0; i < surface_count; ++i) {
+    SurfaceResult& r = out.surfaces[i];
+    r.positions = PointArray(Precision::f32, r.samples.count());
+    std::memcpy(r.positions.f32(), xyz[i].data(), xyz[i].size() * sizeof(float));
+    if (!slot_normals.empty()) {
+      r.normals = PointArray(Precision::f32, r.samples.count());
+      std::memcpy(r.normals.f32(), normal[i].data(), normal[i].size() * sizeof(float));
+    }
+  }
+  return out;
+}
+
+}  // namespace nurbs::vk_ksquad

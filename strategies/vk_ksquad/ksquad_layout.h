@@ -1,0 +1,24 @@
+// The host side of ksquad_tables.glsl: record layouts of the tables every vk-ksquad mapping
+// shares, and the host copies of the tables the mappings read back against.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace nurbs::vk_ksquad {
+
+inline constexpr int kSurfaceInts = 16;                    // SURFACE_INTS
+inline constexpr int kPatchInts = 24;                      // PATCH_INTS
+inline constexpr int kPatchLevelU = 9, kPatchLevelV = 10;  // a patch row's tessellation levels
+inline constexpr int kPatchPiece = 11;                     // adaptive: the piece of its KSQuad
+inline constexpr int kSlotFloats = 5;                      // SLOT_FLOATS
+inline constexpr int kCornerInts = 8;                      // CORNER_INTS
+
+// Host copies of the surface table, the Info-KSQuad table and the stair constants.
+struct HostTables {
+  std::vector<int> surfaces, patches;
+  std::vector<float> constants;
+  std::size_t patch_count() const { return patches.size() / kPatchInts; }
+};
+
+}  // namespace nurbs::vk_ksquad

@@ -1,0 +1,46 @@
+// vk-ksquad's settings (StrategyOptions.extra) and camera, shared by every mapping: the camera
+// is the one the adaptive test (003 eq. 3) projects with and the one render() draws with.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "reference/surface.h"
+#include "strategies/strategy.h"
+
+namespace nurbs::vk_ksquad {
+
+// Patches per vkCmdDraw, bounded by the vertices the tessellator makes for them (see the .cpp).
+inline constexpr std::uint64_t kDefaultVerticesPerDraw = 16384;
+
+// Settings (StrategyOptions.extra). vk-mode = uniform|adaptive|gs. Adaptive mode: vk-eye and
+// vk-center = "x,y,z" (default: the scene's bounding sphere seen from (1, 0.8, 0.6) at 2.5
+// radii), vk-fov = degrees (45), vk-viewport = "WxH" (1024x768), vk-mu = pixels (4),
+// vk-corners = device|host (where the KSQuad corners of eq. 3 are evaluated; device),
+// vk-max-level = N (the device's maxTessellationGenerationLevel), vk-pieces = N (2: a KSQuad's
+// edge is cut into up to N patches, so levels up to N x vk-max-level). Both modes:
+// vk-vertices-per-draw = N (kDefaultVerticesPerDraw; 0 = one draw per degree pair).
+struct KsquadSettings {
+  bool adaptive = false;
+  bool gs = false;  // vk-mode = gs: 003 §4's GS-based mapping (ksquad.geom), span grid T <= 8
+  std::vector<double> eye, center, viewport;
+  double fov = 45, mu = 4;
+  int max_level = 0;
+  bool device_corners = true;  // adaptive: vk-corners = device (the corner pass) | host
+  int pieces = 2;  // adaptive: patches per KSQuad and direction, levels up to pieces x max_level
+  std::uint64_t vertices_per_draw = kDefaultVerticesPerDraw;
+};
+
+KsquadSettings ksquad_settings(const StrategyOptions& options);
+
+// Column-major perspective(fov_y) * look_at(eye, center, up = +z, or +y when looking along z).
+std::array<float, 16> view_projection(const std::array<double, 3>& eye,
+                                      const std::array<double, 3>& center, double fov_y_deg,
+                                      double aspect, double near, double far);
+
+// The camera of the settings: given, or fitted to the scene's control-point bounding sphere.
+std::array<float, 16> scene_camera(const Scene& scene, const KsquadSettings& settings);
+
+}  // namespace nurbs::vk_ksquad

@@ -1,0 +1,21 @@
+// vk-ksquad's uniform mapping (003 §4's uniform version: the levels are the request's run
+// lengths): its host pieces. See ksquad.tese for which parameter the evaluation stage takes.
+#pragma once
+
+#include <vector>
+
+#include "reference/sampling.h"
+#include "strategies/ksquad/ksquad_table.h"
+
+namespace nurbs::vk_ksquad {
+
+// A grid's KSQuads: every pair of non-empty spans, those without samples included (no samples
+// captured; drawn, they cover their span: see with_empty_spans).
+std::vector<ksquad::KSQuad> grid_ksquads(const Scene& scene,
+                                         const std::vector<SurfaceSamples>& samples);
+
+// The span grid's samples as the device evaluated them (`uv`: u, v per sample of `requested`'s
+// layout).
+SurfaceSamples chosen_samples(const SurfaceSamples& requested, const float* uv);
+
+}  // namespace nurbs::vk_ksquad
