@@ -23,6 +23,7 @@ namespace {
 
 using test::bilinear_patch;
 using test::trimmed_plate_signed_distance;
+using test::expect_mask_is_the_closed_form;
 
 std::unique_ptr<Strategy> tensor(int threads) {
   StrategyOptions options;
