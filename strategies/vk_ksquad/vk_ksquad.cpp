@@ -211,15 +211,32 @@ class VkKsquad final : public Strategy {
     samples_ = sample_parameters(scene, request.sampling);
     build_tables(scene);
     classified_ = false;
+    classifying_chosen_samples_ = false;
     classifier_.prepare(scene, samples_, trim_settings_);
     trim_surfaces_buf_ = storage(trim_surface_rows(), "trim surface table");
     upload_tables(scene);
     for (const Draw& draw : draws_) pipeline_for(capture_pipelines_, false, draw);
   }
 
-  // Direct trimming of the requested samples (uniform mode): one compute dispatch per trimmed
-  // surface; the masks stay on the device until read_back().
+  // Direct trimming (uniform mode): one compute dispatch per trimmed surface; the masks stay on
+  // the device until read_back(). On a span grid the samples are the tessellator's (16.16 fixed
+  // point: up to ~T/2 * 2^-17 of a span off the requested lattice), and those are what the
+  // positions and the scoring use, so they are what is classified: read once after the first
+  // evaluate() of a prepare (the tessellator is deterministic), sample by sample where they are
+  // no longer a tensor grid.
   bool classify() override {
+    if (classifier_.trims() && span_grid_samples() && !classifying_chosen_samples_) {
+      std::vector<float> uv(total_ * 2);
+      sample_params_.read(uv.data(), uv.size() * sizeof(float));
+      std::vector<SurfaceSamples> chosen;
+      std::size_t base = 0;
+      for (const SurfaceSamples& s : samples_) {
+        chosen.push_back(vk_ksquad::chosen_samples(s, uv.data() + 2 * base));
+        base += s.count();
+      }
+      classifier_.set_samples(chosen);
+      classifying_chosen_samples_ = true;
+    }
     if (classifier_.trims())
       device_.submit_and_wait([&](VkCommandBuffer cb) { classifier_.record(cb); });
     classified_ = true;
@@ -733,6 +750,7 @@ class VkKsquad final : public Strategy {
   vulkan::TrimClassifier classifier_;
   trim_direct::Settings trim_settings_;
   bool classified_ = false;
+  bool classifying_chosen_samples_ = false;  // span grids: see classify()
   DeviceInfo record_;
   std::unique_ptr<vulkan::StorageSet> set_;  // created once, in create_pipeline()
   VkPipelineLayout layout_ = VK_NULL_HANDLE;

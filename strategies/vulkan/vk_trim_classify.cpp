@@ -24,12 +24,24 @@ TrimClassifier::TrimClassifier(const Device& device) : device_(device) {
 void TrimClassifier::prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples,
                              const trim_direct::Settings& settings) {
   tables_ = trim_direct::build_tables<float>(scene, settings);
+  surfaces_ = scene.surfaces.size();
+  iterations_ = settings.iterations;
+  const auto storage = [&](const auto& data, const char* what) {
+    Buffer b(device_, data.size() * sizeof(data[0]), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, what);
+    if (!data.empty()) b.write(data.data(), data.size() * sizeof(data[0]));
+    return b;
+  };
+  reals_ = storage(tables_.reals, "trim tables (reals)");
+  ints_ = storage(tables_.ints, "trim tables (ints)");
+  set_samples(samples);
+}
+
+void TrimClassifier::set_samples(const std::vector<SurfaceSamples>& samples) {
   launches_.clear();
   surface_of_launch_.clear();
-  surfaces_ = scene.surfaces.size();
   std::vector<float> coords;
   std::size_t out = 0;
-  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+  for (std::size_t i = 0; i < surfaces_; ++i) {
     const auto& st = tables_.surfaces[i];
     if (st.base < 0) continue;
     const SurfaceSamples& sm = samples[i];
@@ -39,24 +51,20 @@ void TrimClassifier::prepare(const Scene& scene, const std::vector<SurfaceSample
     for (double u : sm.u) coords.push_back(trim_direct::local_u<float>(st, u));
     l.v_offset = static_cast<std::int32_t>(coords.size());
     for (double v : sm.v) coords.push_back(trim_direct::local_v<float>(st, v));
-    l.nu = static_cast<std::int32_t>(sm.u.size());
-    l.nv = static_cast<std::int32_t>(sm.v.size());
+    l.paired = sm.tensor ? 0 : 1;
+    l.nu = static_cast<std::int32_t>(sm.tensor ? sm.u.size() : sm.count());
+    l.nv = static_cast<std::int32_t>(sm.tensor ? sm.v.size() : 1);
     l.out_base = static_cast<std::int32_t>(out);
     l.epsilon = st.epsilon;
-    l.iterations = settings.iterations;
+    l.iterations = iterations_;
     out += sm.count();
     launches_.push_back(l);
     surface_of_launch_.push_back(i);
   }
   total_ = out;
-  const auto storage = [&](const auto& data, const char* what) {
-    Buffer b(device_, data.size() * sizeof(data[0]), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, what);
-    if (!data.empty()) b.write(data.data(), data.size() * sizeof(data[0]));
-    return b;
-  };
-  reals_ = storage(tables_.reals, "trim tables (reals)");
-  ints_ = storage(tables_.ints, "trim tables (ints)");
-  coords_ = storage(coords, "trim local parameters");
+  coords_ = Buffer(device_, std::max<std::size_t>(coords.size(), 1) * sizeof(float),
+                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "trim local parameters");
+  if (!coords.empty()) coords_.write(coords.data(), coords.size() * sizeof(float));
   inside_ = Buffer(device_, total_ * sizeof(std::uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                    "trim mask");
   reads_ = Buffer(device_, total_ * sizeof(std::int32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,

@@ -23,8 +23,13 @@ class TrimClassifier {
 
   // Builds and uploads the tables of `scene` and the local parameters of its trimmed surfaces'
   // tensor samples (`samples`, one per surface).
+  // Tensor samples are classified as their grids, others (explicit lists; the tessellator's own
+  // span-grid parameters) sample by sample.
   void prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples,
                const trim_direct::Settings& settings);
+  // The same tables for other samples of the same surfaces (what a tessellator chose): only the
+  // parameters and the outputs are replaced, so the tables' buffers stay bound where they are.
+  void set_samples(const std::vector<SurfaceSamples>& samples);
   bool trims() const { return !launches_.empty(); }
   // Records the dispatches (and a barrier making the results visible to transfers and the host).
   void record(VkCommandBuffer cb) const;
@@ -40,6 +45,7 @@ class TrimClassifier {
     std::int32_t base, u_offset, nu, v_offset, nv, out_base;
     float epsilon;
     std::int32_t iterations;
+    std::int32_t paired;  // 1: sample k is (u[k], v[k]) (nv = 1); 0: the nu x nv grid
   };
   const Device& device_;
   std::unique_ptr<StorageSet> set_;
@@ -49,6 +55,7 @@ class TrimClassifier {
   std::vector<Launch> launches_;
   std::vector<std::size_t> surface_of_launch_;
   std::size_t surfaces_ = 0, total_ = 0;
+  std::int32_t iterations_ = 0;
 };
 
 }  // namespace nurbs::vulkan

@@ -13,6 +13,13 @@ TEST(vk_ksquad_trim, TrimmedPlateExact) {
 TEST(vk_ksquad_trim, HammerExact) {
   test::expect_hammer_exact("vk-ksquad");
 }
+// On a span grid the tessellator's own parameters (16.16 fixed point, not the requested lattice,
+// and not always a tensor grid) are what is evaluated and scored, so they are what is
+// classified: classifying the requested lattice misclassified a sample of the hammer at span16.
+TEST(vk_ksquad_trim, HammerSpanGridClassifiesTheTessellatorsSamples) {
+  test::expect_strategy_trims_exactly("vk-ksquad", "hammer", test::trim_span_grid(16),
+                                      Precision::f32);
+}
 TEST(vk_ksquad_trim, OptionsRefused) {
   test::expect_strategy_refuses_trim_options("vk-ksquad");
 }
