@@ -192,8 +192,9 @@ TEST(stair_basis_paper, PrintedFormulaHoldsUpToDegree3Only) {
 }
 
 // Two builds of the same code in the same scalar differ only by the compiler's rounding choices
-// (contraction to fma, evaluation order): far below their error against the reference.
-double max_difference(const std::vector<std::vector<double>>& a,
+// (contraction to fma, evaluation order): far below their error against the reference. Unused in
+// a build without OpenCL and Vulkan (the CPU-only sanitizer build).
+[[maybe_unused]] double max_difference(const std::vector<std::vector<double>>& a,
                       const std::vector<std::vector<double>>& b) {
   EXPECT_EQ(a.size(), b.size());
   double m = 0;
