@@ -11,8 +11,8 @@
 namespace nurbs {
 namespace {
 
-using test::trimmed_plate_signed_distance;
 using test::expect_mask_is_the_closed_form;
+using test::trimmed_plate_signed_distance;
 
 std::unique_ptr<Strategy> coxdeboor() {
   return find_strategy("cpu-coxdeboor")->create({});

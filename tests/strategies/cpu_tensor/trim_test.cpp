@@ -22,8 +22,8 @@ namespace nurbs {
 namespace {
 
 using test::bilinear_patch;
-using test::trimmed_plate_signed_distance;
 using test::expect_mask_is_the_closed_form;
+using test::trimmed_plate_signed_distance;
 
 std::unique_ptr<Strategy> tensor(int threads) {
   StrategyOptions options;

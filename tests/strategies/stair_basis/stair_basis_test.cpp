@@ -195,7 +195,7 @@ TEST(stair_basis_paper, PrintedFormulaHoldsUpToDegree3Only) {
 // (contraction to fma, evaluation order): far below their error against the reference. Unused in
 // a build without OpenCL and Vulkan (the CPU-only sanitizer build).
 [[maybe_unused]] double max_difference(const std::vector<std::vector<double>>& a,
-                      const std::vector<std::vector<double>>& b) {
+                                       const std::vector<std::vector<double>>& b) {
   EXPECT_EQ(a.size(), b.size());
   double m = 0;
   for (std::size_t r = 0; r < std::min(a.size(), b.size()); ++r)
