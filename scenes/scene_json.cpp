@@ -301,23 +301,27 @@ Scene parse_scene_json(std::string_view text, std::string_view origin) {
   return scene;
 }
 
-Scene load_scene_file(const std::filesystem::path& path) {
+std::string read_input_file(const std::filesystem::path& path, std::string_view kind) {
   std::error_code error;
   const std::uintmax_t size = std::filesystem::file_size(path, error);
   if (error)
-    throw InputError(
-        fmt::format("{}: cannot read scene file: {}", printable(path.string()), error.message()));
+    throw InputError(fmt::format("{}: cannot read {} file: {}", printable(path.string()), kind,
+                                 error.message()));
   if (size > kMaxSceneFileBytes)
     throw InputError(
-        fmt::format("{}: file size {} bytes exceeds the limit of {} bytes for a scene "
+        fmt::format("{}: file size {} bytes exceeds the limit of {} bytes for a {} "
                     "file",
-                    printable(path.string()), size, kMaxSceneFileBytes));
+                    printable(path.string()), size, kMaxSceneFileBytes, kind));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open scene file", printable(path.string())));
-  std::string text(static_cast<std::size_t>(size), '\0');
-  in.read(text.data(), static_cast<std::streamsize>(size));
-  text.resize(static_cast<std::size_t>(in.gcount()));
-  Scene scene = parse_scene_json(text, path.string());
+  if (!in) throw InputError(fmt::format("{}: cannot open {} file", printable(path.string()), kind));
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(size));
+  bytes.resize(static_cast<std::size_t>(in.gcount()));
+  return bytes;
+}
+
+Scene load_scene_file(const std::filesystem::path& path) {
+  Scene scene = parse_scene_json(read_input_file(path, "scene"), path.string());
   if (scene.name.empty()) scene.name = path.stem().string();
   return scene;
 }

@@ -20,6 +20,10 @@ inline constexpr std::string_view kSceneFormat2 = "nurbs-scene/2";
 // times its size in memory.
 inline constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t{1} << 30;
 
+// The bytes of an input file of the named kind ("scene", "T-spline"), refused (InputError naming
+// the file) when it cannot be read or is larger than kMaxSceneFileBytes.
+std::string read_input_file(const std::filesystem::path& path, std::string_view kind);
+
 // Throws InputError (or its ValidationError) naming `origin`; the result is validated.
 Scene parse_scene_json(std::string_view text, std::string_view origin);
 Scene load_scene_file(const std::filesystem::path& path);

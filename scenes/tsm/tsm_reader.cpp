@@ -9,7 +9,6 @@
 #include <cmath>
 #include <deque>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <type_traits>
@@ -612,19 +611,7 @@ TMesh parse_tsm(std::string_view bytes, const std::string& origin) {
 }
 
 TMesh load_tsm_file(const std::string& path) {
-  std::error_code error;
-  const std::uintmax_t size = std::filesystem::file_size(path, error);
-  if (error)
-    throw InputError(
-        fmt::format("{}: cannot read T-spline file: {}", printable(path), error.message()));
-  if (size > kMaxSceneFileBytes)
-    throw InputError(fmt::format("{}: file size {} bytes exceeds the limit of {} bytes",
-                                 printable(path), size, kMaxSceneFileBytes));
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes(static_cast<std::size_t>(size), '\0');
-  in.read(bytes.data(), static_cast<std::streamsize>(size));
-  bytes.resize(static_cast<std::size_t>(in.gcount()));
-  return parse_tsm(bytes, path);
+  return parse_tsm(read_input_file(path, "T-spline"), path);
 }
 
 }  // namespace nurbs
