@@ -5,20 +5,20 @@
 # target; exit 1 when any target finds something, its reproducer left in build/fuzz/findings/.
 # The grown corpus is kept in build/fuzz/corpus/ (not committed), so local runs build on each
 # other; CI starts from the seeds.
-#   scripts/fuzz.sh [SECONDS] [TARGET...]      targets: scene_json uv_file cli_lists
+#   scripts/fuzz.sh [SECONDS] [TARGET...]      targets: scene_json uv_file cli_lists tsm
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-30}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(scene_json uv_file cli_lists)
+[ ${#targets[@]} -gt 0 ] || targets=(scene_json uv_file cli_lists tsm)
 
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j "$(nproc)"
 
 # Inputs larger than the seeds, so the scene loader sees many surfaces and the uv reader a line
 # past its bound (kMaxUvLineBytes = 4096).
-declare -A max_len=([scene_json]=16384 [uv_file]=8192 [cli_lists]=2048)
+declare -A max_len=([scene_json]=16384 [uv_file]=8192 [cli_lists]=2048 [tsm]=16384)
 status=0
 printf '\n%-11s %12s %9s %8s %8s  %s\n' target executions exec/s cov features result
 for target in "${targets[@]}"; do
@@ -30,6 +30,7 @@ for target in "${targets[@]}"; do
   mkdir -p "$corpus" "$findings" "$(dirname "$log")"
   seeds=(tests/fuzz/corpus/"$target")
   [ "$target" = scene_json ] && seeds+=(scenes/invalid)
+  [ "$target" = tsm ] && seeds+=(tests/tspline/data)
   result=ok
   # -rss_limit_mb: the parsers must refuse absurd sizes before allocating, so 2 GiB is plenty;
   # -timeout: no input of a few KiB may take seconds.
