@@ -4,6 +4,7 @@
 
 #include "reference/nurbs_math.h"
 #include "reference/trim_classify.h"
+#include "reference/tspline.h"
 
 namespace nurbs {
 
@@ -89,11 +90,17 @@ ReferenceSurface evaluate_surface(const Surface& surface, const SurfaceSamples& 
 template <typename T>
 std::vector<ReferenceSurface> evaluate_all(const Scene& scene,
                                            const std::vector<SurfaceSamples>& samples,
-                                           bool with_normals) {
+                                           bool with_normals, ReferencePrecision precision) {
   std::vector<ReferenceSurface> out;
   out.reserve(scene.surfaces.size());
-  for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
-    out.push_back(evaluate_surface<T>(scene.surfaces[i], samples[i], with_normals));
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+    const Surface& s = scene.surfaces[i];
+    if (s.is_tspline())
+      out.push_back(evaluate_tspline_reference(*s.tspline, TSplineInfluence(*s.tspline, s.name),
+                                               samples[i], with_normals, precision));
+    else
+      out.push_back(evaluate_surface<T>(s, samples[i], with_normals));
+  }
   return out;
 }
 
@@ -106,12 +113,12 @@ std::vector<ReferenceSurface> evaluate_reference(const Scene& scene,
     throw std::invalid_argument("evaluate_reference: one SurfaceSamples per surface needed");
 #if NURBSBENCH_HAS_FLOAT128
   if (precision == ReferencePrecision::float128)
-    return evaluate_all<float128>(scene, samples, with_normals);
+    return evaluate_all<float128>(scene, samples, with_normals, precision);
 #else
   if (precision == ReferencePrecision::float128)
     throw std::invalid_argument("this build has no __float128 (compiler or platform)");
 #endif
-  return evaluate_all<long double>(scene, samples, with_normals);
+  return evaluate_all<long double>(scene, samples, with_normals, precision);
 }
 
 }  // namespace nurbs

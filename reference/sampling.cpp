@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 
+#include "reference/tspline.h"
 #include "reference/validation.h"
 
 namespace nurbs {
@@ -48,6 +49,21 @@ std::size_t nonempty_spans(const std::vector<double>& knots, int degree, int cou
   return spans;
 }
 
+// A T-spline's "spans" are the cells between its knot lines (every local knot inside the domain):
+// on each, every blending function is one polynomial, as on a NURBS span.
+std::vector<double> tspline_breaks_u(const TSplineSurface& t) {
+  return tspline_cell_breaks(t.knots_u, t.u_min, t.u_max);
+}
+std::vector<double> tspline_breaks_v(const TSplineSurface& t) {
+  return tspline_cell_breaks(t.knots_v, t.v_min, t.v_max);
+}
+
+// The breaks as a clamped knot vector of degree 0 (count = cells), so span_grid_parameters serves
+// both kinds.
+std::vector<double> span_grid_of_breaks(const std::vector<double>& breaks, int steps) {
+  return span_grid_parameters(breaks, 0, static_cast<int>(breaks.size()) - 1, steps);
+}
+
 // The samples a request asks for, from the sizes alone: checked before any parameter list is
 // allocated (many-4096 at 65536x65536 would otherwise build 4 GiB of lists only to refuse them).
 // In double: a span grid's count can pass 2^64 (2^20 spans x 4097 steps, squared), and the limit
@@ -61,6 +77,13 @@ double requested_samples(const Scene& scene, const Sampling& sampling) {
         total += static_cast<double>(sampling.grid_u) * sampling.grid_v;
         break;
       case SamplingMode::span_grid:
+        if (s.is_tspline()) {
+          total += static_cast<double>((tspline_breaks_u(*s.tspline).size() - 1) *
+                                       (sampling.span_steps + 1)) *
+                   static_cast<double>((tspline_breaks_v(*s.tspline).size() - 1) *
+                                       (sampling.span_steps + 1));
+          break;
+        }
         total += static_cast<double>(nonempty_spans(s.knots_u, s.degree_u, s.count_u) *
                                      (sampling.span_steps + 1)) *
                  static_cast<double>(nonempty_spans(s.knots_v, s.degree_v, s.count_v) *
@@ -112,6 +135,11 @@ std::vector<SurfaceSamples> sample_parameters(const Scene& scene, const Sampling
         out[i].v = grid_parameters(s.v_min(), s.v_max(), sampling.grid_v);
         break;
       case SamplingMode::span_grid:
+        if (s.is_tspline()) {
+          out[i].u = span_grid_of_breaks(tspline_breaks_u(*s.tspline), sampling.span_steps);
+          out[i].v = span_grid_of_breaks(tspline_breaks_v(*s.tspline), sampling.span_steps);
+          break;
+        }
         out[i].u = span_grid_parameters(s.knots_u, s.degree_u, s.count_u, sampling.span_steps);
         out[i].v = span_grid_parameters(s.knots_v, s.degree_v, s.count_v, sampling.span_steps);
         break;

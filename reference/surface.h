@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +14,8 @@
 namespace nurbs {
 
 using Point3 = std::array<double, 3>;
+
+struct TSplineSurface;  // reference/tspline.h
 
 struct Surface {
   std::string name;
@@ -32,6 +35,17 @@ struct Surface {
   // is -(S_u x S_v). The reference's normals and every strategy's, as the harness scores and
   // writes them, are flipped for such a surface (harness/metrics.h orient_normals).
   bool reversed = false;
+  // A T-spline surface (001; reference/tspline.h) in its point-based form, instead of a tensor
+  // net: then only `name` and the degrees above are set (count_u = count_v = 0, no knots, points
+  // or weights, no trim), and the domain, control points and weights below come from it. A
+  // strategy without Capabilities::tspline is refused such a surface before it sees it. Shared
+  // and immutable, so copying a scene (a deforming frame, an isolated child) stays cheap.
+  std::shared_ptr<const TSplineSurface> tspline;
+
+  bool is_tspline() const { return tspline != nullptr; }
+  // The control points and weights of either kind (NURBS: the net, row-major).
+  const std::vector<Point3>& control_points() const;
+  const std::vector<double>& control_weights() const;
 
   const Point3& point(int i, int j) const {
     return points[static_cast<std::size_t>(i) * count_v + j];
@@ -39,11 +53,12 @@ struct Surface {
   double weight(int i, int j) const { return weights[static_cast<std::size_t>(i) * count_v + j]; }
   bool is_rational() const;
 
-  // Parameter domain [knots[degree], knots[count]] in each direction.
-  double u_min() const { return knots_u[degree_u]; }
-  double u_max() const { return knots_u[count_u]; }
-  double v_min() const { return knots_v[degree_v]; }
-  double v_max() const { return knots_v[count_v]; }
+  // Parameter domain: [knots[degree], knots[count]] in each direction for NURBS, the stored one
+  // for a T-spline.
+  double u_min() const;
+  double u_max() const;
+  double v_min() const;
+  double v_max() const;
 };
 
 struct Scene {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "reference/error_text.h"
 #include "reference/validation.h"
@@ -102,10 +103,7 @@ int local_span(int degree, const double* local, double t, bool closed_right) {
   return static_cast<int>(std::upper_bound(local, local + degree + 2, t) - local) - 1;
 }
 
-namespace {
-
-// Distinct knot values strictly inside [lo, hi], with lo and hi: the cell boundaries.
-std::vector<double> cell_breaks(const std::vector<double>& knots, double lo, double hi) {
+std::vector<double> tspline_cell_breaks(const std::vector<double>& knots, double lo, double hi) {
   std::vector<double> breaks{lo, hi};
   for (double k : knots)
     if (k > lo && k < hi) breaks.push_back(k);
@@ -113,6 +111,8 @@ std::vector<double> cell_breaks(const std::vector<double>& knots, double lo, dou
   breaks.erase(std::unique(breaks.begin(), breaks.end()), breaks.end());
   return breaks;
 }
+
+namespace {
 
 // Cells [first, last) a support [a, b] covers (a support's ends inside the domain are breaks).
 std::pair<int, int> covered_cells(const std::vector<double>& breaks, double a, double b) {
@@ -127,8 +127,8 @@ std::pair<int, int> covered_cells(const std::vector<double>& breaks, double a, d
 }  // namespace
 
 TSplineInfluence::TSplineInfluence(const TSplineSurface& s, std::string_view origin)
-    : breaks_u_(cell_breaks(s.knots_u, s.u_min, s.u_max)),
-      breaks_v_(cell_breaks(s.knots_v, s.v_min, s.v_max)) {
+    : breaks_u_(tspline_cell_breaks(s.knots_u, s.u_min, s.u_max)),
+      breaks_v_(tspline_cell_breaks(s.knots_v, s.v_min, s.v_max)) {
   const std::int64_t cells = static_cast<std::int64_t>(cells_u()) * cells_v();
   if (cells > kMaxTSplineRegions)
     throw InputError(fmt::format("{}: tspline '{}': {} x {} regions exceed the limit of {}",
@@ -169,23 +169,50 @@ int TSplineInfluence::find_cell(const std::vector<double>& breaks, double t) {
   return std::clamp(c, 0, cells - 1);
 }
 
-ReferenceSurface evaluate_tspline_reference(const TSplineSurface& surface,
-                                            const TSplineInfluence& index,
-                                            const SurfaceSamples& samples, bool with_normals) {
+namespace {
+
+template <typename T>
+ReferenceSurface tspline_reference(const TSplineSurface& surface, const TSplineInfluence& index,
+                                   const SurfaceSamples& samples, bool with_normals) {
   ReferenceSurface out;
   const std::size_t n = samples.count();
   out.positions.resize(n);
   if (with_normals) out.normals.resize(n);
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < n; ++k) {
-    const TSplineEvaluation<long double> e =
-        evaluate_tspline(surface, index, samples.u_of(k), samples.v_of(k), with_normals ? 1 : 0);
+    const TSplineEvaluation<T> e =
+        evaluate_tspline<T>(surface, index, samples.u_of(k), samples.v_of(k), with_normals ? 1 : 0);
     for (int c = 0; c < 3; ++c) {
       out.positions[k][c] = static_cast<double>(e.point[c]);
       if (with_normals) out.normals[k][c] = static_cast<double>(e.normal[c]);
     }
   }
   return out;
+}
+
+}  // namespace
+
+ReferenceSurface evaluate_tspline_reference(const TSplineSurface& surface,
+                                            const TSplineInfluence& index,
+                                            const SurfaceSamples& samples, bool with_normals,
+                                            ReferencePrecision precision) {
+#if NURBSBENCH_HAS_FLOAT128
+  if (precision == ReferencePrecision::float128)
+    return tspline_reference<float128>(surface, index, samples, with_normals);
+#else
+  if (precision == ReferencePrecision::float128)
+    throw std::invalid_argument("this build has no __float128 (compiler or platform)");
+#endif
+  return tspline_reference<long double>(surface, index, samples, with_normals);
+}
+
+Surface make_tspline_surface(TSplineSurface tspline) {
+  Surface s;
+  s.name = tspline.name;
+  s.degree_u = tspline.degree_u;
+  s.degree_v = tspline.degree_v;
+  s.tspline = std::make_shared<const TSplineSurface>(std::move(tspline));
+  return s;
 }
 
 }  // namespace nurbs

@@ -229,10 +229,19 @@ T tspline_blending_sum(const TSplineSurface& s, double u, double v) {
   return sum;
 }
 
-// Every sample of `samples` (DESIGN.md "Sampling") through evaluate_tspline in long double, in
-// the ReferenceSurface shape the harness compares NURBS strategies with.
-ReferenceSurface evaluate_tspline_reference(const TSplineSurface& surface,
-                                            const TSplineInfluence& index,
-                                            const SurfaceSamples& samples, bool with_normals);
+// Every sample of `samples` (DESIGN.md "Sampling") through evaluate_tspline in extended precision
+// (long double, or __float128 on request), in the ReferenceSurface shape the harness compares
+// NURBS strategies with.
+ReferenceSurface evaluate_tspline_reference(
+    const TSplineSurface& surface, const TSplineInfluence& index, const SurfaceSamples& samples,
+    bool with_normals, ReferencePrecision precision = ReferencePrecision::long_double);
+
+// Distinct knot values strictly inside [lo, hi], with lo and hi: the influence index's cell
+// boundaries (its breaks_u/v), and the knot lines a span grid samples on a T-spline.
+std::vector<double> tspline_cell_breaks(const std::vector<double>& knots, double lo, double hi);
+
+// The scene's surface of a T-spline (reference/surface.h, Surface::tspline): its name and degrees,
+// the T-spline shared.
+Surface make_tspline_surface(TSplineSurface tspline);
 
 }  // namespace nurbs

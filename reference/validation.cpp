@@ -7,6 +7,7 @@
 
 #include "reference/error_text.h"
 #include "reference/surface_checker.h"
+#include "reference/tspline.h"
 
 namespace nurbs {
 
@@ -128,6 +129,12 @@ void validate_surface_sizes(const Surface& s, int surface_index, std::string_vie
 }
 
 void validate_surface(const Surface& s, int surface_index, std::string_view origin) {
+  if (s.is_tspline()) {
+    validate_tspline(*s.tspline, origin);
+    // The influence index's size bounds are part of what makes a T-spline evaluable.
+    (void)TSplineInfluence(*s.tspline, origin);
+    return;
+  }
   validate_surface_sizes(s, surface_index, origin);
   const SurfaceChecker check(s, surface_index, origin);
   check.check_knots("knots_u", s.knots_u, s.degree_u, s.count_u);

@@ -1,7 +1,10 @@
 #include "scenes/deforming.h"
 
 #include <cmath>
+#include <memory>
 #include <numbers>
+
+#include "reference/tspline.h"
 
 namespace nurbs {
 
@@ -28,12 +31,23 @@ void deform_scene(const Scene& base, int frame, Scene& out) {
     // the base scene's.
     to.trim = from.trim;
     to.reversed = from.reversed;
-    to.points.resize(from.points.size());
-    for (std::size_t k = 0; k < from.points.size(); ++k) {
-      const Point3& p = from.points[k];
-      to.points[k] = p;
-      to.points[k][2] +=
-          amplitude * std::sin(2 * std::numbers::pi * (p[0] + p[1]) / wavelength + phase);
+    const auto move = [&](const std::vector<Point3>& points, std::vector<Point3>& moved) {
+      moved.resize(points.size());
+      for (std::size_t k = 0; k < points.size(); ++k) {
+        const Point3& p = points[k];
+        moved[k] = p;
+        moved[k][2] +=
+            amplitude * std::sin(2 * std::numbers::pi * (p[0] + p[1]) / wavelength + phase);
+      }
+    };
+    move(from.points, to.points);
+    // A T-spline is shared and immutable: a frame gets its own copy (local knots and weights
+    // unchanged), allocated per frame.
+    to.tspline = from.tspline;
+    if (from.tspline) {
+      auto moved = std::make_shared<TSplineSurface>(*from.tspline);
+      move(from.tspline->points, moved->points);
+      to.tspline = std::move(moved);
     }
   }
 }

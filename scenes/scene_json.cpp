@@ -11,6 +11,7 @@
 
 #include "reference/error_text.h"
 #include "reference/surface_checker.h"
+#include "reference/tspline.h"
 #include "reference/validation.h"
 #include "scenes/json_strict.h"
 
@@ -200,15 +201,21 @@ class SurfaceReader {
       surface_.name = r.string("name");
     else
       surface_.name = fmt::format("surface{}", index_);
-    for (const char* key : {"trim", "orientation"})
+    for (const char* key : {"trim", "orientation", "kind"})
       if (!version2_ && r.optional(key))
         r.fail(
             key, "", describe(*r.optional(key)),
             fmt::format("needs \"format\": \"{}\" (this file is {})", kSceneFormat2, kSceneFormat));
-    // nurbs-scene/2 adds the last two.
-    static constexpr std::string_view kKeys[] = {"name",    "degree_u", "degree_v",   "count_u",
-                                                 "count_v", "knots_u",  "knots_v",    "points",
-                                                 "weights", "trim",     "orientation"};
+    if (r.optional("kind")) {
+      const std::string kind = r.string("kind");
+      if (kind == "t-spline") return read_tspline(r);
+      if (kind != "nurbs")
+        r.fail("kind", "", describe(*r.optional("kind")), "must be \"nurbs\" or \"t-spline\"");
+    }
+    // nurbs-scene/2 adds the last three.
+    static constexpr std::string_view kKeys[] = {
+        "name",    "degree_u", "degree_v", "count_u",     "count_v", "knots_u",
+        "knots_v", "points",   "weights",  "orientation", "trim",    "kind"};
     r.refuse_unknown_keys(version2_ ? std::span(kKeys) : std::span(kKeys).first(9));
 
     surface_.degree_u = r.integer("degree_u");
@@ -245,6 +252,69 @@ class SurfaceReader {
   }
 
  private:
+  // "kind": "t-spline" (nurbs-scene/2): the point-based form of reference/tspline.h, one local
+  // knot vector of degree+2 knots per control point in each direction ("knots_u": [[...], ...]),
+  // and the domain [u_min, u_max, v_min, v_max]. The rules are validate_tspline's (checked when
+  // the scene is); the sizes are checked here, before anything is allocated.
+  Surface read_tspline(const ObjectReader& r) {
+    static constexpr std::string_view kKeys[] = {"name",    "kind",    "degree_u", "degree_v",
+                                                 "domain",  "points",  "weights",  "knots_u",
+                                                 "knots_v"};
+    r.refuse_unknown_keys(kKeys);
+    TSplineSurface t;
+    t.name = surface_.name;
+    t.degree_u = surface_.degree_u = r.integer("degree_u");
+    t.degree_v = surface_.degree_v = r.integer("degree_v");
+    check_.check_degree("degree_u", t.degree_u);
+    check_.check_degree("degree_v", t.degree_v);
+    const std::vector<double> domain = r.numbers("domain", 4);
+    if (domain.size() != 4)
+      r.fail("domain", kLengthIndex, std::to_string(domain.size()),
+             "must be [u_min, u_max, v_min, v_max]");
+    t.u_min = domain[0];
+    t.u_max = domain[1];
+    t.v_min = domain[2];
+    t.v_max = domain[3];
+    const json& points = r.array("points", "[x, y, z] control points",
+                                 static_cast<std::size_t>(kMaxTSplineControlPoints));
+    t.points = r.tuples<3>("points", points, "[x, y, z]");
+    if (r.optional("weights")) {
+      t.weights = r.numbers("weights", points.size());
+      if (t.weights.size() != points.size())
+        r.fail("weights", kLengthIndex, std::to_string(t.weights.size()),
+               fmt::format("need one weight per point ({})", points.size()));
+    } else {
+      t.weights.assign(points.size(), 1.0);
+    }
+    t.knots_u = local_knot_vectors(r, "knots_u", points.size(), t.degree_u);
+    t.knots_v = local_knot_vectors(r, "knots_v", points.size(), t.degree_v);
+    return make_tspline_surface(std::move(t));
+  }
+
+  // One array of degree+2 knots per point, concatenated.
+  std::vector<double> local_knot_vectors(const ObjectReader& r, const char* key, std::size_t count,
+                                         int degree) const {
+    const json& vectors = r.array(key, "local knot vectors, one per point", count);
+    if (vectors.size() != count)
+      r.fail(key, kLengthIndex, std::to_string(vectors.size()),
+             fmt::format("need one local knot vector per point ({})", count));
+    const std::size_t n = static_cast<std::size_t>(degree) + 2;
+    std::vector<double> knots;
+    knots.reserve(count * n);
+    for (std::size_t k = 0; k < count; ++k) {
+      const json& local = vectors[k];
+      if (!local.is_array() || local.size() != n)
+        r.fail(key, std::to_string(k), describe(local),
+               fmt::format("must be degree + 2 = {} knots", n));
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!is_real(local[i]))
+          r.fail(key, fmt::format("{}][{}", k, i), describe(local[i]), "must be a number");
+        knots.push_back(local[i].get<double>());
+      }
+    }
+    return knots;
+  }
+
   const json& object_;
   int index_;
   std::string_view origin_;
@@ -379,21 +449,49 @@ std::string trim_json(const Trim& trim) {
   out += "\n        ]\n      }";
   return out;
 }
+
+// One local knot vector per line, like the points.
+std::string local_knot_lines(const std::vector<double>& knots, int degree) {
+  const std::size_t n = static_cast<std::size_t>(degree) + 2;
+  std::string out;
+  for (std::size_t k = 0; k < knots.size() / n; ++k)
+    out += fmt::format("{}\n        [{}]", k ? "," : "",
+                       join_numbers(std::span(knots).subspan(k * n, n)));
+  return out;
+}
+
+std::string tspline_json(const TSplineSurface& t) {
+  std::string out = fmt::format(
+      "\n    {{\n      \"name\": {},\n      \"kind\": \"t-spline\",\n      \"degree_u\": {}, "
+      "\"degree_v\": {},\n      \"domain\": [{}, {}, {}, {}],\n      \"points\": [{}\n      ]",
+      json(t.name).dump(), t.degree_u, t.degree_v, number_text(t.u_min), number_text(t.u_max),
+      number_text(t.v_min), number_text(t.v_max), point_lines(t.points, "        "));
+  if (!all_one(t.weights)) out += fmt::format(",\n      \"weights\": [{}]", join_numbers(t.weights));
+  out += fmt::format(",\n      \"knots_u\": [{}\n      ],\n      \"knots_v\": [{}\n      ]\n    }}",
+                     local_knot_lines(t.knots_u, t.degree_u),
+                     local_knot_lines(t.knots_v, t.degree_v));
+  return out;
+}
 }  // namespace
 
 std::string scene_to_json(const Scene& scene) {
   // Written by hand rather than json::dump so a control point is one line: files stay readable
   // and diffable. fmt's "{}" prints doubles in shortest round-trip form. A scene /1 can hold is
   // written as /1, so files of untrimmed scenes stay what older readers accept.
-  const bool version2 =
-      std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
-                  [](const Surface& s) { return s.trim.has_value() || s.reversed; });
+  const bool version2 = std::any_of(
+      scene.surfaces.begin(), scene.surfaces.end(),
+      [](const Surface& s) { return s.trim.has_value() || s.reversed || s.is_tspline(); });
   std::string out = fmt::format(
       "{{\n  \"format\": \"{}\",\n  \"name\": {},\n  \"description\": {},\n  \"surfaces\": [",
       version2 ? kSceneFormat2 : kSceneFormat, json(scene.name).dump(),
       json(scene.description).dump());
   for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
     const Surface& s = scene.surfaces[i];
+    if (s.is_tspline()) {
+      if (i) out += ",";
+      out += tspline_json(*s.tspline);
+      continue;
+    }
     out += fmt::format(
         "{}\n    {{\n      \"name\": {},\n      \"degree_u\": {}, \"degree_v\": {},\n"
         "      \"count_u\": {}, \"count_v\": {},\n      \"knots_u\": [{}],\n      \"knots_v\": "

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "reference/surface_checker.h"
+#include "reference/tspline.h"
 #include "strategies/strategy.h"
 
 namespace nurbs {
@@ -85,9 +86,15 @@ class PrecisionRange {
 template <typename T>
 std::optional<std::string> range_violation(const Surface& s, std::size_t index) {
   const PrecisionRange<T> range(s, index);
-  if (auto v = range.check_knots("knots_u", s.knots_u)) return v;
-  if (auto v = range.check_knots("knots_v", s.knots_v)) return v;
-  if (auto v = range.check("points", s.points, "weights", s.weights)) return v;
+  if (s.is_tspline()) {
+    // Local knot vectors, one after another (point k's at k*(degree+2)).
+    if (auto v = range.check_knots("knots_u", s.tspline->knots_u)) return v;
+    if (auto v = range.check_knots("knots_v", s.tspline->knots_v)) return v;
+  } else {
+    if (auto v = range.check_knots("knots_u", s.knots_u)) return v;
+    if (auto v = range.check_knots("knots_v", s.knots_v)) return v;
+  }
+  if (auto v = range.check("points", s.control_points(), "weights", s.control_weights())) return v;
   if (!s.trim) return std::nullopt;
   for (std::size_t l = 0; l < s.trim->loops.size(); ++l)
     for (std::size_t c = 0; c < s.trim->loops[l].curves.size(); ++c) {
@@ -122,6 +129,11 @@ std::optional<std::string> refusal_reason(const Capabilities& caps, const Scene&
     return fmt::format("sampling mode {} not supported", sampling_mode_name(request.sampling.mode));
   if (request.normals && !caps.normals) return std::string("normals not supported");
   for (const Surface& s : scene.surfaces) {
+    if (s.is_tspline() && !caps.tspline)
+      return fmt::format("surface '{}' is a T-spline, the strategy evaluates NURBS only", s.name);
+    if (!s.is_tspline() && caps.tspline_only)
+      return fmt::format("surface '{}' is a NURBS surface, the strategy evaluates T-splines only",
+                         s.name);
     if (std::max(s.degree_u, s.degree_v) > caps.max_degree)
       return fmt::format("surface '{}' has degree {}x{}, the strategy supports at most {}", s.name,
                          s.degree_u, s.degree_v, caps.max_degree);

@@ -48,6 +48,11 @@ struct Capabilities {
   // returns SurfaceResult::inside for every trimmed surface (the real-CAD issue). A strategy
   // without it still evaluates trimmed scenes; its records say "untrimmed".
   bool trims = false;
+  // The strategy evaluates T-spline surfaces (Surface::tspline; 001, the T-spline issue); without
+  // it a scene with one is refused. `tspline_only`: it evaluates nothing else (its NURBS
+  // counterpart is another strategy), so NURBS scenes are refused instead.
+  bool tspline = false;
+  bool tspline_only = false;
   bool supports(Precision p) const { return p == Precision::f32 ? fp32 : fp64; }
 };
 
