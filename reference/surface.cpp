@@ -20,10 +20,18 @@ const std::vector<double>& Surface::control_weights() const {
   return tspline ? tspline->weights : weights;
 }
 
-double Surface::u_min() const { return tspline ? tspline->u_min : knots_u[degree_u]; }
-double Surface::u_max() const { return tspline ? tspline->u_max : knots_u[count_u]; }
-double Surface::v_min() const { return tspline ? tspline->v_min : knots_v[degree_v]; }
-double Surface::v_max() const { return tspline ? tspline->v_max : knots_v[count_v]; }
+double Surface::u_min() const {
+  return tspline ? tspline->u_min : knots_u[degree_u];
+}
+double Surface::u_max() const {
+  return tspline ? tspline->u_max : knots_u[count_u];
+}
+double Surface::v_min() const {
+  return tspline ? tspline->v_min : knots_v[degree_v];
+}
+double Surface::v_max() const {
+  return tspline ? tspline->v_max : knots_v[count_v];
+}
 
 bool Scene::has_trims() const {
   return std::any_of(surfaces.begin(), surfaces.end(),

@@ -258,4 +258,53 @@ TSplineSurface infer_tspline(const TMesh& m, std::string_view origin) {
   return s;
 }
 
+TMesh tensor_tmesh(const Surface& s) {
+  TMesh m;
+  m.name = s.name;
+  m.degree_s = s.degree_u;
+  m.degree_t = s.degree_v;
+  for (int i = 0; i < s.count_u; ++i) m.knots_s.push_back(s.knots_u[i + (s.degree_u + 1) / 2]);
+  for (int j = 0; j < s.count_v; ++j) m.knots_t.push_back(s.knots_v[j + (s.degree_v + 1) / 2]);
+  for (int i = 0; i < s.count_u; ++i)
+    for (int j = 0; j < s.count_v; ++j) {
+      m.vertices.push_back({i, j});
+      m.points.push_back(s.point(i, j));
+      m.weights.push_back(s.weight(i, j));
+      const int k = i * s.count_v + j;
+      if (i + 1 < s.count_u) m.edges.push_back({k, k + s.count_v});
+      if (j + 1 < s.count_v) m.edges.push_back({k, k + 1});
+    }
+  return m;
+}
+
+TMesh with_column_segment(const TMesh& a, int column, double knot, int row) {
+  TMesh b = a;
+  b.knots_s.insert(b.knots_s.begin() + column + 1, knot);
+  for (TMeshVertex& v : b.vertices)
+    if (v.i > column) ++v.i;
+  b.edges.clear();
+  const int lower = static_cast<int>(b.vertices.size()), upper = lower + 1;
+  b.vertices.push_back({column + 1, row});
+  b.vertices.push_back({column + 1, row + 1});
+  b.points.push_back({0, 0, 0});
+  b.points.push_back({0, 0, 0});
+  b.weights.push_back(1);
+  b.weights.push_back(1);
+  for (const auto& e : a.edges) {
+    const TMeshVertex &p = a.vertices[e[0]], &q = a.vertices[e[1]];
+    const bool cut = p.j == q.j && (p.j == row || p.j == row + 1) && std::min(p.i, q.i) == column &&
+                     std::max(p.i, q.i) == column + 1;
+    if (!cut) {
+      b.edges.push_back(e);
+      continue;
+    }
+    const int left = p.i < q.i ? e[0] : e[1], right = p.i < q.i ? e[1] : e[0];
+    const int middle = p.j == row ? lower : upper;
+    b.edges.push_back({left, middle});
+    b.edges.push_back({middle, right});
+  }
+  b.edges.push_back({lower, upper});
+  return b;
+}
+
 }  // namespace nurbs

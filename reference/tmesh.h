@@ -68,6 +68,18 @@ void validate_tmesh(const TMesh& mesh, std::string_view origin);
 // analysis-suitable, else which two T-junctions' extensions meet. The mesh must be valid.
 std::string analysis_suitability_violation(const TMesh& mesh);
 
+// The full grid of a NURBS surface's control points: column i carries the middle knot of basis
+// function i, knots_u[i + (p+1)/2], so the ray rule gives function i's knots knots_u[i .. i+p+1]
+// wherever they are in the mesh, and the boundary rule repeats the end knot -- the NURBS surface
+// exactly when its knot vectors are clamped (end multiplicity p+1) and its degrees odd.
+TMesh tensor_tmesh(const Surface& nurbs);
+
+// Mesh `mesh` with a new index column after column `column`, at knot value `knot`, carrying one
+// edge from row `row` to row + 1; the two row edges it cuts are split, leaving two T-junctions
+// (a face split, Sederberg et al. 2004). The new vertices are the last two, with the point
+// (0, 0, 0) and weight 1 for the caller to set.
+TMesh with_column_segment(const TMesh& mesh, int column, double knot, int row);
+
 // The point-based T-spline of the mesh: point k = vertex k, its local knot vectors by the ray rule
 // above, the domain as stated above. Validates the mesh first and the result after.
 TSplineSurface infer_tspline(const TMesh& mesh, std::string_view origin);

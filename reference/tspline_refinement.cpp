@@ -1,7 +1,9 @@
 #include "reference/tspline_refinement.h"
 
 #include <algorithm>
+#include <iterator>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -70,6 +72,57 @@ void merge_equal_blending_functions(TSplineSurface& s) {
     out.weights.push_back(double(h[3]));
   }
   s = std::move(out);
+}
+
+namespace {
+
+std::vector<double> knot_key(const TSplineSurface& s, std::size_t k) {
+  std::vector<double> key(s.local_knots_u(k), s.local_knots_u(k) + s.degree_u + 2);
+  key.insert(key.end(), s.local_knots_v(k), s.local_knots_v(k) + s.degree_v + 2);
+  return key;
+}
+
+// The knot `fine` has and `coarse` lacks (vectors of n knots), or none; more than one is refused.
+std::optional<double> gained_knot(const double* coarse, const double* fine, int n) {
+  std::vector<double> gained;
+  std::set_difference(fine, fine + n, coarse, coarse + n, std::back_inserter(gained));
+  if (gained.size() > 1)
+    throw std::invalid_argument("refine_onto: a function gains more than one knot in a direction");
+  return gained.empty() ? std::nullopt : std::optional<double>(gained[0]);
+}
+
+}  // namespace
+
+TSplineSurface refine_onto(const TSplineSurface& coarse, const TSplineSurface& fine) {
+  if (fine.count() < coarse.count() || fine.degree_u != coarse.degree_u ||
+      fine.degree_v != coarse.degree_v)
+    throw std::invalid_argument("refine_onto: fine must extend coarse at the same degrees");
+  TSplineSurface refined = coarse;
+  for (std::size_t k = 0; k < coarse.count(); ++k) {
+    const auto u = gained_knot(coarse.local_knots_u(k), fine.local_knots_u(k), coarse.degree_u + 2);
+    const auto v = gained_knot(coarse.local_knots_v(k), fine.local_knots_v(k), coarse.degree_v + 2);
+    std::vector<std::size_t> pieces{k};
+    if (u) {
+      split_blending_function_u(refined, k, *u);
+      pieces.push_back(refined.count() - 1);
+    }
+    if (v)
+      for (std::size_t piece : pieces) split_blending_function_v(refined, piece, *v);
+  }
+  merge_equal_blending_functions(refined);
+  if (refined.count() != fine.count())
+    throw std::invalid_argument("refine_onto: the split functions are not the fine mesh's");
+  std::map<std::vector<double>, std::size_t> by_key;
+  for (std::size_t k = 0; k < refined.count(); ++k) by_key.emplace(knot_key(refined, k), k);
+  TSplineSurface out = fine;
+  for (std::size_t k = 0; k < fine.count(); ++k) {
+    const auto it = by_key.find(knot_key(fine, k));
+    if (it == by_key.end())
+      throw std::invalid_argument("refine_onto: a fine function is no piece of the coarse ones");
+    out.points[k] = refined.points[it->second];
+    out.weights[k] = refined.weights[it->second];
+  }
+  return out;
 }
 
 }  // namespace nurbs

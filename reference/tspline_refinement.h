@@ -30,4 +30,12 @@ void split_blending_function_v(TSplineSurface& surface, std::size_t point, doubl
 // place): w = w_1 + w_2, P = (w_1 P_1 + w_2 P_2) / w, summed in long double.
 void merge_equal_blending_functions(TSplineSurface& surface);
 
+// The 2004 paper's refinement onto a finer T-mesh's functions: `fine` is the T-spline of a mesh
+// that contains `coarse`'s (its first coarse.count() vertices are coarse's, in order, each gaining
+// at most one knot per direction); every coarse function is split by the knots it gains, equal
+// functions are merged, and the result is `fine` with those control points and weights -- the
+// coarse surface on the fine T-mesh. Throws std::invalid_argument when the pieces do not land
+// exactly on fine's functions (the paper's "violation": the refinement would change the surface).
+TSplineSurface refine_onto(const TSplineSurface& coarse, const TSplineSurface& fine);
+
 }  // namespace nurbs

@@ -10,18 +10,23 @@
 #include <iostream>
 #include <map>
 #include <random>
+#include <tuple>
 
 #include "reference/validation.h"
 #include "scenes/cad_import/cad_import.h"
 #include "scenes/many_ducks.h"
 #include "scenes/scene_json.h"
 #include "scenes/trimmed_plate.h"
+#include "scenes/tspline_scenes.h"
 
 namespace nurbs {
 namespace embedded {
 extern const std::string_view teapot_json;
 extern const std::string_view duck_json;
 extern const std::string_view hammer_json;
+extern const std::string_view simple_tsm;
+extern const std::string_view fan_tsm;
+extern const std::string_view gearbox_tsm;
 }  // namespace embedded
 
 namespace {
@@ -273,6 +278,25 @@ const std::vector<std::pair<BuiltinSceneInfo, Generator>>& generators() {
         [] { return embedded_scene("teapot", embedded::teapot_json); });
     add("duck", "the classic three-surface NURBS duck (real data: rational, seams, poles)",
         [] { return embedded_scene("duck", embedded::duck_json); });
+    // T-splines (001; the T-spline issue). The refined patch is tan21x23's surface, so its NURBS
+    // twin is a built-in scene too.
+    add("tspline-refined",
+        "T-spline: a bicubic 21x23 NURBS refined onto a T-mesh with six T-junctions (same surface "
+        "as tan21x23)",
+        [] { return tspline_refined_scene(wavy_surface("tan", 21, 23, 3, 3, 10.0, 0.2)); });
+    add("tspline-tjunction",
+        "T-spline: that T-mesh with its six T-junction points lifted (no NURBS twin)",
+        [] { return tspline_tjunction_scene(wavy_surface("tan", 21, 23, 3, 3, 10.0, 0.2), 1.5); });
+    for (const auto& [name, file, bytes] :
+         {std::tuple{"tsm-simple", "simple.tsm", &embedded::simple_tsm},
+          {"tsm-fan", "fan.tsm", &embedded::fan_tsm},
+          {"tsm-gearbox", "gearbox2-9.tsm", &embedded::gearbox_tsm}})
+      add(name,
+          fmt::format("T-spline: Rhino T-Splines model {} (real data, LGPL; scenes/data/tsplines)",
+                      file),
+          [name, file, bytes] {
+            return tsm_scene(*bytes, name, fmt::format("built-in scene {} ({})", name, file));
+          });
     add("hammer",
         "OpenCASCADE's hammer (IGES): 45 trimmed NURBS faces, rational, seams (nurbsbench import)",
         [] { return embedded_scene("hammer", embedded::hammer_json); });
@@ -378,6 +402,7 @@ Scene load_scene(std::string_view name_or_path) {
                                        }})
         .scene;
   std::error_code error;
+  if (is_tsm_path(path)) return tsm_file_scene(path);
   if (std::filesystem::is_regular_file(path, error)) return load_scene_file(path);
   std::vector<std::string> names;
   for (const BuiltinSceneInfo& info : builtin_scenes()) names.push_back(info.name);

@@ -213,9 +213,9 @@ class SurfaceReader {
         r.fail("kind", "", describe(*r.optional("kind")), "must be \"nurbs\" or \"t-spline\"");
     }
     // nurbs-scene/2 adds the last three.
-    static constexpr std::string_view kKeys[] = {
-        "name",    "degree_u", "degree_v", "count_u",     "count_v", "knots_u",
-        "knots_v", "points",   "weights",  "orientation", "trim",    "kind"};
+    static constexpr std::string_view kKeys[] = {"name",    "degree_u",    "degree_v", "count_u",
+                                                 "count_v", "knots_u",     "knots_v",  "points",
+                                                 "weights", "orientation", "trim",     "kind"};
     r.refuse_unknown_keys(version2_ ? std::span(kKeys) : std::span(kKeys).first(9));
 
     surface_.degree_u = r.integer("degree_u");
@@ -257,9 +257,9 @@ class SurfaceReader {
   // and the domain [u_min, u_max, v_min, v_max]. The rules are validate_tspline's (checked when
   // the scene is); the sizes are checked here, before anything is allocated.
   Surface read_tspline(const ObjectReader& r) {
-    static constexpr std::string_view kKeys[] = {"name",    "kind",    "degree_u", "degree_v",
-                                                 "domain",  "points",  "weights",  "knots_u",
-                                                 "knots_v"};
+    static constexpr std::string_view kKeys[] = {"name",     "kind",    "degree_u",
+                                                 "degree_v", "domain",  "points",
+                                                 "weights",  "knots_u", "knots_v"};
     r.refuse_unknown_keys(kKeys);
     TSplineSurface t;
     t.name = surface_.name;
@@ -466,10 +466,11 @@ std::string tspline_json(const TSplineSurface& t) {
       "\"degree_v\": {},\n      \"domain\": [{}, {}, {}, {}],\n      \"points\": [{}\n      ]",
       json(t.name).dump(), t.degree_u, t.degree_v, number_text(t.u_min), number_text(t.u_max),
       number_text(t.v_min), number_text(t.v_max), point_lines(t.points, "        "));
-  if (!all_one(t.weights)) out += fmt::format(",\n      \"weights\": [{}]", join_numbers(t.weights));
-  out += fmt::format(",\n      \"knots_u\": [{}\n      ],\n      \"knots_v\": [{}\n      ]\n    }}",
-                     local_knot_lines(t.knots_u, t.degree_u),
-                     local_knot_lines(t.knots_v, t.degree_v));
+  if (!all_one(t.weights))
+    out += fmt::format(",\n      \"weights\": [{}]", join_numbers(t.weights));
+  out +=
+      fmt::format(",\n      \"knots_u\": [{}\n      ],\n      \"knots_v\": [{}\n      ]\n    }}",
+                  local_knot_lines(t.knots_u, t.degree_u), local_knot_lines(t.knots_v, t.degree_v));
   return out;
 }
 }  // namespace

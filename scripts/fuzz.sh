@@ -30,7 +30,7 @@ for target in "${targets[@]}"; do
   mkdir -p "$corpus" "$findings" "$(dirname "$log")"
   seeds=(tests/fuzz/corpus/"$target")
   [ "$target" = scene_json ] && seeds+=(scenes/invalid)
-  [ "$target" = tsm ] && seeds+=(tests/tspline/data)
+  [ "$target" = tsm ] && seeds+=(scenes/data/tsplines)
   result=ok
   # -rss_limit_mb: the parsers must refuse absurd sizes before allocating, so 2 GiB is plenty;
   # -timeout: no input of a few KiB may take seconds.

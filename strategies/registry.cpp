@@ -5,6 +5,7 @@
 #include "strategies/cpu_coxdeboor/cpu_coxdeboor.h"
 #include "strategies/cpu_horner/cpu_horner.h"
 #include "strategies/cpu_tensor/cpu_tensor.h"
+#include "strategies/cpu_tspline/cpu_tspline.h"
 #include "strategies/gl_pingpong/gl_pingpong.h"
 #include "strategies/glsl_deboor/glsl_deboor.h"
 #include "strategies/glu_nurbs/glu_nurbs.h"
@@ -25,6 +26,7 @@ const std::vector<StrategyEntry>& strategy_registry() {
       glsl_deboor_entry(),
       cl_stair_entry(),
       vk_ksquad_entry(),
+      cpu_tspline_entry(),
       cpu_tensor_entry(),
       cpu_horner_entry(),
       cpu_bezier_entry(),

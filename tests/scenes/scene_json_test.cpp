@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <random>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "../cli/run_cli.h"
+#include "reference/tspline.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
 #include "scenes/json_strict.h"
@@ -51,6 +53,19 @@ void expect_identical(const Scene& a, const Scene& b) {
     EXPECT_EQ(coordinates(s.points), coordinates(t.points));
     EXPECT_EQ(s.weights, t.weights);
     EXPECT_EQ(s.reversed, t.reversed);
+    ASSERT_EQ(s.is_tspline(), t.is_tspline());
+    if (s.is_tspline()) {
+      const TSplineSurface &x = *s.tspline, &y = *t.tspline;
+      EXPECT_EQ(x.name, y.name);
+      EXPECT_EQ(x.degree_u, y.degree_u);
+      EXPECT_EQ(x.degree_v, y.degree_v);
+      EXPECT_EQ(coordinates(x.points), coordinates(y.points));
+      EXPECT_EQ(x.weights, y.weights);
+      EXPECT_EQ(x.knots_u, y.knots_u);
+      EXPECT_EQ(x.knots_v, y.knots_v);
+      EXPECT_EQ((std::array{x.u_min, x.u_max, x.v_min, x.v_max}),
+                (std::array{y.u_min, y.u_max, y.v_min, y.v_max}));
+    }
     ASSERT_EQ(s.trim.has_value(), t.trim.has_value());
     if (!s.trim) continue;
     EXPECT_EQ(s.trim->rule, t.trim->rule);
@@ -310,13 +325,15 @@ TEST(SceneJsonV2, UntrimmedScenesAreWrittenAsVersion1ByteForByte) {
   ]
 }
 )");
-  // Every built-in scene without a trim or a reversed face is written as /1 (trimmed-plate is /2).
+  // Every built-in scene without a trim, a reversed face or a T-spline is written as /1
+  // (trimmed-plate and the tspline-* / tsm-* scenes are /2).
   for (const std::string& name : builtin_names()) {
     SCOPED_TRACE(name);
     const Scene scene = builtin(name);
     const bool needs_v2 =
-        scene.has_trims() || std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
-                                         [](const Surface& s) { return s.reversed; });
+        scene.has_trims() ||
+        std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
+                    [](const Surface& s) { return s.reversed || s.is_tspline(); });
     const std::string text = scene_to_json(scene);
     EXPECT_TRUE(
         text.starts_with(fmt::format("{{\n  \"format\": \"nurbs-scene/{}\",\n", needs_v2 ? 2 : 1)))

@@ -23,8 +23,8 @@ namespace {
 
 using LD = long double;
 
-// Copies of ../shared/data/tsplines (tests/tspline/data/README.md).
-const std::string kData = std::string(NURBSBENCH_SOURCE_DIR) + "/tests/tspline/data/";
+// Copies of ../shared/data/tsplines (scenes/data/tsplines/README.md).
+const std::string kData = std::string(NURBSBENCH_SOURCE_DIR) + "/scenes/data/tsplines/";
 
 std::string file_text(const std::string& name) {
   std::ifstream in(kData + name, std::ios::binary);

@@ -50,7 +50,7 @@ std::vector<Extracted> test_surfaces(Rng& rng) {
        test::random_vertical_tmeshes(rng, {{3, 3}, {1, 3}, {5, 3}, {3, 5}}, 4, true))
     out.emplace_back(infer_tspline(mesh, "test"));
   out.emplace_back(infer_tspline(
-      load_tsm_file(std::string(NURBSBENCH_SOURCE_DIR) + "/tests/tspline/data/simple.tsm"),
+      load_tsm_file(std::string(NURBSBENCH_SOURCE_DIR) + "/scenes/data/tsplines/simple.tsm"),
       "simple.tsm"));
   return out;
 }

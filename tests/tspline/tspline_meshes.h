@@ -11,28 +11,8 @@
 
 namespace nurbs::test {
 
-// The full grid of a NURBS surface's control points: column i carries the middle knot of basis
-// function i, knots_u[i + (p+1)/2], so the ray rule gives function i's knots knots_u[i .. i+p+1]
-// wherever they are in the mesh, and the boundary rule repeats the end knot -- exact for clamped
-// vectors (end multiplicity p+1), which is what the equivalence is tested on.
-inline TMesh tensor_tmesh(const Surface& s) {
-  TMesh m;
-  m.name = s.name;
-  m.degree_s = s.degree_u;
-  m.degree_t = s.degree_v;
-  for (int i = 0; i < s.count_u; ++i) m.knots_s.push_back(s.knots_u[i + (s.degree_u + 1) / 2]);
-  for (int j = 0; j < s.count_v; ++j) m.knots_t.push_back(s.knots_v[j + (s.degree_v + 1) / 2]);
-  for (int i = 0; i < s.count_u; ++i)
-    for (int j = 0; j < s.count_v; ++j) {
-      m.vertices.push_back({i, j});
-      m.points.push_back(s.point(i, j));
-      m.weights.push_back(s.weight(i, j));
-      const int k = i * s.count_v + j;
-      if (i + 1 < s.count_u) m.edges.push_back({k, k + s.count_v});
-      if (j + 1 < s.count_v) m.edges.push_back({k, k + 1});
-    }
-  return m;
-}
+// The T-mesh of a NURBS surface's full control grid (reference/tmesh.h).
+using nurbs::tensor_tmesh;
 
 // Every row a full line; each interior column present on a random subset of the row intervals
 // (the (degree_s+1)/2 outer columns on each side always full). Every T-junction then has a

@@ -21,44 +21,6 @@ namespace {
 using test::Rng;
 using LD = long double;
 
-// Mesh `a` with a new index column after column `c` at knot `k` carrying one vertical edge from
-// row r to row r+1 (the horizontal edges it cuts are split): two T-junctions.
-TMesh with_face_split(const TMesh& a, int c, double k, int r) {
-  TMesh b = a;
-  b.knots_s.insert(b.knots_s.begin() + c + 1, k);
-  for (TMeshVertex& v : b.vertices)
-    if (v.i > c) ++v.i;
-  b.edges.clear();
-  const int lower = static_cast<int>(b.vertices.size()), upper = lower + 1;
-  b.vertices.push_back({c + 1, r});
-  b.vertices.push_back({c + 1, r + 1});
-  b.points.push_back({0, 0, 0});  // filled by the refinement in the test
-  b.points.push_back({0, 0, 0});
-  b.weights.push_back(1);
-  b.weights.push_back(1);
-  for (const auto& e : a.edges) {
-    const TMeshVertex &p = a.vertices[e[0]], &q = a.vertices[e[1]];
-    const bool cut = p.j == q.j && (p.j == r || p.j == r + 1) && std::min(p.i, q.i) == c &&
-                     std::max(p.i, q.i) == c + 1;
-    if (!cut) {
-      b.edges.push_back(e);
-      continue;
-    }
-    const int left = p.i < q.i ? e[0] : e[1], right = p.i < q.i ? e[1] : e[0];
-    const int middle = p.j == r ? lower : upper;
-    b.edges.push_back({left, middle});
-    b.edges.push_back({middle, right});
-  }
-  b.edges.push_back({lower, upper});
-  return b;
-}
-
-std::vector<double> knot_key(const TSplineSurface& s, std::size_t k) {
-  std::vector<double> key(s.local_knots_u(k), s.local_knots_u(k) + s.degree_u + 2);
-  key.insert(key.end(), s.local_knots_v(k), s.local_knots_v(k) + s.degree_v + 2);
-  return key;
-}
-
 TEST(TSplineRefinement, FaceSplitKeepsTheSurface) {
   Rng rng(2004);
   test::Worst worst("max |S_refined - S_original| / scale");
@@ -74,44 +36,13 @@ TEST(TSplineRefinement, FaceSplitKeepsTheSurface) {
       const double lo = mesh_a.knots_s[c], hi = mesh_a.knots_s[c + 1];
       if (!(lo < hi)) continue;
       const double k = lo + (hi - lo) * 0.375;
-      const TMesh mesh_b = with_face_split(mesh_a, c, k, r);
+      const TMesh mesh_b = with_column_segment(mesh_a, c, k, r);
       ASSERT_EQ(analysis_suitability_violation(mesh_b), "");
       const TSplineSurface a = infer_tspline(mesh_a, "a");
       const TSplineSurface b = infer_tspline(mesh_b, "b");
-
-      // Split every function of `a` by the knots its vertex gains in `b` (vertex k of a is vertex
-      // k of b), then merge equal functions.
-      TSplineSurface refined = a;
-      for (std::size_t v = 0; v < a.count(); ++v) {
-        const double* old_u = a.local_knots_u(v);
-        const double* new_u = b.local_knots_u(v);
-        std::vector<double> gained;
-        std::set_difference(new_u, new_u + p + 2, old_u, old_u + p + 2, std::back_inserter(gained));
-        ASSERT_TRUE(std::equal(a.local_knots_v(v), a.local_knots_v(v) + q + 2, b.local_knots_v(v)));
-        ASSERT_LE(gained.size(), 1u);
-        if (!gained.empty()) split_blending_function_u(refined, v, gained[0]);
-      }
-      merge_equal_blending_functions(refined);
-
-      // The refined functions are exactly b's: same knot vectors, one each.
-      ASSERT_EQ(refined.count(), b.count());
-      std::vector<std::vector<double>> keys_refined, keys_b;
-      for (std::size_t v = 0; v < b.count(); ++v) {
-        keys_refined.push_back(knot_key(refined, v));
-        keys_b.push_back(knot_key(b, v));
-      }
-      std::sort(keys_refined.begin(), keys_refined.end());
-      std::sort(keys_b.begin(), keys_b.end());
-      ASSERT_EQ(keys_refined, keys_b);
-
-      // b with the refined control points is the original surface.
-      TSplineSurface b_points = b;
-      for (std::size_t v = 0; v < b.count(); ++v)
-        for (std::size_t w = 0; w < refined.count(); ++w)
-          if (knot_key(refined, w) == knot_key(b, v)) {
-            b_points.points[v] = refined.points[w];
-            b_points.weights[v] = refined.weights[w];
-          }
+      // Every function of `a` split by the knots its vertex gains in `b` (vertex k of a is vertex
+      // k of b), equal functions merged: exactly b's functions, or refine_onto throws.
+      const TSplineSurface b_points = refine_onto(a, b);
       validate_tspline(b_points, "refined");
       const TSplineInfluence index_a(a, "a"), index_b(b_points, "b");
       const LD scale = 8;  // random_surface points lie in [-8, 8]^3
@@ -131,6 +62,27 @@ TEST(TSplineRefinement, FaceSplitKeepsTheSurface) {
     }
   }
   EXPECT_EQ(refined_meshes, 16);
+}
+
+// refine_onto refuses a finer T-spline whose functions are not pieces of the coarse ones.
+TEST(TSplineRefinement, RefineOntoRefusesWhatIsNoRefinement) {
+  Rng rng(7);
+  const Surface nurbs = test::random_surface(rng, 3, 3, 7, 7, test::Ends::clamped, true, 1);
+  const TMesh mesh_a = tensor_tmesh(nurbs);
+  const TSplineSurface a = infer_tspline(mesh_a, "a");
+  const TMesh mesh_b =
+      with_column_segment(mesh_a, 2, 0.5 * (mesh_a.knots_s[2] + mesh_a.knots_s[3]), 2);
+  const TSplineSurface b = infer_tspline(mesh_b, "b");
+  EXPECT_NO_THROW(refine_onto(a, b));
+  // Identity: nothing gained, the same surface.
+  const TSplineSurface same = refine_onto(a, a);
+  EXPECT_EQ(same.points, a.points);
+  // A new function's knot moved: no split of a's functions gives it.
+  TSplineSurface moved = b;
+  moved.knots_v[(b.count() - 1) * 5 + 4] += 0.125;
+  EXPECT_THROW(refine_onto(a, moved), std::invalid_argument);
+  // Coarser than the coarse one.
+  EXPECT_THROW(refine_onto(b, a), std::invalid_argument);
 }
 
 // The split itself is exact in real arithmetic: the two pieces sum to the original function.
