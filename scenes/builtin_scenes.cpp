@@ -295,7 +295,7 @@ const std::vector<std::pair<BuiltinSceneInfo, Generator>>& generators() {
           fmt::format("T-spline: Rhino T-Splines model {} (real data, LGPL; scenes/data/tsplines)",
                       file),
           [name, file, bytes] {
-            return tsm_scene(*bytes, name, fmt::format("built-in scene {} ({})", name, file));
+            return tsm_scene(*bytes, name, fmt::format("built-in scene {} ({})", name, file), file);
           });
     add("hammer",
         "OpenCASCADE's hammer (IGES): 45 trimmed NURBS faces, rational, seams (nurbsbench import)",

@@ -70,8 +70,9 @@ Scene tspline_tjunction_scene(const Surface& nurbs, double lift) {
                      std::move(refined.tspline));
 }
 
-Scene tsm_scene(std::string_view bytes, const std::string& name, const std::string& origin) {
-  return one_surface(name, "Rhino T-Splines model (" + origin + ")",
+Scene tsm_scene(std::string_view bytes, const std::string& name, const std::string& origin,
+                const std::string& file) {
+  return one_surface(name, "Rhino T-Splines model " + file,
                      infer_tspline(parse_tsm(bytes, origin), origin));
 }
 
@@ -83,7 +84,8 @@ bool is_tsm_path(const std::filesystem::path& path) {
 }
 
 Scene tsm_file_scene(const std::filesystem::path& path) {
-  return tsm_scene(read_input_file(path, "T-spline"), path.stem().string(), path.string());
+  return tsm_scene(read_input_file(path, "T-spline"), path.stem().string(), path.string(),
+                   path.filename().string());
 }
 
 }  // namespace nurbs

@@ -18,8 +18,10 @@ Scene tspline_refined_scene(const Surface& nurbs);
 // The same T-mesh with the six T-junction control points lifted by `lift` along z.
 Scene tspline_tjunction_scene(const Surface& nurbs, double lift);
 
-// A `#TS0200` model's T-spline as a one-surface scene named `name`; `origin` prefixes errors.
-Scene tsm_scene(std::string_view bytes, const std::string& name, const std::string& origin);
+// A `#TS0200` model's T-spline as a one-surface scene named `name`; `origin` prefixes errors, the
+// description names `file`.
+Scene tsm_scene(std::string_view bytes, const std::string& name, const std::string& origin,
+                const std::string& file);
 // A .tsm file given as a scene path (load_scene).
 Scene tsm_file_scene(const std::filesystem::path& path);
 bool is_tsm_path(const std::filesystem::path& path);

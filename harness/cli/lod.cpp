@@ -32,6 +32,11 @@ int lod_command(const LodOptions& options) {
     throw InputError(fmt::format(
         "--scene '{}': has {} surfaces; the LOD experiment (002 §4.3) takes a one-surface scene",
         options.scene, scene.surfaces.size()));
+  if (scene.surfaces[0].is_tspline())
+    throw InputError(fmt::format(
+        "--scene '{}': is a T-spline; the LOD experiment (002 §4.3, glsl-deboor) takes a NURBS "
+        "surface",
+        options.scene));
   const std::vector<Sampling> grids = parse_grid_list("--samples", options.samples);
   const int divisor = 1 << options.levels;
   for (const Sampling& g : grids)

@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
   SceneOptions scene;
   auto* scene_cmd = app.add_subcommand("scene",
                                        "write a scene (built-in name or file) as nurbs-scene/1 "
-                                       "JSON (/2 when it has trims or reversed faces)");
+                                       "JSON (/2 when it has trims, reversed faces or T-splines)");
   scene_cmd->add_option("name", scene.scene, "built-in scene name or scene file")->required();
   scene_cmd->add_option("--out", scene.out, "output file (default: stdout)");
 

@@ -286,6 +286,26 @@ TEST(TSplineCli, RunsTheBuiltinScenesAndRefusesBadFiles) {
   EXPECT_EQ(std::count(tsm.err.begin(), tsm.err.end(), '\n'), 1) << tsm.err;
   EXPECT_NE(tsm.err.find(bad_tsm.string()), std::string::npos) << tsm.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "bad" / "results.json"));
+
+  // A T-spline scene file with a negative weight: the validation's line, exit 2.
+  const std::filesystem::path bad_json = dir / "bad.json";
+  std::ofstream(bad_json)
+      << R"({"format": "nurbs-scene/2", "surfaces": [{"name": "t", "kind": "t-spline",
+      "degree_u": 1, "degree_v": 1, "domain": [0, 1, 0, 1], "weights": [1, 1, -2, 1],
+      "points": [[0,0,0],[1,0,0],[0,1,0],[1,1,0]],
+      "knots_u": [[0,0,1],[0,1,1],[0,0,1],[0,1,1]], "knots_v": [[0,0,1],[0,0,1],[0,1,1],[0,1,1]]}]})";
+  const test::CliResult json = test::run_cli(
+      {"eval", "--scene", bad_json.string(), "--strategy", "cpu-tspline", "--out",
+       (dir / "e.csv").string()});
+  EXPECT_EQ(json.exit_code, 2);
+  EXPECT_EQ(json.err, "nurbsbench: error: " + bad_json.string() +
+                          ": tspline 't': point 2 weight = -2: weights must be finite and > 0\n");
+  EXPECT_FALSE(std::filesystem::exists(dir / "e.csv"));
+
+  // A verb that takes NURBS only says so.
+  const test::CliResult lod = test::run_cli({"lod", "--scene", "tsm-simple"});
+  EXPECT_EQ(lod.exit_code, 2);
+  EXPECT_NE(lod.err.find("is a T-spline"), std::string::npos) << lod.err;
 }
 
 }  // namespace
