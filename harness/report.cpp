@@ -26,6 +26,9 @@ const std::vector<ChartCommand>& chart_commands() {
        "nurbsbench run --scenes patch144 --strategies all --samples "
        "4x4,8x8,16x16,32x32,64x64,128x128,256x256,512x512,1024x1024,2048x2048 --repetitions 3 "
        "--out DIR"},
+      {"fig9_tspline_time_vs_points",
+       "nurbsbench run --scenes tspline-tjunction --strategies all --samples "
+       "4x4,8x8,16x16,32x32,64x64,128x128,256x256,512x512,1024x1024 --repetitions 3 --out DIR"},
       {"fig14_deboor_vs_basis",
        "nurbsbench run --scenes tan16,tan64,tan256 --strategies all --samples 256x256 "
        "--repetitions 5 --out DIR"},
@@ -394,20 +397,18 @@ bool show_rows(ReportSection& s, const std::vector<Row>& rows, const std::string
   return true;
 }
 
-ReportSection time_vs_points(const std::vector<ResultSet>& sets, const Labeller& label,
-                             json& charts) {
-  const std::string& run = chart_run("fig7_time_vs_points");
-  ReportSection s =
-      section("fig7_time_vs_points",
-              "Krishnamurthy 2007 Fig 7 / Krishnamurthy-Yasui Fig 9: evaluation time vs number "
-              "of evaluation points (patch144, 144 control points)",
-              run, sets);
-  const auto rows = one_per_measurement(
-      rows_where(sets,
-                 [](const Record& r) {
-                   return is_measurement(r) && r.scene == "patch144" && r.sampling == "grid";
-                 }),
-      label);
+// Evaluate time against the number of grid points on one scene, a line per strategy.
+ReportSection time_vs_points_of(const std::string& id, const std::string& title,
+                                const std::string& scene, const std::vector<ResultSet>& sets,
+                                const Labeller& label, json& charts) {
+  const std::string& run = chart_run(id);
+  ReportSection s = section(id, title, run, sets);
+  const auto rows = one_per_measurement(rows_where(sets,
+                                                   [&](const Record& r) {
+                                                     return is_measurement(r) && r.scene == scene &&
+                                                            r.sampling == "grid";
+                                                   }),
+                                        label);
   if (!show_rows(s, rows, run, sets)) return s;
   std::vector<Series> series;
   for (const Row& r : rows)
@@ -418,6 +419,26 @@ ReportSection time_vs_points(const std::vector<ResultSet>& sets, const Labeller&
   s.tables.push_back(series_table("Evaluate time (median) per number of points", "points", series,
                                   points_text, seconds_text));
   return s;
+}
+
+ReportSection time_vs_points(const std::vector<ResultSet>& sets, const Labeller& label,
+                             json& charts) {
+  return time_vs_points_of("fig7_time_vs_points",
+                           "Krishnamurthy 2007 Fig 7 / Krishnamurthy-Yasui Fig 9: evaluation time "
+                           "vs number of evaluation points (patch144, 144 control points)",
+                           "patch144", sets, label, charts);
+}
+
+// 001 could not time T-splines ("due to limitations of the hardware we were not able to implement
+// T-spline evaluation on the GPU"); this is the Fig 9 they would have drawn, on a T-mesh with
+// T-junctions, every strategy that evaluates T-splines.
+ReportSection tspline_time_vs_points(const std::vector<ResultSet>& sets, const Labeller& label,
+                                     json& charts) {
+  return time_vs_points_of("fig9_tspline_time_vs_points",
+                           "Krishnamurthy-Yasui Fig 9 for T-splines (which they could not run on "
+                           "the GPU): evaluation time vs number of evaluation points "
+                           "(tspline-tjunction, 489 control points, six T-junctions)",
+                           "tspline-tjunction", sets, label, charts);
 }
 
 json bars_chart(const std::string& id, const std::string& ylabel,
@@ -1422,6 +1443,7 @@ Report build_report(const std::vector<ResultSet>& sets) {
   report.sections.push_back(sets_section(sets));
   report.sections.push_back(claims_section(sets));
   report.sections.push_back(time_vs_points(sets, label, charts));
+  report.sections.push_back(tspline_time_vs_points(sets, label, charts));
   report.sections.push_back(deboor_vs_basis(sets, label, charts));
   report.sections.push_back(lod_section(sets, charts));
   report.sections.push_back(frame_section(sets, label, charts));

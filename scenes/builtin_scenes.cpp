@@ -10,7 +10,6 @@
 #include <iostream>
 #include <map>
 #include <random>
-#include <tuple>
 
 #include "reference/validation.h"
 #include "scenes/cad_import/cad_import.h"
@@ -287,15 +286,22 @@ const std::vector<std::pair<BuiltinSceneInfo, Generator>>& generators() {
     add("tspline-tjunction",
         "T-spline: that T-mesh with its six T-junction points lifted (no NURBS twin)",
         [] { return tspline_tjunction_scene(wavy_surface("tan", 21, 23, 3, 3, 10.0, 0.2), 1.5); });
-    for (const auto& [name, file, bytes] :
-         {std::tuple{"tsm-simple", "simple.tsm", &embedded::simple_tsm},
-          {"tsm-fan", "fan.tsm", &embedded::fan_tsm},
-          {"tsm-gearbox", "gearbox2-9.tsm", &embedded::gearbox_tsm}})
-      add(name,
+    struct RhinoModel {
+      const char* name;
+      const char* file;
+      const std::string_view* bytes;
+    };
+    for (const RhinoModel model :
+         {RhinoModel{"tsm-simple", "simple.tsm", &embedded::simple_tsm},
+          RhinoModel{"tsm-fan", "fan.tsm", &embedded::fan_tsm},
+          RhinoModel{"tsm-gearbox", "gearbox2-9.tsm", &embedded::gearbox_tsm}})
+      add(model.name,
           fmt::format("T-spline: Rhino T-Splines model {} (real data, LGPL; scenes/data/tsplines)",
-                      file),
-          [name, file, bytes] {
-            return tsm_scene(*bytes, name, fmt::format("built-in scene {} ({})", name, file), file);
+                      model.file),
+          [model] {
+            return tsm_scene(*model.bytes, model.name,
+                             fmt::format("built-in scene {} ({})", model.name, model.file),
+                             model.file);
           });
     add("hammer",
         "OpenCASCADE's hammer (IGES): 45 trimmed NURBS faces, rational, seams (nurbsbench import)",

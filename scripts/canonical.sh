@@ -44,6 +44,7 @@ echo "canonical: $out (CPU: ${cpu:-unknown}, $(nproc) threads)"
 # against the results they made by tests/cli/regenerate_test.cpp): change both together.
 if [ "$tiny" = 1 ]; then
   fig7=(patch144 4x4,16x16 1)
+  fig9_tspline=(tspline-tjunction 4x4,16x16 1)
   fig14=(tan16 8x8 1)
   fig8=(many-1,many-4 16x16 1)
   fig8_ducks=(many-ducks-1,many-ducks-2 16x16 1)
@@ -52,6 +53,7 @@ if [ "$tiny" = 1 ]; then
   lod=(--samples 32x32,64x64 --repetitions 1)
 else
   fig7=(patch144 4x4,8x8,16x16,32x32,64x64,128x128,256x256,512x512,1024x1024,2048x2048 3)
+  fig9_tspline=(tspline-tjunction 4x4,8x8,16x16,32x32,64x64,128x128,256x256,512x512,1024x1024 3)
   fig14=(tan16,tan64,tan256 256x256 5)
   fig8=(many-1,many-4,many-16,many-64,many-256,many-1024,many-4096 16x16 3)
   # 000 Fig 8 as it ran: ducks, one third trimmed (evaluate + classify + draw per frame).
@@ -72,6 +74,7 @@ run() {  # run <subdir> <scenes> <samples> <repetitions> [extra run options...]
 mkdir -p "$out"
 results=()
 run fig7-time-vs-points "${fig7[@]}"
+run fig9-tspline-time-vs-points "${fig9_tspline[@]}"
 run fig14-deboor-vs-basis "${fig14[@]}"
 run fig8-many-surfaces "${fig8[@]}"
 run fig8-trimmed-ducks "${fig8_ducks[@]}" --threads 1

@@ -1,11 +1,12 @@
-// The scene loader (nurbs-scene/1 and /2, trims included) through its public API: a parsed scene
-// passes validate_scene and reads back from scene_to_json bit-identically; anything else it
-// refuses with InputError.
+// The scene loader (nurbs-scene/1 and /2, trims and T-splines included) through its public API: a
+// parsed scene passes validate_scene and reads back from scene_to_json bit-identically; anything
+// else it refuses with InputError.
 #include <bit>
 #include <cstdint>
 #include <string_view>
 
 #include "fuzz_check.h"
+#include "reference/tspline.h"
 #include "scenes/scene_json.h"
 
 namespace nurbs::fuzz {
@@ -61,6 +62,16 @@ void check_same_scene(const Scene& a, const Scene& b) {
           "control net changed", s.name);
     check(same_trim(s.trim, t.trim), "trim changed", s.name);
     check(s.reversed == t.reversed, "orientation changed", s.name);
+    check(s.is_tspline() == t.is_tspline(), "kind changed", s.name);
+    if (!s.is_tspline()) continue;
+    const TSplineSurface &x = *s.tspline, &y = *t.tspline;
+    check(x.name == y.name && x.degree_u == y.degree_u && x.degree_v == y.degree_v &&
+              same(x.u_min, y.u_min) && same(x.u_max, y.u_max) && same(x.v_min, y.v_min) &&
+              same(x.v_max, y.v_max),
+          "T-spline header changed", s.name);
+    check(same_numbers(x.points, y.points) && same_numbers(x.weights, y.weights) &&
+              same_numbers(x.knots_u, y.knots_u) && same_numbers(x.knots_v, y.knots_v),
+          "T-spline changed", s.name);
   }
 }
 
