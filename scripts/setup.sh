@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package nurbsbench needs (all backends, tests, plots). Idempotent:
 # packages already present are not downloaded again, and apt is not touched at all when nothing
-# is missing. Run as root (or with sudo available).
+# is missing. Run as root (or with sudo available). `--tests` adds what only the tests need (the
+# report's browser test: Debian's chromium), so the main job does not download a browser.
 set -euo pipefail
 
 packages=(
@@ -25,6 +26,13 @@ packages=(
   # CAD import (STEP, IGES, BREP) and the real models its tests read
   libocct-data-exchange-dev libocct-modeling-algorithms-dev occt-misc
 )
+
+if [ "${1:-}" = --tests ]; then
+  packages+=(chromium)
+elif [ $# -gt 0 ]; then
+  echo "setup: unknown argument '$1' (only --tests)" >&2
+  exit 2
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -5,7 +5,7 @@
 # NURBSBENCH_FUZZ_SECONDS (default 30) each. Exit status 0 only if all pass.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+bash scripts/setup.sh --tests
 
 jobs=$(nproc)
 echo "== sanitizer build (ASan + UBSan, CPU parts)"

@@ -11,6 +11,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -155,6 +156,64 @@ TEST_F(CliReport, WritesTablesChartsAndHtmlListingEveryStrategy) {
   }
   // The worst pair's error heat map, re-evaluated here.
   EXPECT_NE(md.find("![error-"), std::string::npos) << md;
+}
+
+// The HTML report as a reader opens it: headless Chromium (Debian's `chromium`, installed by
+// scripts/setup.sh --tests) loads index.html; a script appended to a copy of it counts, once the
+// page has loaded, the <img> elements and those that failed (naturalWidth 0) into the title, which
+// --dump-dom prints; a second run takes the screenshot. Every chart image must load.
+TEST_F(CliReport, OpensInAHeadlessBrowserWithEveryChartImageLoaded) {
+  const fs::path chromium = "/usr/bin/chromium";
+  if (!fs::exists(chromium)) {
+    if (std::getenv("NURBSBENCH_REQUIRE_ALL_STRATEGIES"))
+      FAIL() << "chromium is missing (scripts/setup.sh --tests installs it)";
+    GTEST_SKIP() << "chromium is not installed (scripts/setup.sh --tests)";
+  }
+  if (!matplotlib_present()) GTEST_SKIP() << "no matplotlib: the report has no chart images";
+  const fs::path out = tmp_ / "report";
+  ASSERT_EQ(run_cli({"report", "--results", results_->path().string(), "--out", out.string(),
+                     "--error-images", "0"})
+                .exit_code,
+            0);
+  const std::string html = read_text(out / "index.html");
+  const std::size_t charts = json::parse(read_text(out / "charts.json"))["charts"].size();
+  std::string checked = html;
+  checked.insert(checked.rfind("</body>"), R"(<script>
+window.addEventListener('load', () => {
+  const images = Array.from(document.images);
+  const broken = images.filter(i => !i.complete || i.naturalWidth === 0).map(i => i.src);
+  document.title = 'images=' + images.length + ' broken=' + broken.length + ' ' + broken.join(' ');
+});
+</script>
+)");
+  { std::ofstream(out / "checked.html") << checked; }
+  const std::string url = "file://" + (out / "checked.html").string();
+  const std::string flags =
+      "--headless --no-sandbox --disable-gpu --allow-file-access-from-files "
+      "--virtual-time-budget=10000 --window-size=1280,2000";
+  const fs::path dom = out / "dom.html", log = out / "chromium.log";
+  ASSERT_EQ(std::system(fmt::format("{} {} --dump-dom '{}' > '{}' 2> '{}'", chromium.string(),
+                                    flags, url, dom.string(), log.string())
+                            .c_str()),
+            0)
+      << read_text(log);
+  const std::string dumped = read_text(dom);
+  const std::size_t title = dumped.find("<title>images=");
+  ASSERT_NE(title, std::string::npos) << "the check script did not run:\n" << read_text(log);
+  const std::string result = dumped.substr(title + 7, dumped.find("</title>", title) - title - 7);
+  EXPECT_EQ(result, fmt::format("images={} broken=0 ", charts)) << result;
+
+  const fs::path screenshot = out / "screenshot.png";
+  ASSERT_EQ(std::system(fmt::format("cd '{}' && {} {} --screenshot='{}' '{}' > '{}' 2>&1",
+                                    out.string(), chromium.string(), flags, screenshot.string(),
+                                    "file://" + (out / "index.html").string(), log.string())
+                            .c_str()),
+            0)
+      << read_text(log);
+  auto image = OIIO::ImageInput::open(screenshot.string());
+  ASSERT_TRUE(image) << "no screenshot: " << read_text(log);
+  EXPECT_EQ(image->spec().width, 1280);
+  EXPECT_EQ(image->spec().height, 2000);
 }
 
 TEST_F(CliReport, WithoutMatplotlibWritesTablesAndSaysWhichChartsAreMissing) {
