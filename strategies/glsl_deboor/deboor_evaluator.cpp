@@ -173,7 +173,7 @@ void Evaluator::evaluate() {
         gl.Uniform1fv(p.knots, 2 * s.degree_u, knots);
         gl.Uniform1i(p.span_first, run.span - s.degree_u);
         gl.Viewport(run.first, s.control_row0, run.count, s.count_v);
-        gl.DrawArrays(GL_TRIANGLES, 0, 3);
+        context_.draw_arrays(GL_TRIANGLES, 0, 3);
       }
     }
     // Pass 2 (§3.3.3, Fig 6): the pass-1 texture as control points in v; quads across all u
@@ -193,7 +193,7 @@ void Evaluator::evaluate() {
         gl.Uniform1fv(p.knots, 2 * s.degree_v, knots);
         gl.Uniform1i(p.span_first, run.span - s.degree_v);
         gl.Viewport(0, s.output_row0 + run.first, s.nu, run.count);
-        gl.DrawArrays(GL_TRIANGLES, 0, 3);
+        context_.draw_arrays(GL_TRIANGLES, 0, 3);
       }
     }
   }
