@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <cstdint>
 
 #include "reference/nurbs_math.h"
 #include "strategies/gl_context/gl_context.h"
@@ -88,6 +89,7 @@ class GlPingPong final : public Strategy {
     d.details["packed"] = std::to_string(packed_ ? 1 : 0);
     d.details["tile"] = std::to_string(tile_);
     d.details["tiles"] = std::to_string(tile_count_);
+    // Counted from the draws the last evaluate() issued (gl::DrawCounts), 0 before one.
     d.details["passes"] = std::to_string(passes_);
     d.details["passes_basis"] = std::to_string(basis_passes_);
     d.details["bytes_uploaded"] = std::to_string(bytes_uploaded_);
@@ -115,9 +117,12 @@ class GlPingPong final : public Strategy {
     context_->make_current();
     const gl::Functions& gl = context_->gl();
     if (!query_) gl.GenQueries(1, &query_);
+    const gl::DrawCounts before = context_->draw_counts();
+    basis_passes_ = 0;
     gl.BeginQuery(GL_TIME_ELAPSED, query_);
     for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
     gl.EndQuery(GL_TIME_ELAPSED);
+    passes_ = (context_->draw_counts() - before).passes;
     context_->finish("gl-pingpong evaluate");
     GLuint64 ns = 0;
     gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
@@ -264,20 +269,16 @@ class GlPingPong final : public Strategy {
         s.tiles.push_back(std::move(t));
       }
     tile_count_ += s.tiles.size();
-    const std::size_t basis = s.u_chunks.size() * static_cast<std::size_t>(s.degree_u) +
-                              s.v_chunks.size() * static_cast<std::size_t>(s.degree_v);
-    basis_passes_ += basis;
-    passes_ += basis + s.tiles.size() * (static_cast<std::size_t>(s.degree_u + 1) *
-                                             static_cast<std::size_t>(s.degree_v + 1) +
-                                         1);
     return s;
   }
 
   void evaluate_surface(SurfaceOnGpu& s) {
     const gl::Functions& gl = context_->gl();
     // 000 §3.1 step 2: k-1 passes per direction (and per chunk of a tiled direction).
+    const gl::DrawCounts before = context_->draw_counts();
     for (BasisChunk& c : s.u_chunks) c.raise(*programs_, s.degree_u);
     for (BasisChunk& c : s.v_chunks) c.raise(*programs_, s.degree_v);
+    basis_passes_ += (context_->draw_counts() - before).passes;
     // Step 3: k_u x k_v accumulation passes per tile, then the divide.
     for (Tile& t : s.tiles) {
       const BasisChunk& u = s.u_chunks[static_cast<std::size_t>(t.cu)];
@@ -320,7 +321,8 @@ class GlPingPong final : public Strategy {
   std::vector<SurfaceOnGpu> surfaces_;
   GLuint query_ = 0;
   double device_evaluate_s_ = 0;
-  std::size_t bytes_uploaded_ = 0, passes_ = 0, basis_passes_ = 0, tile_count_ = 0;
+  std::size_t bytes_uploaded_ = 0, tile_count_ = 0;
+  std::uint64_t passes_ = 0, basis_passes_ = 0;  // of the last evaluate()
 };
 
 Availability pingpong_probe() {

@@ -87,7 +87,6 @@ Evaluator::~Evaluator() {
 
 std::size_t Evaluator::prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples) {
   pages_.clear();
-  quads_ = 0;
   // Pack surfaces into pages: rows stack until a texture side would exceed the tile.
   std::vector<std::vector<SurfaceSlot>> packed(1);
   int control_rows = 0, output_rows = 0;
@@ -111,7 +110,6 @@ std::size_t Evaluator::prepare(const Scene& scene, const std::vector<SurfaceSamp
     slot.parameter_row = static_cast<int>(packed.back().size());
     control_rows += slot.count_v;
     output_rows += slot.nv;
-    quads_ += slot.runs_u.size() + slot.runs_v.size();
     packed.back().push_back(std::move(slot));
   }
   std::size_t bytes = 0;

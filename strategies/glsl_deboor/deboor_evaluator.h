@@ -57,7 +57,6 @@ class Evaluator {
   std::vector<std::vector<float>> read_back();
 
   const std::vector<Page>& pages() const { return pages_; }
-  std::size_t quads() const { return quads_; }
 
  private:
   gl::Context& context_;
@@ -67,7 +66,6 @@ class Evaluator {
   std::map<int, std::unique_ptr<DeBoorProgram>> programs_;
   GLuint vertex_array_ = 0;
   std::vector<Page> pages_;
-  std::size_t quads_ = 0;
 };
 
 }  // namespace nurbs::glsl_deboor

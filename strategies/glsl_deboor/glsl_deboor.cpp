@@ -67,8 +67,10 @@ class GlslDeBoor final : public Strategy {
     DeviceInfo d = context_->device_info();
     d.details["tile"] = std::to_string(tile_);
     d.details["pages"] = std::to_string(evaluator_->pages().size());
-    d.details["quads"] = std::to_string(evaluator_->quads());
-    d.details["passes"] = std::to_string(2 * evaluator_->pages().size());
+    // Counted from the draws the last evaluate() issued (gl::DrawCounts), 0 before one: a quad
+    // is one draw, a pass one target drawn into.
+    d.details["quads"] = std::to_string(evaluated_.draws);
+    d.details["passes"] = std::to_string(evaluated_.passes);
     d.details["bytes_uploaded"] = std::to_string(bytes_uploaded_);
     trims_->add_details(d);
     return d;
@@ -79,6 +81,7 @@ class GlslDeBoor final : public Strategy {
     samples_ = sample_parameters(scene, request.sampling);
     view_ = gl::orthographic_view(scene);
     context_->make_current();
+    evaluated_ = {};
     bytes_uploaded_ = evaluator_->prepare(scene, samples_);
     trims_->prepare(scene, samples_);
     context_->finish("glsl-deboor upload");
@@ -88,9 +91,11 @@ class GlslDeBoor final : public Strategy {
     context_->make_current();
     const gl::Functions& gl = context_->gl();
     if (!query_) gl.GenQueries(1, &query_);
+    const gl::DrawCounts before = context_->draw_counts();
     gl.BeginQuery(GL_TIME_ELAPSED, query_);
     evaluator_->evaluate();
     gl.EndQuery(GL_TIME_ELAPSED);
+    evaluated_ = context_->draw_counts() - before;
     context_->finish("glsl-deboor evaluate");
     GLuint64 ns = 0;
     gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
@@ -155,6 +160,7 @@ class GlslDeBoor final : public Strategy {
   GLuint query_ = 0;
   double device_evaluate_s_ = 0;
   std::size_t bytes_uploaded_ = 0;
+  gl::DrawCounts evaluated_;  // by the last evaluate()
 };
 
 Availability deboor_probe() {

@@ -137,6 +137,51 @@ TEST_P(GlPingPongAccuracy, RecordsDeviceTimesPassesAndBytes) {
   EXPECT_EQ(d.details.at("bytes_uploaded"), std::to_string(144 * 16 + 2 * per_direction));
 }
 
+// The record's passes are the draws evaluate() issued (gl::DrawCounts), checked here against 000
+// §3.1 counted per surface by hand: the recurrence raises the order-1 basis to order k in k-1
+// ping-pong passes, in each direction and for each chunk of that direction's parameters (a tiled
+// grid raises every chunk); every tile then sums its k_u x k_v basis products one pass each and
+// divides by w in one more. A second evaluate() reports its own passes, not a running total.
+TEST_P(GlPingPongAccuracy, PassesAreTheDrawsOf000) {
+  const auto platform = gl::parse_platform(GetParam().platform);
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  const StrategyEntry& entry = *find_strategy(GetParam().strategy);
+  struct PassCase {
+    std::string scene;
+    int grid_u, grid_v;
+    int tile;  // 0: the whole grid in one texture
+  };
+  for (const PassCase& c : {PassCase{"degree-1", 16, 16, 0}, PassCase{"degree-7", 9, 12, 0},
+                            PassCase{"duck", 33, 29, 0}, PassCase{"many-16", 30, 17, 7},
+                            PassCase{"torus", 20, 11, 8}}) {
+    SCOPED_TRACE(c.scene);
+    const Scene scene = *make_builtin_scene(c.scene);
+    std::size_t basis = 0, accumulate_and_divide = 0;
+    for (const Surface& s : scene.surfaces) {
+      const int chunks_u = c.tile ? (c.grid_u + c.tile - 1) / c.tile : 1;
+      const int chunks_v = c.tile ? (c.grid_v + c.tile - 1) / c.tile : 1;
+      const int order_u = s.degree_u + 1, order_v = s.degree_v + 1;
+      basis += static_cast<std::size_t>(chunks_u * (order_u - 1) + chunks_v * (order_v - 1));
+      accumulate_and_divide += static_cast<std::size_t>(chunks_u * chunks_v) *
+                               static_cast<std::size_t>(order_u * order_v + 1);
+    }
+    Sampling grid;
+    grid.grid_u = c.grid_u;
+    grid.grid_v = c.grid_v;
+    auto strategy =
+        entry.create(options_for(GetParam().platform, c.tile ? std::to_string(c.tile) : ""));
+    strategy->prepare(scene, EvalRequest{grid, Precision::f32, false});
+    EXPECT_EQ(strategy->device().details.at("passes"), "0");  // nothing drawn yet
+    for (int run = 0; run < 2; ++run) {
+      strategy->evaluate();
+      const DeviceInfo d = strategy->device();
+      EXPECT_EQ(d.details.at("passes_basis"), std::to_string(basis)) << "evaluate " << run;
+      EXPECT_EQ(d.details.at("passes"), std::to_string(basis + accumulate_and_divide))
+          << "evaluate " << run;
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Platforms, GlPingPongAccuracy,
                          ::testing::Values(Case{"osmesa", "gl-pingpong"},
                                            Case{"osmesa", "gl-pingpong-packed"},
