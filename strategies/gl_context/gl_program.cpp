@@ -152,7 +152,7 @@ void Texture::reset() {
 }
 
 std::size_t Texture::upload(GLenum format, GLenum type, const void* data,
-                            std::size_t bytes_per_texel) {
+                            std::size_t bytes_per_texel) const {
   const Functions& gl = context_->gl();
   gl.BindTexture(GL_TEXTURE_2D, texture_);
   gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);

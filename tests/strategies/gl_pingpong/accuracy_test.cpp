@@ -7,12 +7,15 @@
 
 #include <algorithm>
 #include <iostream>
+#include <stdexcept>
+#include <tuple>
 
 #include "harness/metrics.h"
 #include "harness/runner.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/gl_context/gl_context.h"
 #include "strategies/registry.h"
+#include "tests/strategies/gl_update_check.h"
 
 namespace nurbs {
 namespace {
@@ -179,6 +182,60 @@ TEST_P(GlPingPongAccuracy, PassesAreTheDrawsOf000) {
       EXPECT_EQ(d.details.at("passes"), std::to_string(basis + accumulate_and_divide))
           << "evaluate " << run;
     }
+  }
+}
+
+// 000 §5's deforming surfaces: update_control_points rewrites only the control-point textures, so
+// an updated strategy equals a freshly prepared one bit for bit -- one surface, a trimmed one (the
+// trim textures stay from prepare), many surfaces over 7-texel tiles -- and sends only the points.
+TEST_P(GlPingPongAccuracy, UpdateControlPointsEqualsAFreshPrepare) {
+  const auto platform = gl::parse_platform(GetParam().platform);
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  const StrategyEntry& entry = *find_strategy(GetParam().strategy);
+  EXPECT_TRUE(entry.capabilities().updates_control_points);
+  Sampling grid;
+  grid.grid_u = 30;
+  grid.grid_v = 17;
+  Sampling span;
+  span.mode = SamplingMode::span_grid;
+  span.span_steps = 3;
+  for (const auto& [name, sampling, tile] :
+       {std::tuple{"patch144", grid, ""}, std::tuple{"trimmed-plate", span, ""},
+        std::tuple{"many-16", grid, "7"}}) {
+    SCOPED_TRACE(name);
+    const Scene scene = *make_builtin_scene(name);
+    const DeviceInfo d = expect_update_equals_fresh_prepare(
+        entry, options_for(GetParam().platform, tile), scene, sampling, kBudgetUlp);
+    std::size_t points = 0;
+    for (const Surface& s : scene.surfaces) points += s.points.size();
+    EXPECT_EQ(d.details.at("bytes_updated"), std::to_string(points * 4 * sizeof(float)));
+  }
+  auto strategy = entry.create(options_for(GetParam().platform));
+  strategy->prepare(*make_builtin_scene("patch144"), EvalRequest{grid, Precision::f32, false});
+  EXPECT_THROW(strategy->update_control_points(*make_builtin_scene("degree-3")),
+               std::invalid_argument);
+  EXPECT_THROW(strategy->update_control_points(*make_builtin_scene("many-2")),
+               std::invalid_argument);
+}
+
+// The deforming benchmark times update_control_points as "frame_update" and scores the last
+// frame, trims included.
+TEST_P(GlPingPongAccuracy, DeformingRunUpdatesAndLandsOnTheLastFrame) {
+  const auto platform = gl::parse_platform(GetParam().platform);
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  Sampling grid;
+  grid.grid_u = 33;
+  grid.grid_v = 29;
+  for (const char* name : {"patch144", "trimmed-plate"}) {
+    const Record r =
+        measure_deforming(*find_strategy(GetParam().strategy), options_for(GetParam().platform),
+                          *make_builtin_scene(name), EvalRequest{grid, Precision::f32, false}, 3,
+                          ReferencePrecision::long_double);
+    ASSERT_EQ(r.status, Status::ok) << name << ": " << r.reason;
+    ASSERT_TRUE(r.accuracy.has_value());
+    EXPECT_LE(r.accuracy->max_ulp, kBudgetUlp) << name;
+    EXPECT_TRUE(r.extra_phases.count("frame_update")) << name;
+    EXPECT_FALSE(r.extra_phases.count("frame_prepare")) << name;
   }
 }
 
