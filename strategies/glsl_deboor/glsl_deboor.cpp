@@ -35,6 +35,9 @@ Capabilities deboor_capabilities() {
   c.fp64 = false;  // RGBA32F textures, as in the paper
   c.sampling = SamplingModes{true, true, false};
   c.trims = true;  // 000 §4's trim texture, shared with gl-pingpong (strategies/trim_texture)
+  // 000 §5's deforming surfaces: "only the control points" are sent again; knots, span runs,
+  // parameters and trim textures depend on what a deforming scene keeps.
+  c.updates_control_points = true;
   return c;
 }
 
@@ -72,6 +75,7 @@ class GlslDeBoor final : public Strategy {
     d.details["quads"] = std::to_string(evaluated_.draws);
     d.details["passes"] = std::to_string(evaluated_.passes);
     d.details["bytes_uploaded"] = std::to_string(bytes_uploaded_);
+    if (bytes_updated_) d.details["bytes_updated"] = std::to_string(bytes_updated_);
     trims_->add_details(d);
     return d;
   }
@@ -82,9 +86,18 @@ class GlslDeBoor final : public Strategy {
     view_ = gl::orthographic_view(scene);
     context_->make_current();
     evaluated_ = {};
+    bytes_updated_ = 0;
     bytes_uploaded_ = evaluator_->prepare(scene, samples_);
     trims_->prepare(scene, samples_);
     context_->finish("glsl-deboor upload");
+  }
+
+  // The trim textures stay: a deforming scene moves points, never trims or samples.
+  void update_control_points(const Scene& scene) override {
+    context_->make_current();
+    bytes_updated_ = evaluator_->update_control_points(scene);
+    view_ = gl::orthographic_view(scene);  // as prepare() would frame the moved scene
+    context_->finish("glsl-deboor control point update");
   }
 
   void evaluate() override {
@@ -159,7 +172,7 @@ class GlslDeBoor final : public Strategy {
   std::vector<SurfaceSamples> samples_;
   GLuint query_ = 0;
   double device_evaluate_s_ = 0;
-  std::size_t bytes_uploaded_ = 0;
+  std::size_t bytes_uploaded_ = 0, bytes_updated_ = 0;
   gl::DrawCounts evaluated_;  // by the last evaluate()
 };
 

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <stdexcept>
+#include <tuple>
 
 #include "harness/metrics.h"
 #include "harness/runner.h"
@@ -12,6 +14,7 @@
 #include "strategies/gl_context/gl_context.h"
 #include "strategies/glsl_deboor/span_runs.h"
 #include "strategies/registry.h"
+#include "tests/strategies/gl_update_check.h"
 
 namespace nurbs {
 namespace {
@@ -173,6 +176,59 @@ TEST_P(GlslDeBoorGl, PassesAndQuadsAreTheDrawsOf002) {
       EXPECT_EQ(d.details.at("passes"), std::to_string(2 * c.pages)) << "evaluate " << run;
       EXPECT_EQ(d.details.at("quads"), std::to_string(quads)) << "evaluate " << run;
     }
+  }
+}
+
+// 000 §5's deforming surfaces: update_control_points rewrites only the pages' control textures, so
+// an updated strategy equals a freshly prepared one bit for bit -- one surface, a trimmed one (the
+// trim textures stay from prepare), many surfaces paged over 40-row tiles.
+TEST_P(GlslDeBoorGl, UpdateControlPointsEqualsAFreshPrepare) {
+  const auto platform = gl::parse_platform(GetParam());
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  const StrategyEntry& entry = *find_strategy("glsl-deboor");
+  EXPECT_TRUE(entry.capabilities().updates_control_points);
+  Sampling grid;
+  grid.grid_u = 30;
+  grid.grid_v = 17;
+  Sampling span;
+  span.mode = SamplingMode::span_grid;
+  span.span_steps = 3;
+  for (const auto& [name, sampling, tile] :
+       {std::tuple{"patch144", grid, ""}, std::tuple{"trimmed-plate", span, ""},
+        std::tuple{"many-16", grid, "40"}}) {
+    SCOPED_TRACE(name);
+    const DeviceInfo d = expect_update_equals_fresh_prepare(
+        entry, options_for(GetParam(), tile), *make_builtin_scene(name), sampling, kBudgetUlp);
+    EXPECT_EQ(d.details.count("bytes_updated"), 1u);
+  }
+  // patch144 alone: its page's control texture is exactly its 12 x 12 net.
+  auto strategy = entry.create(options_for(GetParam()));
+  strategy->prepare(*make_builtin_scene("patch144"), EvalRequest{grid, Precision::f32, false});
+  strategy->update_control_points(deformed_scene(*make_builtin_scene("patch144"), 1));
+  EXPECT_EQ(strategy->device().details.at("bytes_updated"), std::to_string(144 * 16));
+  EXPECT_THROW(strategy->update_control_points(*make_builtin_scene("degree-3")),
+               std::invalid_argument);
+  EXPECT_THROW(strategy->update_control_points(*make_builtin_scene("many-2")),
+               std::invalid_argument);
+}
+
+// The deforming benchmark times update_control_points as "frame_update" and scores the last
+// frame, trims included.
+TEST_P(GlslDeBoorGl, DeformingRunUpdatesAndLandsOnTheLastFrame) {
+  const auto platform = gl::parse_platform(GetParam());
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  Sampling grid;
+  grid.grid_u = 33;
+  grid.grid_v = 29;
+  for (const char* name : {"patch144", "trimmed-plate"}) {
+    const Record r = measure_deforming(
+        *find_strategy("glsl-deboor"), options_for(GetParam()), *make_builtin_scene(name),
+        EvalRequest{grid, Precision::f32, false}, 3, ReferencePrecision::long_double);
+    ASSERT_EQ(r.status, Status::ok) << name << ": " << r.reason;
+    ASSERT_TRUE(r.accuracy.has_value());
+    EXPECT_LE(r.accuracy->max_ulp, kBudgetUlp) << name;
+    EXPECT_TRUE(r.extra_phases.count("frame_update")) << name;
+    EXPECT_FALSE(r.extra_phases.count("frame_prepare")) << name;
   }
 }
 
