@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <mutex>
+#include <type_traits>
 
 #include "strategies/device_wait.h"
 
@@ -94,10 +95,16 @@ void Context::init() {
   description_ = backend_->description();
   make_current();
   std::vector<std::string> missing;
-#define NURBSBENCH_GL_LOAD(type, name)                                   \
-  gl_.name = reinterpret_cast<type>(backend_->proc_address("gl" #name)); \
-  if (!gl_.name) missing.push_back("gl" #name);
+  auto load = [&](auto& entry, const char* name) {
+    entry =
+        reinterpret_cast<std::remove_reference_t<decltype(entry)>>(backend_->proc_address(name));
+    if (!entry) missing.push_back(name);
+  };
+#define NURBSBENCH_GL_LOAD(type, name) load(gl_.name, "gl" #name);
   NURBSBENCH_GL_FUNCTIONS(NURBSBENCH_GL_LOAD)
+#undef NURBSBENCH_GL_LOAD
+#define NURBSBENCH_GL_LOAD(type, name) load(counted_.name, "gl" #name);
+  NURBSBENCH_GL_COUNTED_FUNCTIONS(NURBSBENCH_GL_LOAD)
 #undef NURBSBENCH_GL_LOAD
   if (!missing.empty())
     throw UnavailableError(
@@ -141,6 +148,27 @@ void Context::make_current() {
   backend_->make_current();
   current_backend = backend_.get();
   current_context = this;
+}
+
+void Context::bind_framebuffer(GLuint framebuffer) {
+  counted_.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  bound_target_drawn_ = false;
+}
+
+void Context::draw_arrays(GLenum mode, GLint first, GLsizei count) {
+  counted_.DrawArrays(mode, first, count);
+  count_draw();
+}
+
+void Context::draw_elements(GLenum mode, GLsizei count, GLenum type, const void* indices) {
+  counted_.DrawElements(mode, count, type, indices);
+  count_draw();
+}
+
+void Context::count_draw() {
+  ++draw_counts_.draws;
+  if (!bound_target_drawn_) ++draw_counts_.passes;
+  bound_target_drawn_ = true;
 }
 
 bool Context::software() const {

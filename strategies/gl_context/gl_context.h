@@ -4,6 +4,7 @@
 // the record, and GL errors (GL debug output in debug builds) turned into exceptions.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -50,6 +51,17 @@ class Backend {
   virtual std::string description() const = 0;  // "osmesa", "egl-surfaceless", "egl-device"
 };
 
+// Draws issued through one Context. A pass is a framebuffer binding drawn into: the draws between
+// two bind_framebuffer() calls render into one target, as the papers' passes do (000's ping-pong
+// binds a new target for every draw; 002 draws every span quad of a direction into one target).
+struct DrawCounts {
+  std::uint64_t draws = 0;
+  std::uint64_t passes = 0;
+  DrawCounts operator-(const DrawCounts& earlier) const {
+    return {draws - earlier.draws, passes - earlier.passes};
+  }
+};
+
 void APIENTRY debug_message(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei length,
                             const GLchar* message, const void* self);
 
@@ -68,6 +80,13 @@ class Context {
   // (an OSMesa and an EGL context share Mesa's dispatch, so only one may be bound at a time).
   void make_current();
   const Functions& gl() const { return gl_; }
+
+  // The only way to bind a framebuffer (GL_FRAMEBUFFER) or to draw: see DrawCounts.
+  void bind_framebuffer(GLuint framebuffer);
+  void draw_arrays(GLenum mode, GLint first, GLsizei count);
+  void draw_elements(GLenum mode, GLsizei count, GLenum type, const void* indices);
+  // Since the context was created; a strategy records the difference over its evaluate().
+  DrawCounts draw_counts() const { return draw_counts_; }
 
   Platform platform() const { return platform_; }
   const std::string& description() const { return description_; }
@@ -97,10 +116,14 @@ class Context {
   Context(Platform platform, std::unique_ptr<Backend> backend);
   void init();
   friend void debug_message(GLenum, GLenum, GLuint, GLenum, GLsizei, const GLchar*, const void*);
+  void count_draw();
 
   Platform platform_;
   std::unique_ptr<Backend> backend_;
   Functions gl_;
+  CountedFunctions counted_;
+  DrawCounts draw_counts_;
+  bool bound_target_drawn_ = false;  // a draw went into the framebuffer bound last
   std::string description_, renderer_, vendor_, version_, glsl_version_;
   std::vector<std::string> extensions_;
   int max_texture_size_ = 0, max_viewport_ = 0;

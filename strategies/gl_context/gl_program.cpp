@@ -112,7 +112,7 @@ Texture::Texture(Context& context, GLenum internal_format, int width, int height
                 type, nullptr);
   if (render_target) {
     gl.GenFramebuffers(1, &framebuffer_);
-    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+    context.bind_framebuffer(framebuffer_);
     gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture_, 0);
     const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
@@ -152,7 +152,7 @@ void Texture::reset() {
 }
 
 std::size_t Texture::upload(GLenum format, GLenum type, const void* data,
-                            std::size_t bytes_per_texel) {
+                            std::size_t bytes_per_texel) const {
   const Functions& gl = context_->gl();
   gl.BindTexture(GL_TEXTURE_2D, texture_);
   gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
@@ -162,7 +162,7 @@ std::size_t Texture::upload(GLenum format, GLenum type, const void* data,
 
 void Texture::bind_target() const {
   const Functions& gl = context_->gl();
-  gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  context_->bind_framebuffer(framebuffer_);
   gl.Viewport(0, 0, width_, height_);
 }
 

@@ -47,7 +47,8 @@ class Texture {
   Texture& operator=(Texture&& other) noexcept;
 
   // Replaces the whole image; returns the bytes sent.
-  std::size_t upload(GLenum format, GLenum type, const void* data, std::size_t bytes_per_texel);
+  std::size_t upload(GLenum format, GLenum type, const void* data,
+                     std::size_t bytes_per_texel) const;
   // Binds its framebuffer and sets the viewport to the whole texture.
   void bind_target() const;
   void bind_to_unit(int unit) const;

@@ -71,7 +71,7 @@ GridRenderer::GridRenderer(Context& context, int width, int height)
   gl.BindRenderbuffer(GL_RENDERBUFFER, depth_);
   gl.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
   gl.GenFramebuffers(1, &framebuffer_);
-  gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  context_.bind_framebuffer(framebuffer_);
   gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
   gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
   const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
@@ -117,7 +117,7 @@ GLuint GridRenderer::index_buffer(int nu, int nv) {
 
 void GridRenderer::begin_frame() {
   const Functions& gl = context_.gl();
-  gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  context_.bind_framebuffer(framebuffer_);
   gl.Viewport(0, 0, width_, height_);
   gl.ClearColor(0, 0, 0, 0);
   gl.Enable(GL_DEPTH_TEST);
@@ -146,8 +146,8 @@ void GridRenderer::draw(const GridPoints& grid, const float mvp[16], const GridT
   gl.Uniform2i(origin_, grid.origin_x, grid.origin_y);
   gl.Uniform1i(u_along_x_, grid.u_along_x ? 1 : 0);
   index_buffer(grid.nu, grid.nv);
-  gl.DrawElements(GL_TRIANGLES, index_buffers_.at({grid.nu, grid.nv}).second, GL_UNSIGNED_INT,
-                  nullptr);
+  context_.draw_elements(GL_TRIANGLES, index_buffers_.at({grid.nu, grid.nv}).second,
+                         GL_UNSIGNED_INT, nullptr);
 }
 
 void GridRenderer::draw(const float* xyz, int nu, int nv, const float mvp[16],
@@ -168,7 +168,8 @@ void GridRenderer::draw(const float* xyz, int nu, int nv, const float mvp[16],
                 vertices_.data(), GL_STREAM_DRAW);
   gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
   index_buffer(nu, nv);
-  gl.DrawElements(GL_TRIANGLES, index_buffers_.at({nu, nv}).second, GL_UNSIGNED_INT, nullptr);
+  context_.draw_elements(GL_TRIANGLES, index_buffers_.at({nu, nv}).second, GL_UNSIGNED_INT,
+                         nullptr);
 }
 
 void GridRenderer::end_frame(std::string_view where) {
@@ -179,7 +180,7 @@ void GridRenderer::end_frame(std::string_view where) {
 std::vector<unsigned char> GridRenderer::image() {
   const Functions& gl = context_.gl();
   std::vector<unsigned char> pixels(static_cast<std::size_t>(width_) * height_ * 4);
-  gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  context_.bind_framebuffer(framebuffer_);
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
   gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
   gl.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());

@@ -59,7 +59,7 @@ Programs::~Programs() {
 void Programs::draw() const {
   const gl::Functions& gl = context.gl();
   gl.BindVertexArray(vertex_array_);
-  gl.DrawArrays(GL_TRIANGLES, 0, 3);
+  context.draw_arrays(GL_TRIANGLES, 0, 3);
 }
 
 BasisChunk::BasisChunk(gl::Context& context, const ChunkInputs& in)

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <cstdint>
+#include <stdexcept>
 
 #include "reference/nurbs_math.h"
 #include "strategies/gl_context/gl_context.h"
@@ -32,6 +34,10 @@ Capabilities pingpong_capabilities() {
   c.fp64 = false;  // RGBA32F textures, as in the paper
   c.sampling = SamplingModes{true, true, false};
   c.trims = true;  // 000 §4's trim texture (strategies/trim_texture)
+  // 000 §5: for a deforming surface "only the control points" are sent again; the knot arrays,
+  // basis chunks, trim textures and targets depend on knots, samples and trims, which a deforming
+  // scene keeps.
+  c.updates_control_points = true;
   return c;
 }
 
@@ -47,7 +53,7 @@ struct Tile {
 };
 
 struct SurfaceOnGpu {
-  int degree_u = 0, degree_v = 0;
+  int degree_u = 0, degree_v = 0, count_u = 0, count_v = 0;
   gl::Texture control;  // count_v x count_u homogeneous control points (000 §3.1)
   std::vector<BasisChunk> u_chunks, v_chunks;
   std::vector<std::size_t> u_begin, v_begin;  // first parameter of each chunk
@@ -88,9 +94,11 @@ class GlPingPong final : public Strategy {
     d.details["packed"] = std::to_string(packed_ ? 1 : 0);
     d.details["tile"] = std::to_string(tile_);
     d.details["tiles"] = std::to_string(tile_count_);
+    // Counted from the draws the last evaluate() issued (gl::DrawCounts), 0 before one.
     d.details["passes"] = std::to_string(passes_);
     d.details["passes_basis"] = std::to_string(basis_passes_);
     d.details["bytes_uploaded"] = std::to_string(bytes_uploaded_);
+    if (bytes_updated_) d.details["bytes_updated"] = std::to_string(bytes_updated_);
     trims_->add_details(d);
     return d;
   }
@@ -101,7 +109,7 @@ class GlPingPong final : public Strategy {
     view_ = gl::orthographic_view(scene);
     context_->make_current();
     surfaces_.clear();
-    bytes_uploaded_ = 0;
+    bytes_uploaded_ = bytes_updated_ = 0;
     passes_ = basis_passes_ = 0;
     tile_count_ = 0;
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
@@ -111,13 +119,43 @@ class GlPingPong final : public Strategy {
     context_->check("gl-pingpong upload");
   }
 
+  // Only the control-point textures are written, in prepare()'s layout; a scene whose nets differ
+  // in number, size or degree from the prepared one is an error, not a partial upload.
+  void update_control_points(const Scene& scene) override {
+    if (scene.surfaces.size() != surfaces_.size())
+      throw std::invalid_argument(
+          fmt::format("{}: update_control_points with {} surfaces, prepared with {}", name(),
+                      scene.surfaces.size(), surfaces_.size()));
+    for (std::size_t i = 0; i < surfaces_.size(); ++i) {
+      const Surface& surface = scene.surfaces[i];
+      const SurfaceOnGpu& s = surfaces_[i];
+      if (surface.count_u != s.count_u || surface.count_v != s.count_v ||
+          surface.degree_u != s.degree_u || surface.degree_v != s.degree_v)
+        throw std::invalid_argument(fmt::format(
+            "{}: update_control_points: surface '{}' is {}x{} of degree ({}, {}), prepared {}x{} "
+            "of degree ({}, {})",
+            name(), surface.name, surface.count_u, surface.count_v, surface.degree_u,
+            surface.degree_v, s.count_u, s.count_v, s.degree_u, s.degree_v));
+    }
+    view_ = gl::orthographic_view(scene);  // as prepare() would frame the moved scene
+    context_->make_current();
+    bytes_updated_ = 0;
+    for (std::size_t i = 0; i < surfaces_.size(); ++i)
+      bytes_updated_ += upload_control(SurfaceNet<float>(scene.surfaces[i]), surfaces_[i].control);
+    context_->finish("gl-pingpong control point update");
+    context_->check("gl-pingpong control point update");
+  }
+
   void evaluate() override {
     context_->make_current();
     const gl::Functions& gl = context_->gl();
     if (!query_) gl.GenQueries(1, &query_);
+    const gl::DrawCounts before = context_->draw_counts();
+    basis_passes_ = 0;
     gl.BeginQuery(GL_TIME_ELAPSED, query_);
     for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
     gl.EndQuery(GL_TIME_ELAPSED);
+    passes_ = (context_->draw_counts() - before).passes;
     context_->finish("gl-pingpong evaluate");
     GLuint64 ns = 0;
     gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
@@ -236,6 +274,11 @@ class GlPingPong final : public Strategy {
     return chunks;
   }
 
+  // 000 §3.1's control-point texture: texel (j, i) = (w x, w y, w z, w) of P_ij.
+  std::size_t upload_control(const SurfaceNet<float>& net, const gl::Texture& control) {
+    return control.upload(GL_RGBA, GL_FLOAT, net.homogeneous.data(), sizeof(float) * 4);
+  }
+
   SurfaceOnGpu upload_surface(const Surface& surface, const SurfaceSamples& samples) {
     // Grids larger than a texture are tiled; a control net larger than one is refused (it would
     // need the sub-mesh lookup split across textures, which the paper's layout does not have).
@@ -248,9 +291,10 @@ class GlPingPong final : public Strategy {
     SurfaceOnGpu s;
     s.degree_u = surface.degree_u;
     s.degree_v = surface.degree_v;
+    s.count_u = surface.count_u;
+    s.count_v = surface.count_v;
     s.control = gl::Texture(*context_, GL_RGBA32F, surface.count_v, surface.count_u, false);
-    bytes_uploaded_ +=
-        s.control.upload(GL_RGBA, GL_FLOAT, net.homogeneous.data(), sizeof(float) * 4);
+    bytes_uploaded_ += upload_control(net, s.control);
     s.u_chunks = upload_chunks(samples.u, net.degree_u, net.count_u, net.knots_u, s.u_begin);
     s.v_chunks = upload_chunks(samples.v, net.degree_v, net.count_v, net.knots_v, s.v_begin);
     for (std::size_t cu = 0; cu < s.u_chunks.size(); ++cu)
@@ -264,20 +308,16 @@ class GlPingPong final : public Strategy {
         s.tiles.push_back(std::move(t));
       }
     tile_count_ += s.tiles.size();
-    const std::size_t basis = s.u_chunks.size() * static_cast<std::size_t>(s.degree_u) +
-                              s.v_chunks.size() * static_cast<std::size_t>(s.degree_v);
-    basis_passes_ += basis;
-    passes_ += basis + s.tiles.size() * (static_cast<std::size_t>(s.degree_u + 1) *
-                                             static_cast<std::size_t>(s.degree_v + 1) +
-                                         1);
     return s;
   }
 
   void evaluate_surface(SurfaceOnGpu& s) {
     const gl::Functions& gl = context_->gl();
     // 000 §3.1 step 2: k-1 passes per direction (and per chunk of a tiled direction).
+    const gl::DrawCounts before = context_->draw_counts();
     for (BasisChunk& c : s.u_chunks) c.raise(*programs_, s.degree_u);
     for (BasisChunk& c : s.v_chunks) c.raise(*programs_, s.degree_v);
+    basis_passes_ += (context_->draw_counts() - before).passes;
     // Step 3: k_u x k_v accumulation passes per tile, then the divide.
     for (Tile& t : s.tiles) {
       const BasisChunk& u = s.u_chunks[static_cast<std::size_t>(t.cu)];
@@ -320,7 +360,8 @@ class GlPingPong final : public Strategy {
   std::vector<SurfaceOnGpu> surfaces_;
   GLuint query_ = 0;
   double device_evaluate_s_ = 0;
-  std::size_t bytes_uploaded_ = 0, passes_ = 0, basis_passes_ = 0, tile_count_ = 0;
+  std::size_t bytes_uploaded_ = 0, bytes_updated_ = 0, tile_count_ = 0;
+  std::uint64_t passes_ = 0, basis_passes_ = 0;  // of the last evaluate()
 };
 
 Availability pingpong_probe() {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 
 #include "reference/nurbs_math.h"
@@ -35,6 +36,24 @@ SurfaceSlot make_slot(std::size_t index, const Surface& s, const SurfaceSamples&
   slot.nu = static_cast<int>(samples.u.size());
   slot.nv = static_cast<int>(samples.v.size());
   return slot;
+}
+
+// 002 §3.3.1 / Fig 2: texel (i, row0 + j) = (w x, w y, w z, w) of P_ij, for every slot of a page
+// whose control texture is `control`; texels no slot covers are zero.
+std::size_t upload_control(const Scene& scene, const std::vector<SurfaceSlot>& slots,
+                           const gl::Texture& control) {
+  const int width = control.width();
+  std::vector<float> texels(static_cast<std::size_t>(width) * control.height() * 4, 0.0f);
+  for (const SurfaceSlot& slot : slots) {
+    const SurfaceNet<float> net(scene.surfaces[slot.surface]);
+    for (int j = 0; j < slot.count_v; ++j)
+      for (int i = 0; i < slot.count_u; ++i) {
+        const Vec4<float>& p = net.at(i, j);
+        std::copy(p.begin(), p.end(),
+                  &texels[(static_cast<std::size_t>(slot.control_row0 + j) * width + i) * 4]);
+      }
+  }
+  return control.upload(GL_RGBA, GL_FLOAT, texels.data(), sizeof(float) * 4);
 }
 
 gl::Texture parameter_texture(gl::Context& context, const std::vector<std::vector<double>>& rows,
@@ -87,7 +106,6 @@ Evaluator::~Evaluator() {
 
 std::size_t Evaluator::prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples) {
   pages_.clear();
-  quads_ = 0;
   // Pack surfaces into pages: rows stack until a texture side would exceed the tile.
   std::vector<std::vector<SurfaceSlot>> packed(1);
   int control_rows = 0, output_rows = 0;
@@ -111,7 +129,6 @@ std::size_t Evaluator::prepare(const Scene& scene, const std::vector<SurfaceSamp
     slot.parameter_row = static_cast<int>(packed.back().size());
     control_rows += slot.count_v;
     output_rows += slot.nv;
-    quads_ += slot.runs_u.size() + slot.runs_v.size();
     packed.back().push_back(std::move(slot));
   }
   std::size_t bytes = 0;
@@ -123,23 +140,14 @@ std::size_t Evaluator::prepare(const Scene& scene, const std::vector<SurfaceSamp
       control_h = s.control_row0 + s.count_v;
       out_h = s.output_row0 + s.nv;
     }
-    // 002 §3.3.1 / Fig 2: texel (i, row0 + j) = (w x, w y, w z, w) of P_ij.
-    std::vector<float> texels(static_cast<std::size_t>(control_w) * control_h * 4, 0.0f);
     std::vector<std::vector<double>> us, vs;
     for (const SurfaceSlot& slot : slots) {
-      const SurfaceNet<float> net(scene.surfaces[slot.surface]);
-      for (int j = 0; j < slot.count_v; ++j)
-        for (int i = 0; i < slot.count_u; ++i) {
-          const Vec4<float>& p = net.at(i, j);
-          std::copy(p.begin(), p.end(),
-                    &texels[(static_cast<std::size_t>(slot.control_row0 + j) * control_w + i) * 4]);
-        }
       us.push_back(samples[slot.surface].u);
       vs.push_back(samples[slot.surface].v);
     }
     Page page;
     page.control = gl::Texture(context_, GL_RGBA32F, control_w, control_h, false);
-    bytes += page.control.upload(GL_RGBA, GL_FLOAT, texels.data(), sizeof(float) * 4);
+    bytes += upload_control(scene, slots, page.control);
     page.curves = gl::Texture(context_, GL_RGBA32F, out_w, control_h, true);
     page.points = gl::Texture(context_, GL_RGBA32F, out_w, out_h, true);
     page.u_parameters = parameter_texture(context_, us, bytes);
@@ -148,6 +156,30 @@ std::size_t Evaluator::prepare(const Scene& scene, const std::vector<SurfaceSamp
     pages_.push_back(std::move(page));
   }
   context_.check("glsl-deboor upload");
+  return bytes;
+}
+
+std::size_t Evaluator::update_control_points(const Scene& scene) {
+  std::size_t slots = 0;
+  for (const Page& page : pages_) slots += page.slots.size();
+  if (scene.surfaces.size() != slots)
+    throw std::invalid_argument(
+        fmt::format("glsl-deboor: update_control_points with {} surfaces, prepared with {}",
+                    scene.surfaces.size(), slots));
+  for (const Page& page : pages_)
+    for (const SurfaceSlot& slot : page.slots) {
+      const Surface& s = scene.surfaces[slot.surface];
+      if (s.count_u != slot.count_u || s.count_v != slot.count_v || s.degree_u != slot.degree_u ||
+          s.degree_v != slot.degree_v)
+        throw std::invalid_argument(fmt::format(
+            "glsl-deboor: update_control_points: surface '{}' is {}x{} of degree ({}, {}), "
+            "prepared {}x{} of degree ({}, {})",
+            s.name, s.count_u, s.count_v, s.degree_u, s.degree_v, slot.count_u, slot.count_v,
+            slot.degree_u, slot.degree_v));
+    }
+  std::size_t bytes = 0;
+  for (const Page& page : pages_) bytes += upload_control(scene, page.slots, page.control);
+  context_.check("glsl-deboor control point update");
   return bytes;
 }
 
@@ -173,7 +205,7 @@ void Evaluator::evaluate() {
         gl.Uniform1fv(p.knots, 2 * s.degree_u, knots);
         gl.Uniform1i(p.span_first, run.span - s.degree_u);
         gl.Viewport(run.first, s.control_row0, run.count, s.count_v);
-        gl.DrawArrays(GL_TRIANGLES, 0, 3);
+        context_.draw_arrays(GL_TRIANGLES, 0, 3);
       }
     }
     // Pass 2 (§3.3.3, Fig 6): the pass-1 texture as control points in v; quads across all u
@@ -193,7 +225,7 @@ void Evaluator::evaluate() {
         gl.Uniform1fv(p.knots, 2 * s.degree_v, knots);
         gl.Uniform1i(p.span_first, run.span - s.degree_v);
         gl.Viewport(0, s.output_row0 + run.first, s.nu, run.count);
-        gl.DrawArrays(GL_TRIANGLES, 0, 3);
+        context_.draw_arrays(GL_TRIANGLES, 0, 3);
       }
     }
   }

@@ -51,13 +51,16 @@ class Evaluator {
   // Builds the pages and uploads control points, parameters; throws RefusedError when one
   // surface does not fit a texture. Returns the bytes uploaded.
   std::size_t prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples);
+  // Rewrites only the pages' control textures from `scene`'s moved points (000 §5, deforming
+  // surfaces): knots, spans, parameters and targets stay. Throws std::invalid_argument when a net
+  // differs in number, size or degree from the prepared scene's. Returns the bytes uploaded.
+  std::size_t update_control_points(const Scene& scene);
   // Both passes over every page (no synchronisation).
   void evaluate();
   // Positions, (x, y, z) per sample, in each surface's sample order (a * nv + b).
   std::vector<std::vector<float>> read_back();
 
   const std::vector<Page>& pages() const { return pages_; }
-  std::size_t quads() const { return quads_; }
 
  private:
   gl::Context& context_;
@@ -67,7 +70,6 @@ class Evaluator {
   std::map<int, std::unique_ptr<DeBoorProgram>> programs_;
   GLuint vertex_array_ = 0;
   std::vector<Page> pages_;
-  std::size_t quads_ = 0;
 };
 
 }  // namespace nurbs::glsl_deboor

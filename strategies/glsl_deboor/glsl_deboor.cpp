@@ -35,6 +35,9 @@ Capabilities deboor_capabilities() {
   c.fp64 = false;  // RGBA32F textures, as in the paper
   c.sampling = SamplingModes{true, true, false};
   c.trims = true;  // 000 §4's trim texture, shared with gl-pingpong (strategies/trim_texture)
+  // 000 §5's deforming surfaces: "only the control points" are sent again; knots, span runs,
+  // parameters and trim textures depend on what a deforming scene keeps.
+  c.updates_control_points = true;
   return c;
 }
 
@@ -67,9 +70,12 @@ class GlslDeBoor final : public Strategy {
     DeviceInfo d = context_->device_info();
     d.details["tile"] = std::to_string(tile_);
     d.details["pages"] = std::to_string(evaluator_->pages().size());
-    d.details["quads"] = std::to_string(evaluator_->quads());
-    d.details["passes"] = std::to_string(2 * evaluator_->pages().size());
+    // Counted from the draws the last evaluate() issued (gl::DrawCounts), 0 before one: a quad
+    // is one draw, a pass one target drawn into.
+    d.details["quads"] = std::to_string(evaluated_.draws);
+    d.details["passes"] = std::to_string(evaluated_.passes);
     d.details["bytes_uploaded"] = std::to_string(bytes_uploaded_);
+    if (bytes_updated_) d.details["bytes_updated"] = std::to_string(bytes_updated_);
     trims_->add_details(d);
     return d;
   }
@@ -79,18 +85,30 @@ class GlslDeBoor final : public Strategy {
     samples_ = sample_parameters(scene, request.sampling);
     view_ = gl::orthographic_view(scene);
     context_->make_current();
+    evaluated_ = {};
+    bytes_updated_ = 0;
     bytes_uploaded_ = evaluator_->prepare(scene, samples_);
     trims_->prepare(scene, samples_);
     context_->finish("glsl-deboor upload");
+  }
+
+  // The trim textures stay: a deforming scene moves points, never trims or samples.
+  void update_control_points(const Scene& scene) override {
+    context_->make_current();
+    bytes_updated_ = evaluator_->update_control_points(scene);
+    view_ = gl::orthographic_view(scene);  // as prepare() would frame the moved scene
+    context_->finish("glsl-deboor control point update");
   }
 
   void evaluate() override {
     context_->make_current();
     const gl::Functions& gl = context_->gl();
     if (!query_) gl.GenQueries(1, &query_);
+    const gl::DrawCounts before = context_->draw_counts();
     gl.BeginQuery(GL_TIME_ELAPSED, query_);
     evaluator_->evaluate();
     gl.EndQuery(GL_TIME_ELAPSED);
+    evaluated_ = context_->draw_counts() - before;
     context_->finish("glsl-deboor evaluate");
     GLuint64 ns = 0;
     gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
@@ -154,7 +172,8 @@ class GlslDeBoor final : public Strategy {
   std::vector<SurfaceSamples> samples_;
   GLuint query_ = 0;
   double device_evaluate_s_ = 0;
-  std::size_t bytes_uploaded_ = 0;
+  std::size_t bytes_uploaded_ = 0, bytes_updated_ = 0;
+  gl::DrawCounts evaluated_;  // by the last evaluate()
 };
 
 Availability deboor_probe() {

@@ -67,7 +67,7 @@ GLuint HaarLod::two_targets(const gl::Texture& a, const gl::Texture& d) {
   const gl::Functions& gl = context_.gl();
   GLuint fb = 0;
   gl.GenFramebuffers(1, &fb);
-  gl.BindFramebuffer(GL_FRAMEBUFFER, fb);
+  context_.bind_framebuffer(fb);
   gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, a.id(), 0);
   gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, d.id(), 0);
   const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
@@ -83,7 +83,7 @@ void HaarLod::forward(int k) {
   gl.UseProgram(forward_.id());
   gl.BindVertexArray(vertex_array_);
   // Row step: level k -> (half, d_rows).
-  gl.BindFramebuffer(GL_FRAMEBUFFER, l.row_targets);
+  context_.bind_framebuffer(l.row_targets);
   gl.Viewport(0, 0, l.width / 2, l.height);
   if (k == 0) {
     page_.points.bind_to_unit(0);
@@ -93,14 +93,14 @@ void HaarLod::forward(int k) {
     gl.Uniform2i(forward_.uniform("origin"), 0, 0);
   }
   gl.Uniform1i(forward_.uniform("direction"), 0);
-  gl.DrawArrays(GL_TRIANGLES, 0, 3);
+  context_.draw_arrays(GL_TRIANGLES, 0, 3);
   // Column step: half -> (level k+1, d_columns).
-  gl.BindFramebuffer(GL_FRAMEBUFFER, l.column_targets);
+  context_.bind_framebuffer(l.column_targets);
   gl.Viewport(0, 0, l.width / 2, l.height / 2);
   l.half.bind_to_unit(0);
   gl.Uniform2i(forward_.uniform("origin"), 0, 0);
   gl.Uniform1i(forward_.uniform("direction"), 1);
-  gl.DrawArrays(GL_TRIANGLES, 0, 3);
+  context_.draw_arrays(GL_TRIANGLES, 0, 3);
 }
 
 void HaarLod::inverse(int k) {
@@ -112,12 +112,12 @@ void HaarLod::inverse(int k) {
   levels_[static_cast<std::size_t>(k) + 1].points.bind_to_unit(0);
   l.d_columns.bind_to_unit(1);
   gl.Uniform1i(inverse_.uniform("direction"), 1);
-  gl.DrawArrays(GL_TRIANGLES, 0, 3);
+  context_.draw_arrays(GL_TRIANGLES, 0, 3);
   l.points.bind_target();
   l.half.bind_to_unit(0);
   l.d_rows.bind_to_unit(1);
   gl.Uniform1i(inverse_.uniform("direction"), 0);
-  gl.DrawArrays(GL_TRIANGLES, 0, 3);
+  context_.draw_arrays(GL_TRIANGLES, 0, 3);
 }
 
 std::vector<float> HaarLod::read(int k) const {

@@ -96,13 +96,12 @@ void TrimTextures::draw_trim(const std::vector<std::vector<Point2>>& polygons,
   // separate loops compose.
   gl.Enable(GL_BLEND);
   gl.BlendFunc(GL_ONE_MINUS_DST_COLOR, GL_ZERO);
-  for (const auto& [first, count] : fans) gl.DrawArrays(GL_TRIANGLE_FAN, first, count);
+  for (const auto& [first, count] : fans) context_.draw_arrays(GL_TRIANGLE_FAN, first, count);
   gl.Disable(GL_BLEND);
   gl.BindVertexArray(0);
 }
 
 void TrimTextures::prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples) {
-  const gl::Functions& gl = context_.gl();
   surfaces_.clear();
   polygon_vertices_ = 0;
   classified_ = false;
@@ -149,7 +148,7 @@ void TrimTextures::prepare(const Scene& scene, const std::vector<SurfaceSamples>
     s->mask = gl::Texture(context_, GL_R8, s->nv, s->nu, true);
     surfaces_.push_back(std::move(s));
   }
-  gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+  context_.bind_framebuffer(0);
   context_.finish(fmt::format("{} trim textures", strategy_));
   context_.check(fmt::format("{} trim textures", strategy_));
 }
@@ -165,7 +164,7 @@ bool TrimTextures::classify() {
     s->mask.bind_target();
     s->trim.bind_to_unit(0);
     s->parameters.bind_to_unit(1);
-    gl.DrawArrays(GL_TRIANGLES, 0, 3);
+    context_.draw_arrays(GL_TRIANGLES, 0, 3);
   }
   gl.BindVertexArray(0);
   context_.finish(fmt::format("{} classify", strategy_));

@@ -7,12 +7,15 @@
 
 #include <algorithm>
 #include <iostream>
+#include <stdexcept>
+#include <tuple>
 
 #include "harness/metrics.h"
 #include "harness/runner.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/gl_context/gl_context.h"
 #include "strategies/registry.h"
+#include "tests/strategies/gl_update_check.h"
 
 namespace nurbs {
 namespace {
@@ -135,6 +138,105 @@ TEST_P(GlPingPongAccuracy, RecordsDeviceTimesPassesAndBytes) {
   // indices 16 x 4 bytes.
   const std::size_t per_direction = 16 * 9 * 4 + 16 * 5 * 4 + 16 * 4;
   EXPECT_EQ(d.details.at("bytes_uploaded"), std::to_string(144 * 16 + 2 * per_direction));
+}
+
+// The record's passes are the draws evaluate() issued (gl::DrawCounts), checked here against 000
+// §3.1 counted per surface by hand: the recurrence raises the order-1 basis to order k in k-1
+// ping-pong passes, in each direction and for each chunk of that direction's parameters (a tiled
+// grid raises every chunk); every tile then sums its k_u x k_v basis products one pass each and
+// divides by w in one more. A second evaluate() reports its own passes, not a running total.
+TEST_P(GlPingPongAccuracy, PassesAreTheDrawsOf000) {
+  const auto platform = gl::parse_platform(GetParam().platform);
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  const StrategyEntry& entry = *find_strategy(GetParam().strategy);
+  struct PassCase {
+    std::string scene;
+    int grid_u, grid_v;
+    int tile;  // 0: the whole grid in one texture
+  };
+  for (const PassCase& c : {PassCase{"degree-1", 16, 16, 0}, PassCase{"degree-7", 9, 12, 0},
+                            PassCase{"duck", 33, 29, 0}, PassCase{"many-16", 30, 17, 7},
+                            PassCase{"torus", 20, 11, 8}}) {
+    SCOPED_TRACE(c.scene);
+    const Scene scene = *make_builtin_scene(c.scene);
+    std::size_t basis = 0, accumulate_and_divide = 0;
+    for (const Surface& s : scene.surfaces) {
+      const int chunks_u = c.tile ? (c.grid_u + c.tile - 1) / c.tile : 1;
+      const int chunks_v = c.tile ? (c.grid_v + c.tile - 1) / c.tile : 1;
+      const int order_u = s.degree_u + 1, order_v = s.degree_v + 1;
+      basis += static_cast<std::size_t>(chunks_u * (order_u - 1) + chunks_v * (order_v - 1));
+      accumulate_and_divide += static_cast<std::size_t>(chunks_u * chunks_v) *
+                               static_cast<std::size_t>(order_u * order_v + 1);
+    }
+    Sampling grid;
+    grid.grid_u = c.grid_u;
+    grid.grid_v = c.grid_v;
+    auto strategy =
+        entry.create(options_for(GetParam().platform, c.tile ? std::to_string(c.tile) : ""));
+    strategy->prepare(scene, EvalRequest{grid, Precision::f32, false});
+    EXPECT_EQ(strategy->device().details.at("passes"), "0");  // nothing drawn yet
+    for (int run = 0; run < 2; ++run) {
+      strategy->evaluate();
+      const DeviceInfo d = strategy->device();
+      EXPECT_EQ(d.details.at("passes_basis"), std::to_string(basis)) << "evaluate " << run;
+      EXPECT_EQ(d.details.at("passes"), std::to_string(basis + accumulate_and_divide))
+          << "evaluate " << run;
+    }
+  }
+}
+
+// 000 §5's deforming surfaces: update_control_points rewrites only the control-point textures, so
+// an updated strategy equals a freshly prepared one bit for bit -- one surface, a trimmed one (the
+// trim textures stay from prepare), many surfaces over 7-texel tiles -- and sends only the points.
+TEST_P(GlPingPongAccuracy, UpdateControlPointsEqualsAFreshPrepare) {
+  const auto platform = gl::parse_platform(GetParam().platform);
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  const StrategyEntry& entry = *find_strategy(GetParam().strategy);
+  EXPECT_TRUE(entry.capabilities().updates_control_points);
+  Sampling grid;
+  grid.grid_u = 30;
+  grid.grid_v = 17;
+  Sampling span;
+  span.mode = SamplingMode::span_grid;
+  span.span_steps = 3;
+  for (const auto& [name, sampling, tile] :
+       {std::tuple{"patch144", grid, ""}, std::tuple{"trimmed-plate", span, ""},
+        std::tuple{"many-16", grid, "7"}}) {
+    SCOPED_TRACE(name);
+    const Scene scene = *make_builtin_scene(name);
+    const DeviceInfo d = expect_update_equals_fresh_prepare(
+        entry, options_for(GetParam().platform, tile), scene, sampling, kBudgetUlp);
+    std::size_t points = 0;
+    for (const Surface& s : scene.surfaces) points += s.points.size();
+    EXPECT_EQ(d.details.at("bytes_updated"), std::to_string(points * 4 * sizeof(float)));
+  }
+  auto strategy = entry.create(options_for(GetParam().platform));
+  strategy->prepare(*make_builtin_scene("patch144"), EvalRequest{grid, Precision::f32, false});
+  EXPECT_THROW(strategy->update_control_points(*make_builtin_scene("degree-3")),
+               std::invalid_argument);
+  EXPECT_THROW(strategy->update_control_points(*make_builtin_scene("many-2")),
+               std::invalid_argument);
+}
+
+// The deforming benchmark times update_control_points as "frame_update" and scores the last
+// frame, trims included.
+TEST_P(GlPingPongAccuracy, DeformingRunUpdatesAndLandsOnTheLastFrame) {
+  const auto platform = gl::parse_platform(GetParam().platform);
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  Sampling grid;
+  grid.grid_u = 33;
+  grid.grid_v = 29;
+  for (const char* name : {"patch144", "trimmed-plate"}) {
+    const Record r =
+        measure_deforming(*find_strategy(GetParam().strategy), options_for(GetParam().platform),
+                          *make_builtin_scene(name), EvalRequest{grid, Precision::f32, false}, 3,
+                          ReferencePrecision::long_double);
+    ASSERT_EQ(r.status, Status::ok) << name << ": " << r.reason;
+    ASSERT_TRUE(r.accuracy.has_value());
+    EXPECT_LE(r.accuracy->max_ulp, kBudgetUlp) << name;
+    EXPECT_TRUE(r.extra_phases.count("frame_update")) << name;
+    EXPECT_FALSE(r.extra_phases.count("frame_prepare")) << name;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Platforms, GlPingPongAccuracy,

@@ -1,22 +1,31 @@
 // The shared GL plumbing: both platforms in one process (interleaved, each call reaching its own
-// driver through its own function table), renderer strings, shader errors carrying the compiler
-// log and becoming a `failed` record, and a missing EGL display becoming `unavailable: reason`.
+// driver through its own function table), draws counted one by one, renderer strings, shader errors
+// carrying the compiler log and becoming a `failed` record, and a missing EGL display becoming
+// `unavailable: reason`.
 #include "strategies/gl_context/gl_context.h"
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdlib>
+#include <string_view>
 
 #include "harness/runner.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/gl_context/gl_program.h"
 #include "strategies/registry.h"
 
+namespace nurbs::embedded {
+extern const std::string_view gl_fullscreen_triangle_vert;
+}  // namespace nurbs::embedded
+
 namespace nurbs {
 namespace {
 
 namespace embedded_shaders {
 constexpr const char* kVertex = "#version 330 core\nvoid main() { gl_Position = vec4(0.0); }\n";
+constexpr const char* kFragment =
+    "#version 330 core\nout vec4 c;\nvoid main() { c = vec4(1.0); }\n";
 constexpr const char* kBrokenFragment =
     "#version 330 core\nout vec4 c;\nvoid main() { c = vec4(undeclared_name); }\n";
 }  // namespace embedded_shaders
@@ -47,6 +56,68 @@ TEST(GlContext, OsmesaAndEglInOneProcessInterleaved) {
     c->check("clear and read back");
     EXPECT_EQ(texels[0], 0.25f);
     EXPECT_EQ(texels[23], 1.0f);
+  }
+}
+
+// Context::draw_arrays / draw_elements are the only way to draw (Functions has no glDraw*), so
+// the pass counts strategies record are counted. The counter must advance by exactly one per draw
+// -- checked after every draw here, and in total against GL's own count of the triangles it was
+// given (GL_PRIMITIVES_GENERATED; one triangle per draw) -- and a pass is a framebuffer binding
+// drawn into: a binding without a draw is none.
+TEST(GlContext, DrawCountsAreTheDrawsIssued) {
+  for (gl::Platform platform : {gl::Platform::osmesa, gl::Platform::egl}) {
+    if (!gl::Context::probe(platform).available) continue;
+    SCOPED_TRACE(std::string(gl::to_string(platform)));
+    auto c = gl::Context::create(platform);
+    c->make_current();
+    const gl::Functions& gl = c->gl();
+    gl::Program program(*c, embedded::gl_fullscreen_triangle_vert, embedded_shaders::kFragment, "",
+                        "draw count");
+    gl::Texture a(*c, GL_RGBA32F, 4, 4, true), b(*c, GL_RGBA32F, 4, 4, true);
+    GLuint vertex_array = 0, indices = 0, query = 0;
+    gl.GenVertexArrays(1, &vertex_array);
+    gl.BindVertexArray(vertex_array);
+    gl.GenBuffers(1, &indices);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices);
+    const GLuint triangle[] = {0, 1, 2};
+    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, sizeof triangle, triangle, GL_STATIC_DRAW);
+    gl.UseProgram(program.id());
+    gl.GenQueries(1, &query);
+
+    const gl::DrawCounts start = c->draw_counts();
+    std::uint64_t issued = 0;
+    auto draw = [&](bool elements) {
+      if (elements)
+        c->draw_elements(GL_TRIANGLES, 3, GL_UNSIGNED_INT, nullptr);
+      else
+        c->draw_arrays(GL_TRIANGLES, 0, 3);
+      ++issued;
+      EXPECT_EQ((c->draw_counts() - start).draws, issued);
+    };
+    gl.BeginQuery(GL_PRIMITIVES_GENERATED, query);
+    a.bind_target();  // pass 1: three draws into a
+    draw(false);
+    draw(true);
+    draw(false);
+    b.bind_target();  // pass 2
+    draw(true);
+    a.bind_target();  // bound, never drawn into: no pass
+    b.bind_target();  // pass 3: the same target bound again is another pass
+    draw(false);
+    draw(false);
+    gl.EndQuery(GL_PRIMITIVES_GENERATED);
+    c->finish("draw count");
+    GLuint64 primitives = 0;
+    gl.GetQueryObjectui64v(query, GL_QUERY_RESULT, &primitives);
+    c->check("draw count");
+
+    const gl::DrawCounts counted = c->draw_counts() - start;
+    EXPECT_EQ(counted.draws, 6u);
+    EXPECT_EQ(counted.draws, primitives);
+    EXPECT_EQ(counted.passes, 3u);
+    gl.DeleteQueries(1, &query);
+    gl.DeleteBuffers(1, &indices);
+    gl.DeleteVertexArrays(1, &vertex_array);
   }
 }
 

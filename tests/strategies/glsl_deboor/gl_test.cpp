@@ -1,7 +1,12 @@
 // glsl-deboor on the GL plumbing: OSMesa and EGL give the same points, paging the atlas (a small
-// tile option) changes nothing bit-for-bit, the record carries device times and quad counts.
+// tile option) changes nothing bit-for-bit, the record carries device times and the quads and
+// passes it drew.
 // The per-scene accuracy of the default (EGL) path is the generic strategy_accuracy_test.
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <tuple>
 
 #include "harness/metrics.h"
 #include "harness/runner.h"
@@ -9,9 +14,13 @@
 #include "strategies/gl_context/gl_context.h"
 #include "strategies/glsl_deboor/span_runs.h"
 #include "strategies/registry.h"
+#include "tests/strategies/gl_update_check.h"
 
 namespace nurbs {
 namespace {
+
+// Float32 ulps of the scene's largest coordinate (harness/metrics.h).
+constexpr double kBudgetUlp = 16.0;
 
 StrategyOptions options_for(const std::string& platform, const std::string& tile = "") {
   StrategyOptions o;
@@ -52,7 +61,7 @@ TEST_P(GlslDeBoorGl, WithinBudgetOnCurvedHighDegreeAndClusteredScenes) {
       const Accuracy acc = measure_accuracy(
           scene, result, evaluate_reference(scene, sample_parameters(scene, sampling), false));
       EXPECT_EQ(acc.non_finite, 0u) << name;
-      EXPECT_LE(acc.max_ulp, 16.0) << name << " " << sampling.label();
+      EXPECT_LE(acc.max_ulp, kBudgetUlp) << name << " " << sampling.label();
     }
   }
 }
@@ -103,6 +112,124 @@ TEST_P(GlslDeBoorGl, RecordsDeviceTimesAndOneQuadPerSpanWithSamples) {
   EXPECT_EQ(d.details.at("quads"), "17");
   // 12x12 texels of control points, 16 + 16 float parameters.
   EXPECT_EQ(d.details.at("bytes_uploaded"), std::to_string(144 * 16 + 2 * 16 * 4));
+}
+
+// The knot intervals [t_i, t_i+1) of the domain that are not empty and hold a parameter, read off
+// the knot vector directly (not by span search, as bin_into_spans does): the parameter at the end
+// of the domain belongs to the last non-empty interval.
+std::size_t spans_holding_samples(const std::vector<double>& knots, int degree, int count,
+                                  const std::vector<double>& parameters) {
+  int last = count - 1;
+  while (knots[static_cast<std::size_t>(last)] == knots[static_cast<std::size_t>(last) + 1]) --last;
+  std::size_t spans = 0;
+  for (int i = degree; i < count; ++i) {
+    const double lo = knots[static_cast<std::size_t>(i)],
+                 hi = knots[static_cast<std::size_t>(i) + 1];
+    if (lo == hi) continue;
+    const bool holds = std::any_of(parameters.begin(), parameters.end(), [&](double p) {
+      return (lo <= p && p < hi) || (i == last && p == hi);
+    });
+    spans += holds ? 1 : 0;
+  }
+  return spans;
+}
+
+// The record's passes and quads are the draws evaluate() issued (gl::DrawCounts), checked against
+// 002 §3.3 derived from the scene: a quad per non-empty knot span holding samples, per surface,
+// in u (pass 1) and in v (pass 2); one pass per direction and atlas page, each drawing all its
+// quads into one target. Creases (repeated knots: empty spans) and clustered knots (spans without
+// samples) skip quads; the 40-row tile pages many-16. A second evaluate() reports its own draws.
+TEST_P(GlslDeBoorGl, PassesAndQuadsAreTheDrawsOf002) {
+  const auto platform = gl::parse_platform(GetParam());
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  Sampling span;
+  span.mode = SamplingMode::span_grid;
+  span.span_steps = 2;
+  Sampling grid;
+  grid.grid_u = 30;
+  grid.grid_v = 17;
+  struct QuadCase {
+    std::string scene;
+    Sampling sampling;
+    std::string tile;
+    std::size_t pages;
+  };
+  for (const QuadCase& c : {QuadCase{"creases", grid, "", 1}, QuadCase{"clustered", grid, "", 1},
+                            QuadCase{"clustered", span, "", 1}, QuadCase{"duck", grid, "", 1},
+                            QuadCase{"many-16", grid, "40", 8}}) {
+    SCOPED_TRACE(c.scene + " " + c.sampling.label());
+    const Scene scene = *make_builtin_scene(c.scene);
+    const std::vector<SurfaceSamples> samples = sample_parameters(scene, c.sampling);
+    std::size_t quads = 0;
+    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+      const Surface& s = scene.surfaces[i];
+      quads += spans_holding_samples(s.knots_u, s.degree_u, s.count_u, samples[i].u) +
+               spans_holding_samples(s.knots_v, s.degree_v, s.count_v, samples[i].v);
+    }
+    auto strategy = find_strategy("glsl-deboor")->create(options_for(GetParam(), c.tile));
+    strategy->prepare(scene, EvalRequest{c.sampling, Precision::f32, false});
+    EXPECT_EQ(strategy->device().details.at("quads"), "0");  // nothing drawn yet
+    for (int run = 0; run < 2; ++run) {
+      strategy->evaluate();
+      const DeviceInfo d = strategy->device();
+      EXPECT_EQ(d.details.at("pages"), std::to_string(c.pages));
+      EXPECT_EQ(d.details.at("passes"), std::to_string(2 * c.pages)) << "evaluate " << run;
+      EXPECT_EQ(d.details.at("quads"), std::to_string(quads)) << "evaluate " << run;
+    }
+  }
+}
+
+// 000 §5's deforming surfaces: update_control_points rewrites only the pages' control textures, so
+// an updated strategy equals a freshly prepared one bit for bit -- one surface, a trimmed one (the
+// trim textures stay from prepare), many surfaces paged over 40-row tiles.
+TEST_P(GlslDeBoorGl, UpdateControlPointsEqualsAFreshPrepare) {
+  const auto platform = gl::parse_platform(GetParam());
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  const StrategyEntry& entry = *find_strategy("glsl-deboor");
+  EXPECT_TRUE(entry.capabilities().updates_control_points);
+  Sampling grid;
+  grid.grid_u = 30;
+  grid.grid_v = 17;
+  Sampling span;
+  span.mode = SamplingMode::span_grid;
+  span.span_steps = 3;
+  for (const auto& [name, sampling, tile] :
+       {std::tuple{"patch144", grid, ""}, std::tuple{"trimmed-plate", span, ""},
+        std::tuple{"many-16", grid, "40"}}) {
+    SCOPED_TRACE(name);
+    const DeviceInfo d = expect_update_equals_fresh_prepare(
+        entry, options_for(GetParam(), tile), *make_builtin_scene(name), sampling, kBudgetUlp);
+    EXPECT_EQ(d.details.count("bytes_updated"), 1u);
+  }
+  // patch144 alone: its page's control texture is exactly its 12 x 12 net.
+  auto strategy = entry.create(options_for(GetParam()));
+  strategy->prepare(*make_builtin_scene("patch144"), EvalRequest{grid, Precision::f32, false});
+  strategy->update_control_points(deformed_scene(*make_builtin_scene("patch144"), 1));
+  EXPECT_EQ(strategy->device().details.at("bytes_updated"), std::to_string(144 * 16));
+  EXPECT_THROW(strategy->update_control_points(*make_builtin_scene("degree-3")),
+               std::invalid_argument);
+  EXPECT_THROW(strategy->update_control_points(*make_builtin_scene("many-2")),
+               std::invalid_argument);
+}
+
+// The deforming benchmark times update_control_points as "frame_update" and scores the last
+// frame, trims included.
+TEST_P(GlslDeBoorGl, DeformingRunUpdatesAndLandsOnTheLastFrame) {
+  const auto platform = gl::parse_platform(GetParam());
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  Sampling grid;
+  grid.grid_u = 33;
+  grid.grid_v = 29;
+  for (const char* name : {"patch144", "trimmed-plate"}) {
+    const Record r = measure_deforming(
+        *find_strategy("glsl-deboor"), options_for(GetParam()), *make_builtin_scene(name),
+        EvalRequest{grid, Precision::f32, false}, 3, ReferencePrecision::long_double);
+    ASSERT_EQ(r.status, Status::ok) << name << ": " << r.reason;
+    ASSERT_TRUE(r.accuracy.has_value());
+    EXPECT_LE(r.accuracy->max_ulp, kBudgetUlp) << name;
+    EXPECT_TRUE(r.extra_phases.count("frame_update")) << name;
+    EXPECT_FALSE(r.extra_phases.count("frame_prepare")) << name;
+  }
 }
 
 // 002 §4.2 in `run`: the record carries both render phases beside evaluate.
