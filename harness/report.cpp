@@ -611,7 +611,8 @@ ReportSection memory_section(const std::vector<ResultSet>& sets) {
   s.context = context_of({}, sets);
   ReportTable table{"Control-point memory (from memory.json)",
                     {"scene", "surfaces", "NURBS control points", "NURBS bytes", "Bézier patches",
-                     "Bézier control points", "Bézier bytes", "Bézier / NURBS", "KSQuads"},
+                     "Bézier control points", "Bézier bytes", "Bézier / NURBS", "KSQuads",
+                     "Bézier control points, shared edges once", "shared bytes", "shared / NURBS"},
                     {}};
   for (const ResultSet& set : sets) {
     if (!set.memory) continue;
@@ -623,12 +624,24 @@ ReportSection memory_section(const std::vector<ResultSet>& sets) {
            text_field(row, "bezier_patches"), text_field(row, "bezier_control_points"),
            text_field(row, "bezier_bytes"),
            report_number(number_field(row, "bezier_bytes") / number_field(row, "nurbs_bytes")),
-           text_field(row, "ksquads")});
+           text_field(row, "ksquads"), text_field(row, "bezier_shared_control_points"),
+           text_field(row, "bezier_shared_bytes"),
+           report_number(number_field(row, "bezier_shared_bytes") /
+                         number_field(row, "nurbs_bytes"))});
   }
-  if (table.rows.empty())
+  if (table.rows.empty()) {
     set_no_data(s, s.command);
-  else
+  } else {
+    // 003's text does not say whether a boundary row adjacent patches share is held once or by
+    // each patch, so both readings are shown for the reader to hold against the paper's figures.
+    s.notes.push_back(
+        "Two readings of the paper's Bézier count: \"Bézier control points\" holds (p+1)(q+1) "
+        "points per patch, boundary rows repeated as a patch list holds them; \"shared edges "
+        "once\" holds the boundary row adjacent patches of one surface share once, "
+        "(su·p+1)(sv·q+1) points for su × sv non-empty spans. n/a: a memory.json written before "
+        "the second count existed.");
     s.tables.push_back(std::move(table));
+  }
   return s;
 }
 

@@ -521,6 +521,8 @@ TEST(CliMemory, TextHasOneRowPerSceneAndStatesItsUnits) {
   EXPECT_NE(lines[0].find("Bezier#CP"), std::string::npos);
   EXPECT_TRUE(lines[1].starts_with("patch144")) << lines[1];
   EXPECT_NE(lines[1].find(" 1296 "), std::string::npos) << lines[1];
+  EXPECT_NE(lines[0].find("shared#CP"), std::string::npos);
+  EXPECT_NE(lines[1].find(" 784 "), std::string::npos) << lines[1];  // 28 x 28 shared once
   EXPECT_TRUE(lines[2].starts_with("teapot")) << lines[2];
   EXPECT_NE(lines[3].find("16 bytes"), std::string::npos) << lines[3];
 }
@@ -535,6 +537,7 @@ TEST(CliMemory, JsonForEveryDefaultScene) {
     scenes.insert(row["scene"].get<std::string>());
     EXPECT_GE(row["bezier_control_points"].get<double>(), 1.0);
     EXPECT_EQ(row["ksquads"], row["bezier_patches"]);
+    EXPECT_LE(row["bezier_shared_control_points"], row["bezier_control_points"]);
   }
   EXPECT_TRUE(scenes.count("patch144") && scenes.count("teapot") && scenes.count("duck"));
   EXPECT_FALSE(scenes.count("many-4096"));  // 'default', as in run
