@@ -226,6 +226,43 @@ TEST(StoreLimit, RowDescribesTheRequestsOutputStream) {
   }
 }
 
+TEST(StoreLimit, FractionOnlyFromAnOutputOfAtLeastTheStatedSize) {
+  auto limit_row = [](std::size_t points, double bytes_per_point) {
+    Record l;
+    l.scene = "patch144";
+    l.strategy = std::string(kStoreLimitName);
+    l.role = "limit";
+    l.precision = "f32";
+    l.samples = "64x64";
+    l.points = points;
+    l.throughput_pts_per_s = 4e9;
+    l.figures["bytes_per_point"] = bytes_per_point;
+    return l;
+  };
+  Record strategy = sample_record();  // patch144, 64x64, f32
+  strategy.throughput_pts_per_s = 1e9;
+  // 64x64 f32 positions: 48 KiB.
+  const std::vector<Record> small = {limit_row(4096, 12), strategy};
+  EXPECT_FALSE(fraction_of_store_limit(strategy, small));
+  EXPECT_TRUE(store_limit_too_small(strategy, small));
+  // The stated size exactly, and one point under it.
+  const std::size_t at = kStoreLimitMinBytes / 16;
+  const std::vector<Record> enough = {limit_row(at, 16), strategy};
+  ASSERT_TRUE(fraction_of_store_limit(strategy, enough));
+  EXPECT_DOUBLE_EQ(*fraction_of_store_limit(strategy, enough), 0.25);
+  EXPECT_FALSE(store_limit_too_small(strategy, enough));
+  EXPECT_FALSE(fraction_of_store_limit(strategy, {limit_row(at - 1, 16), strategy}));
+  // Not for the limit row itself, a failed record, or another request's limit.
+  EXPECT_FALSE(fraction_of_store_limit(enough[0], enough));
+  Record failed = strategy;
+  failed.status = Status::failed;
+  EXPECT_FALSE(fraction_of_store_limit(failed, {limit_row(at, 16), failed}));
+  Record f64 = strategy;
+  f64.precision = "f64";
+  EXPECT_FALSE(fraction_of_store_limit(f64, {limit_row(at, 16), f64}));
+  EXPECT_FALSE(store_limit_too_small(f64, {limit_row(4096, 12), f64}));
+}
+
 TEST(StoreLimit, StorePassWritesEveryValue) {
   std::vector<double> buffer(1000, 0.0);
   time_store_pass(buffer.data(), buffer.size(), sizeof(double), 6);
