@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job: installs what is needed, builds, runs the default benchmark (every built-in scene
-# x every available strategy) and prints the summary table. Results: results/latest/results.json
+# x every available strategy) and prints the summary table, then a per-scene digest (fastest within
+# its gates, ratio to cpu-coxdeboor). Results: results/latest/results.json
 # and results.csv. Extra arguments go to `nurbsbench run` (e.g. --samples 1024x1024).
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -381,6 +381,14 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
   }
   EXPECT_EQ(scenes.count("patch144"), measurements / 2);
   EXPECT_EQ(scenes.count("sphere"), measurements / 2);
+  // The console ends with the digest: one line per scene, a ratio to the baseline measured there.
+  const std::vector<std::string> out_lines = split_lines(r.out);
+  ASSERT_GE(out_lines.size(), 3u) << r.out;
+  EXPECT_TRUE(out_lines[out_lines.size() - 3].starts_with("digest: ")) << r.out;
+  EXPECT_TRUE(out_lines[out_lines.size() - 2].starts_with("  patch144 8x8: ")) << r.out;
+  EXPECT_TRUE(out_lines.back().starts_with("  sphere 8x8: ")) << r.out;
+  for (std::size_t k = out_lines.size() - 2; k < out_lines.size(); ++k)
+    EXPECT_NE(out_lines[k].find("x cpu-coxdeboor, "), std::string::npos) << out_lines[k];
 
   const json results = json::parse(read_text(fs::path(out) / "results.json"));
   EXPECT_EQ(results["format"], "nurbsbench-results/1");
