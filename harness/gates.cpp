@@ -49,6 +49,15 @@ bool glob_match(const std::string& pattern, const std::string& text) {
   return ::fnmatch(pattern.c_str(), text.c_str(), 0) == 0;
 }
 
+bool gate_applies(const Gate& g, const Record& r) {
+  if (!glob_match(g.strategy, r.strategy) || !glob_match(g.scene, r.scene)) return false;
+  // A limit row (a machine ceiling) evaluates nothing and has no accuracy to gate.
+  if (r.role == "limit") return false;
+  // A classification gate does not apply to a strategy that does not trim, nor to a scene
+  // without trims: such records are not counted (README, "Gates").
+  return !is_trim_metric(g.metric) || r.trimming == "classified";
+}
+
 }  // namespace
 
 bool is_known_metric(std::string_view metric) {
@@ -60,20 +69,23 @@ std::vector<Gate> load_gates(const std::filesystem::path& path) {
   if (!in) throw InputError(fmt::format("{}: cannot open gates file", path.string()));
   std::ostringstream text;
   text << in.rdbuf();
+  return parse_gates(text.str(), path.string());
+}
+
+std::vector<Gate> parse_gates(std::string_view text, const std::string& source) {
   nlohmann::json document;
   try {
-    document = nlohmann::json::parse(text.str());
+    document = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
-    throw InputError(fmt::format("{}: not valid JSON: {}", path.string(), json_error_text(e)));
+    throw InputError(fmt::format("{}: not valid JSON: {}", source, json_error_text(e)));
   }
   if (!document.is_array())
-    throw InputError(fmt::format("{}: (document): must be a JSON list of gates", path.string()));
+    throw InputError(fmt::format("{}: (document): must be a JSON list of gates", source));
   std::vector<Gate> gates;
   for (std::size_t i = 0; i < document.size(); ++i) {
     const auto& entry = document[i];
     auto fail = [&](const std::string& field, const std::string& value, const std::string& rule) {
-      throw InputError(
-          fmt::format("{}: gate [{}]: {} = {}: {}", path.string(), i, field, value, rule));
+      throw InputError(fmt::format("{}: gate [{}]: {} = {}: {}", source, i, field, value, rule));
     };
     if (!entry.is_object()) fail("(entry)", entry.dump(), "must be an object");
     for (const auto& [key, value] : entry.items())
@@ -103,12 +115,7 @@ std::vector<std::string> check_gates(const std::vector<Gate>& gates,
   for (const Gate& g : gates) {
     int matched = 0;
     for (const Record& r : records) {
-      if (!glob_match(g.strategy, r.strategy) || !glob_match(g.scene, r.scene)) continue;
-      // A limit row (a machine ceiling) evaluates nothing and has no accuracy to gate.
-      if (r.role == "limit") continue;
-      // A classification gate does not apply to a strategy that does not trim, nor to a scene
-      // without trims: such records are not counted (README, "Gates").
-      if (is_trim_metric(g.metric) && r.trimming != "classified") continue;
+      if (!gate_applies(g, r)) continue;
       ++matched;
       const std::string where =
           fmt::format("{} on {} ({}, {})", r.strategy, r.scene, r.precision, r.samples);
@@ -158,6 +165,14 @@ std::vector<std::string> check_gates(const std::vector<Gate>& gates,
                       g.strategy, g.scene, g.metric));
   }
   return violations;
+}
+
+bool passes_gates(const std::vector<Gate>& gates, const Record& r) {
+  std::vector<Gate> applicable;
+  for (const Gate& g : gates)
+    if (gate_applies(g, r)) applicable.push_back(g);
+  // A record no gate covers has not passed one.
+  return !applicable.empty() && check_gates(applicable, {r}).empty();
 }
 
 }  // namespace nurbs

@@ -16,26 +16,32 @@ MemoryRow memory_row(const Scene& scene) {
   row.surfaces = scene.surfaces.size();
   for (const Surface& s : scene.surfaces) {
     const std::size_t quads = ksquad_count(s);
+    const std::array<std::size_t, 2> spans = nonempty_span_counts(s);
+    const auto p = static_cast<std::size_t>(s.degree_u), q = static_cast<std::size_t>(s.degree_v);
     row.ksquads += quads;
     row.nurbs_control_points += static_cast<std::size_t>(s.count_u) * s.count_v;
-    row.bezier_control_points +=
-        quads * static_cast<std::size_t>(s.degree_u + 1) * (s.degree_v + 1);
+    row.bezier_control_points += quads * (p + 1) * (q + 1);
+    row.bezier_shared_control_points += (spans[0] * p + 1) * (spans[1] * q + 1);
   }
   return row;
 }
 
 std::string memory_table_text(const std::vector<MemoryRow>& rows) {
-  constexpr std::size_t kColumns = 8;
+  constexpr std::size_t kColumns = 11;
   using Line = std::array<std::string, kColumns>;
+  auto kib = [](std::size_t bytes) {
+    return fmt::format("{:.1f}", static_cast<double>(bytes) / 1024);
+  };
   std::vector<Line> lines = {{"scene", "surfaces", "KSQuads", "NURBS#CP", "NURBS#M (KiB)",
-                              "Bezier#CP", "Bezier#M (KiB)", "Bezier/NURBS"}};
+                              "Bezier#CP", "Bezier#M (KiB)", "Bezier/NURBS", "shared#CP",
+                              "shared#M (KiB)", "shared/NURBS"}};
   for (const MemoryRow& r : rows)
     lines.push_back({r.scene, std::to_string(r.surfaces), std::to_string(r.ksquads),
-                     std::to_string(r.nurbs_control_points),
-                     fmt::format("{:.1f}", static_cast<double>(r.nurbs_bytes()) / 1024),
-                     std::to_string(r.bezier_control_points),
-                     fmt::format("{:.1f}", static_cast<double>(r.bezier_bytes()) / 1024),
-                     fmt::format("{:.2f}", r.ratio())});
+                     std::to_string(r.nurbs_control_points), kib(r.nurbs_bytes()),
+                     std::to_string(r.bezier_control_points), kib(r.bezier_bytes()),
+                     fmt::format("{:.2f}", r.ratio()),
+                     std::to_string(r.bezier_shared_control_points), kib(r.bezier_shared_bytes()),
+                     fmt::format("{:.2f}", r.shared_ratio())});
   std::array<std::size_t, kColumns> width{};
   for (const Line& line : lines)
     for (std::size_t c = 0; c < kColumns; ++c) width[c] = std::max(width[c], line[c].size());
@@ -47,8 +53,9 @@ std::string memory_table_text(const std::vector<MemoryRow>& rows) {
   }
   out += fmt::format(
       "control points as homogeneous float32 (w*x, w*y, w*z, w), {} bytes each; knots not "
-      "counted; Bezier points per patch ((p+1)(q+1) each); KSQuads = Bezier patches = non-empty "
-      "span pairs (RPNS 2014, Table 1)\n",
+      "counted; Bezier points per patch ((p+1)(q+1) each); shared: the boundary rows adjacent "
+      "patches of a surface share counted once ((su*p+1)(sv*q+1) a surface); KSQuads = Bezier "
+      "patches = non-empty span pairs (RPNS 2014, Table 1)\n",
       kBytesPerControlPoint);
   return out;
 }
@@ -64,11 +71,16 @@ nlohmann::json memory_table_json(const std::vector<MemoryRow>& rows) {
                       {"nurbs_bytes", r.nurbs_bytes()},
                       {"bezier_control_points", r.bezier_control_points},
                       {"bezier_bytes", r.bezier_bytes()},
-                      {"ratio", r.ratio()}});
+                      {"ratio", r.ratio()},
+                      {"bezier_shared_control_points", r.bezier_shared_control_points},
+                      {"bezier_shared_bytes", r.bezier_shared_bytes()},
+                      {"shared_ratio", r.shared_ratio()}});
   return {{"format", "nurbsbench-memory/1"},
           {"control_point_format", "homogeneous float32 (w*x, w*y, w*z, w)"},
           {"bytes_per_control_point", kBytesPerControlPoint},
           {"knots_counted", false},
+          {"bezier_shared_control_points",
+           "boundary rows shared by adjacent patches of one surface counted once"},
           {"rows", scenes}};
 }
 

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "harness/store_limit.h"
 #include "harness/summary_table.h"
 #include "reference/validation.h"
 #include "scenes/json_error.h"
@@ -632,7 +633,8 @@ ReportSection memory_section(const std::vector<ResultSet>& sets) {
   s.context = context_of({}, sets);
   ReportTable table{"Control-point memory (from memory.json)",
                     {"scene", "surfaces", "NURBS control points", "NURBS bytes", "Bézier patches",
-                     "Bézier control points", "Bézier bytes", "Bézier / NURBS", "KSQuads"},
+                     "Bézier control points", "Bézier bytes", "Bézier / NURBS", "KSQuads",
+                     "Bézier control points, shared edges once", "shared bytes", "shared / NURBS"},
                     {}};
   for (const ResultSet& set : sets) {
     if (!set.memory) continue;
@@ -644,12 +646,24 @@ ReportSection memory_section(const std::vector<ResultSet>& sets) {
            text_field(row, "bezier_patches"), text_field(row, "bezier_control_points"),
            text_field(row, "bezier_bytes"),
            report_number(number_field(row, "bezier_bytes") / number_field(row, "nurbs_bytes")),
-           text_field(row, "ksquads")});
+           text_field(row, "ksquads"), text_field(row, "bezier_shared_control_points"),
+           text_field(row, "bezier_shared_bytes"),
+           report_number(number_field(row, "bezier_shared_bytes") /
+                         number_field(row, "nurbs_bytes"))});
   }
-  if (table.rows.empty())
+  if (table.rows.empty()) {
     set_no_data(s, s.command);
-  else
+  } else {
+    // 003's text does not say whether a boundary row adjacent patches share is held once or by
+    // each patch, so both readings are shown for the reader to hold against the paper's figures.
+    s.notes.push_back(
+        "Two readings of the paper's Bézier count: \"Bézier control points\" holds (p+1)(q+1) "
+        "points per patch, boundary rows repeated as a patch list holds them; \"shared edges "
+        "once\" holds the boundary row adjacent patches of one surface share once, "
+        "(su·p+1)(sv·q+1) points for su × sv non-empty spans. n/a: a memory.json written before "
+        "the second count existed.");
     s.tables.push_back(std::move(table));
+  }
   return s;
 }
 
@@ -1000,16 +1014,14 @@ ReportSection measurements_section(const std::vector<ResultSet>& sets) {
     for (const Record& r : set.results.records) trims = trims || !r.trimming.empty();
   if (trims) table.header.insert(table.header.end() - 1, "trim");
   if (sets.size() > 1) table.header.insert(table.header.begin(), "set");
-  bool any_limit = false;
+  bool any_limit = false, any_too_small = false;
   for (const ResultSet& set : sets)
     for (const Record& r : set.results.records) {
       // The machine's ceiling for the same request (same set, scene, samples, precision).
-      std::optional<double> limit;
-      for (const Record& l : set.results.records)
-        if (l.role == "limit" && l.status == Status::ok && l.scene == r.scene &&
-            l.samples == r.samples && l.precision == r.precision && l.throughput_pts_per_s > 0)
-          limit = l.throughput_pts_per_s;
-      any_limit = any_limit || limit.has_value();
+      const std::optional<double> fraction = fraction_of_store_limit(r, set.results.records);
+      const bool too_small = store_limit_too_small(r, set.results.records);
+      any_limit = any_limit || fraction.has_value() || too_small;
+      any_too_small = any_too_small || too_small;
       const bool ok = r.status == Status::ok;
       std::vector<std::string> cells{
           r.scene,
@@ -1019,9 +1031,9 @@ ReportSection measurements_section(const std::vector<ResultSet>& sets) {
           r.device.kind.empty() ? "-" : r.device.kind,
           ok ? seconds_text(r.evaluate.median_s) : "-",
           ok ? report_number(r.throughput_pts_per_s) : "-",
-          ok && limit && r.role != "limit"
-              ? fmt::format("{:.1f}%", 100 * r.throughput_pts_per_s / *limit)
-              : "-",
+          fraction    ? fmt::format("{:.1f}%", 100 * *fraction)
+          : too_small ? "—†"
+                      : "-",
           ok && r.accuracy ? (no_inside_samples(*r.accuracy) ? "- (0 inside)"
                                                              : report_number(r.accuracy->max_ulp))
                            : "-",
@@ -1045,6 +1057,11 @@ ReportSection measurements_section(const std::vector<ResultSet>& sets) {
         "of store limit = the strategy's points/s over the limit-store-bandwidth row's points/s "
         "for the same scene, samples and precision: the fraction of the machine's write bandwidth "
         "its output reaches.");
+  if (any_too_small)
+    s.notes.push_back(fmt::format(
+        "—†: the limit row's output is under {} KiB, where a store pass times the threads' fork "
+        "and join rather than the memory, so no fraction is given.",
+        kStoreLimitMinBytes / 1024));
   s.tables.push_back(std::move(table));
   return s;
 }

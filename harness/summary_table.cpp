@@ -83,6 +83,73 @@ std::string status_counts(const std::vector<Record>& records) {
                      parts.empty() ? "none" : fmt::format("{}", fmt::join(parts, ", ")));
 }
 
+namespace {
+
+constexpr std::string_view kBaseline = "cpu-coxdeboor";
+
+std::string device_label(const DeviceInfo& d) {
+  if (d.kind == "cpu") return fmt::format("CPU figure ({})", d.name);
+  if (d.kind == "gpu") return fmt::format("GPU ({})", d.name);
+  return fmt::format("{} device ({})", d.kind.empty() ? "unknown" : d.kind, d.name);
+}
+
+// "cpu-tensor f32: 12.5x cpu-coxdeboor, CPU figure (host CPU)"
+std::string digest_entry(const Record& winner, const std::vector<Record>& records) {
+  const auto baseline = std::find_if(records.begin(), records.end(), [&](const Record& r) {
+    return r.strategy == kBaseline && r.scene == winner.scene && r.samples == winner.samples &&
+           r.precision == winner.precision && r.status == Status::ok && r.throughput_pts_per_s > 0;
+  });
+  const std::string ratio =
+      baseline == records.end()
+          ? fmt::format("{:.3g} points/s, no {} baseline", winner.throughput_pts_per_s, kBaseline)
+          : fmt::format("{:.3g}x {}", winner.throughput_pts_per_s / baseline->throughput_pts_per_s,
+                        kBaseline);
+  return fmt::format("{} {}: {}, {}", winner.strategy, winner.precision, ratio,
+                     device_label(winner.device));
+}
+
+}  // namespace
+
+std::vector<std::string> summary_digest(const std::vector<Record>& records,
+                                        const std::vector<Gate>& gates) {
+  // (scene, samples) in the order the run measured them.
+  std::vector<std::pair<std::string, std::string>> workloads;
+  std::vector<std::string> precisions;
+  for (const Record& r : records) {
+    if (r.role == "limit") continue;
+    const std::pair<std::string, std::string> key{r.scene, r.samples};
+    if (std::find(workloads.begin(), workloads.end(), key) == workloads.end())
+      workloads.push_back(key);
+    if (std::find(precisions.begin(), precisions.end(), r.precision) == precisions.end())
+      precisions.push_back(r.precision);
+  }
+  std::vector<std::string> lines = {fmt::format(
+      "digest: per scene, the fastest strategy within its accuracy gates{}, evaluate throughput "
+      "over {} at the same precision:",
+      precisions.size() > 1 ? fmt::format(" (best of {})", fmt::join(precisions, ", ")) : "",
+      kBaseline)};
+  for (const auto& [scene, samples] : workloads) {
+    std::vector<const Record*> fastest;
+    for (const Record& r : records) {
+      if (r.scene != scene || r.samples != samples || !passes_gates(gates, r)) continue;
+      if (fastest.empty() || r.throughput_pts_per_s > fastest.front()->throughput_pts_per_s)
+        fastest = {&r};
+      else if (r.throughput_pts_per_s == fastest.front()->throughput_pts_per_s)
+        fastest.push_back(&r);
+    }
+    std::string text;
+    if (fastest.empty()) {
+      text = "no strategy within its accuracy gates";
+    } else {
+      std::vector<std::string> entries;
+      for (const Record* r : fastest) entries.push_back(digest_entry(*r, records));
+      text = fastest.size() > 1 ? fmt::format("tie: {}", fmt::join(entries, "; ")) : entries[0];
+    }
+    lines.push_back(fmt::format("  {} {}: {}", scene, samples, text));
+  }
+  return lines;
+}
+
 std::string deforming_table(const std::vector<Record>& records) {
   std::vector<Row> rows = {{"scene", "strategy", "prec", "samples", "frame (median)", "per frame",
                             "update/prepare", "evaluate", "max_ulp (last)"}};

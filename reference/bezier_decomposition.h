@@ -16,6 +16,7 @@
 //   itself, which inserts the segment's right knot until it has multiplicity p.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -33,11 +34,17 @@ std::vector<int> nonempty_spans(int degree, int count, const T* knots) {
   return spans;
 }
 
+// Non-empty spans per direction {u, v}: the decomposition is a grid of u x v Bézier patches.
+inline std::array<std::size_t, 2> nonempty_span_counts(const Surface& s) {
+  return {nonempty_spans(s.degree_u, s.count_u, s.knots_u.data()).size(),
+          nonempty_spans(s.degree_v, s.count_v, s.knots_v.data()).size()};
+}
+
 // Patches of the decomposition = RPNS KSQuads: the non-empty (u-span, v-span) pairs. The one place
 // both are counted (strategies, the memory table and the tests read it from here).
 inline std::size_t ksquad_count(const Surface& s) {
-  return nonempty_spans(s.degree_u, s.count_u, s.knots_u.data()).size() *
-         nonempty_spans(s.degree_v, s.count_v, s.knots_v.data()).size();
+  const std::array<std::size_t, 2> spans = nonempty_span_counts(s);
+  return spans[0] * spans[1];
 }
 
 // Where a set of curves sharing one knot vector lives: control point i of curve ("lane") l at

@@ -6,6 +6,7 @@
 
 #include "harness/cli/commands.h"
 #include "harness/error_image.h"
+#include "harness/gates.h"
 #include "harness/machine.h"
 #include "harness/results_writer.h"
 #include "harness/runner.h"
@@ -17,7 +18,12 @@
 #include "strategies/device_wait.h"
 #include "strategies/registry.h"
 
-namespace nurbs::cli {
+namespace nurbs {
+namespace embedded {
+extern const std::string_view gates_json;  // results/gates.json, embedded at build time
+}  // namespace embedded
+
+namespace cli {
 
 namespace {
 
@@ -153,7 +159,13 @@ int run_command(const RunOptions& options) {
   std::cout << fmt::format(
       "\n{} results in {}/results.json and results.csv (CPU: {}, {} threads; commit {})\n",
       writer.records().size(), options.out, cpu_model(), threads, build_info().git_commit);
+  // Last, where a reader of a long table looks first.
+  const std::vector<Gate> gates =
+      parse_gates(embedded::gates_json, "results/gates.json (built in)");
+  std::cout << "\n"
+            << fmt::format("{}\n", fmt::join(summary_digest(writer.records(), gates), "\n"));
   return 0;
 }
 
-}  // namespace nurbs::cli
+}  // namespace cli
+}  // namespace nurbs

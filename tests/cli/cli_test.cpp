@@ -381,6 +381,14 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
   }
   EXPECT_EQ(scenes.count("patch144"), measurements / 2);
   EXPECT_EQ(scenes.count("sphere"), measurements / 2);
+  // The console ends with the digest: one line per scene, a ratio to the baseline measured there.
+  const std::vector<std::string> out_lines = split_lines(r.out);
+  ASSERT_GE(out_lines.size(), 3u) << r.out;
+  EXPECT_TRUE(out_lines[out_lines.size() - 3].starts_with("digest: ")) << r.out;
+  EXPECT_TRUE(out_lines[out_lines.size() - 2].starts_with("  patch144 8x8: ")) << r.out;
+  EXPECT_TRUE(out_lines.back().starts_with("  sphere 8x8: ")) << r.out;
+  for (std::size_t k = out_lines.size() - 2; k < out_lines.size(); ++k)
+    EXPECT_NE(out_lines[k].find("x cpu-coxdeboor, "), std::string::npos) << out_lines[k];
 
   const json results = json::parse(read_text(fs::path(out) / "results.json"));
   EXPECT_EQ(results["format"], "nurbsbench-results/1");
@@ -521,6 +529,8 @@ TEST(CliMemory, TextHasOneRowPerSceneAndStatesItsUnits) {
   EXPECT_NE(lines[0].find("Bezier#CP"), std::string::npos);
   EXPECT_TRUE(lines[1].starts_with("patch144")) << lines[1];
   EXPECT_NE(lines[1].find(" 1296 "), std::string::npos) << lines[1];
+  EXPECT_NE(lines[0].find("shared#CP"), std::string::npos);
+  EXPECT_NE(lines[1].find(" 784 "), std::string::npos) << lines[1];  // 28 x 28 shared once
   EXPECT_TRUE(lines[2].starts_with("teapot")) << lines[2];
   EXPECT_NE(lines[3].find("16 bytes"), std::string::npos) << lines[3];
 }
@@ -535,6 +545,7 @@ TEST(CliMemory, JsonForEveryDefaultScene) {
     scenes.insert(row["scene"].get<std::string>());
     EXPECT_GE(row["bezier_control_points"].get<double>(), 1.0);
     EXPECT_EQ(row["ksquads"], row["bezier_patches"]);
+    EXPECT_LE(row["bezier_shared_control_points"], row["bezier_control_points"]);
   }
   EXPECT_TRUE(scenes.count("patch144") && scenes.count("teapot") && scenes.count("duck"));
   EXPECT_FALSE(scenes.count("many-4096"));  // 'default', as in run

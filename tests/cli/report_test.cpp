@@ -135,7 +135,10 @@ TEST_F(CliReport, WritesTablesChartsAndHtmlListingEveryStrategy) {
   EXPECT_NE(md.find("Machine: "), std::string::npos);
   EXPECT_NE(md.find("nurbsbench report --results"), std::string::npos);
   EXPECT_NE(md.find("of store limit"), std::string::npos);
-  EXPECT_NE(md.find("%"), std::string::npos) << "no store-limit fraction although limit rows exist";
+  // 4x4 and 8x8 write far under kStoreLimitMinBytes: the limit rows exist, their fraction is
+  // withheld and the footnote says why.
+  EXPECT_NE(md.find("| —† |"), std::string::npos) << md;
+  EXPECT_NE(md.find("—†: the limit row's output is under 1024 KiB"), std::string::npos);
   // Absent side data says what to run instead of failing.
   EXPECT_NE(md.find("no data in these results: run nurbsbench lod"), std::string::npos);
   EXPECT_NE(md.find("no data in these results: run nurbsbench memory"), std::string::npos);
@@ -254,7 +257,10 @@ TEST_F(CliReport, ReadsLodAndMemoryFilesBesideTheResults) {
               "coarser_by_haar_s": null}]})JSON");
   write_text(fs::path(dir) / "memory.json", R"({"format": "nurbsbench-memory/1", "rows": [
     {"scene": "teapot", "surfaces": 32, "nurbs_control_points": 512, "nurbs_bytes": 16384,
-     "bezier_patches": 32, "bezier_control_points": 512, "bezier_bytes": 32768, "ksquads": 32}]})");
+     "bezier_patches": 32, "bezier_control_points": 512, "bezier_bytes": 32768, "ksquads": 32,
+     "bezier_shared_control_points": 512, "bezier_shared_bytes": 8192},
+    {"scene": "older", "surfaces": 1, "nurbs_control_points": 16, "nurbs_bytes": 256,
+     "bezier_patches": 1, "bezier_control_points": 16, "bezier_bytes": 256, "ksquads": 1}]})");
   const std::string out = tmp_ / "report";
   const CliResult r = run_cli({"report", "--results", dir, "--out", out, "--error-images", "0"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -264,7 +270,11 @@ TEST_F(CliReport, ReadsLodAndMemoryFilesBesideTheResults) {
             std::string::npos)
       << md;
   EXPECT_NE(md.find("| tan21x23 | 128x128 | 1 | 64x64 | 1e-06 | 3.5 |"), std::string::npos);
-  EXPECT_NE(md.find("| teapot | 32 | 512 | 16384 | 32 | 512 | 32768 | 2 | 32 |"),
+  EXPECT_NE(md.find("| teapot | 32 | 512 | 16384 | 32 | 512 | 32768 | 2 | 32 | 512 | 8192 | 0.5 |"),
+            std::string::npos)
+      << md;
+  // A memory.json from before the shared-once count: that reading is absent, not zero.
+  EXPECT_NE(md.find("| older | 1 | 16 | 256 | 1 | 16 | 256 | 1 | 1 | n/a | n/a | n/a |"),
             std::string::npos);
   EXPECT_EQ(md.find("no data in these results: run nurbsbench lod"), std::string::npos);
   EXPECT_EQ(lower(md).find("nan"), std::string::npos);

@@ -14,6 +14,7 @@
 #include "harness/record.h"
 #include "harness/runner.h"
 #include "harness/store_limit.h"
+#include "harness/summary_table.h"
 #include "harness/timing.h"
 #include "scenes/builtin_scenes.h"
 #include "tests/harness/plates.h"
@@ -203,6 +204,124 @@ TEST(Gates, LimitRowsAreNotGatedAndMissingAccuracyIsAViolation) {
   EXPECT_NE(violations[0].find("no accuracy"), std::string::npos) << violations[0];
 }
 
+TEST(Gates, PassingNeedsAnApplicableGateHeldByAMeasurement) {
+  const std::vector<Gate> gates = {{"cpu-*", "*", "max_ulp", 2},
+                                   {"cpu-*", "*", "trim_misclassified_rate", 0}};
+  EXPECT_TRUE(passes_gates(gates, sample_record()))
+      << "the trim gate does not apply to an untrimmed scene";
+  Record over = sample_record();
+  over.accuracy->max_ulp = 3;
+  EXPECT_FALSE(passes_gates(gates, over));
+  Record ungated = sample_record();
+  ungated.strategy = "gl-pingpong";
+  EXPECT_FALSE(passes_gates(gates, ungated)) << "no gate covers it: it passed none";
+  Record refused = sample_record();
+  refused.status = Status::refused;
+  EXPECT_FALSE(passes_gates(gates, refused));
+  Record misclassifying = sample_record();
+  misclassifying.trimming = "classified";
+  misclassifying.accuracy->trim = TrimAccuracy{};
+  misclassifying.accuracy->trim->misclassified = 3;
+  misclassifying.accuracy->trim->misclassified_rate = 0.01;
+  EXPECT_FALSE(passes_gates(gates, misclassifying));
+}
+
+// A record of `strategy` on `scene` at 64x64 f32 with `points_per_s` and max_ulp `ulp`, on the
+// host CPU.
+Record digest_record(const std::string& strategy, const std::string& scene, double points_per_s,
+                     double ulp = 1) {
+  Record r = sample_record();
+  r.strategy = strategy;
+  r.scene = scene;
+  r.throughput_pts_per_s = points_per_s;
+  r.accuracy->max_ulp = ulp;
+  r.device = {"host CPU", "cpu", {}};
+  return r;
+}
+
+const std::vector<Gate> kDigestGates = {{"*", "*", "max_ulp", 32}};
+
+TEST(SummaryDigest, FastestWithinItsGatesOverTheBaseline) {
+  Record gl = digest_record("gl-pingpong", "patch144", 8e6);
+  gl.device = {"llvmpipe (LLVM 15.0.6, 256 bits)", "cpu", {}};
+  Record limit = digest_record(std::string(kStoreLimitName), "patch144", 1e12);
+  limit.role = "limit";
+  limit.accuracy.reset();
+  const std::vector<std::string> lines = summary_digest(
+      {limit, digest_record("cpu-coxdeboor", "patch144", 2e6),
+       digest_record("cpu-tensor", "patch144", 1e9, 40),  // fastest, but over its gate
+       digest_record("cpu-bezier", "patch144", 5e6), gl},
+      kDigestGates);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0],
+            "digest: per scene, the fastest strategy within its accuracy gates, evaluate "
+            "throughput over cpu-coxdeboor at the same precision:");
+  EXPECT_EQ(lines[1],
+            "  patch144 64x64: gl-pingpong f32: 4x cpu-coxdeboor, CPU figure (llvmpipe (LLVM "
+            "15.0.6, 256 bits))");
+}
+
+TEST(SummaryDigest, FailedAndUngatedRecordsAreSkippedAndGpuFiguresSaySo) {
+  Record failed = digest_record("cpu-horner", "sphere", 1e9);
+  failed.status = Status::failed;
+  Record gpu = digest_record("vk-ksquad", "sphere", 3e6);
+  gpu.device = {"Some GPU", "gpu", {}};
+  const std::vector<std::string> lines =
+      summary_digest({digest_record("cpu-coxdeboor", "sphere", 1e6), failed, gpu,
+                      digest_record("cpu-bezier", "sphere", 1e8)},
+                     {{"cpu-coxdeboor", "*", "max_ulp", 32}, {"vk-*", "*", "max_ulp", 32}});
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[1], "  sphere 64x64: vk-ksquad f32: 3x cpu-coxdeboor, GPU (Some GPU)");
+}
+
+TEST(SummaryDigest, SceneWithoutTheBaselineSaysSo) {
+  Record failed_baseline = digest_record("cpu-coxdeboor", "duck", 1e6);
+  failed_baseline.status = Status::crashed;
+  const std::vector<std::string> lines = summary_digest(
+      {digest_record("cpu-coxdeboor", "patch144", 1e6), digest_record("cpu-tensor", "teapot", 2e6),
+       failed_baseline, digest_record("cpu-tensor", "duck", 3e6),
+       digest_record("cpu-tensor", "torus", 3e6, 99)},
+      kDigestGates);
+  ASSERT_EQ(lines.size(), 5u);
+  EXPECT_EQ(lines[1],
+            "  patch144 64x64: cpu-coxdeboor f32: 1x cpu-coxdeboor, CPU figure (host CPU)");
+  EXPECT_EQ(lines[2],
+            "  teapot 64x64: cpu-tensor f32: 2e+06 points/s, no cpu-coxdeboor baseline, CPU figure "
+            "(host CPU)");
+  EXPECT_EQ(lines[3],
+            "  duck 64x64: cpu-tensor f32: 3e+06 points/s, no cpu-coxdeboor baseline, CPU figure "
+            "(host CPU)");
+  EXPECT_EQ(lines[4], "  torus 64x64: no strategy within its accuracy gates");
+}
+
+TEST(SummaryDigest, TiesNameEveryFastest) {
+  const std::vector<std::string> lines = summary_digest(
+      {digest_record("cpu-coxdeboor", "patch144", 1e6),
+       digest_record("cpu-tensor", "patch144", 5e6), digest_record("cpu-bezier", "patch144", 5e6),
+       digest_record("cpu-horner", "patch144", 4e6)},
+      kDigestGates);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[1],
+            "  patch144 64x64: tie: cpu-tensor f32: 5x cpu-coxdeboor, CPU figure (host CPU); "
+            "cpu-bezier f32: 5x cpu-coxdeboor, CPU figure (host CPU)");
+}
+
+TEST(SummaryDigest, BestOverBothPrecisionsAgainstTheSamePrecisionsBaseline) {
+  auto f64 = [](Record r) {
+    r.precision = "f64";
+    return r;
+  };
+  const std::vector<std::string> lines =
+      summary_digest({digest_record("cpu-coxdeboor", "patch144", 4e6),
+                      f64(digest_record("cpu-coxdeboor", "patch144", 1e6)),
+                      digest_record("cpu-tensor", "patch144", 6e6),
+                      f64(digest_record("cpu-tensor", "patch144", 8e6))},
+                     kDigestGates);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_NE(lines[0].find("(best of f32, f64)"), std::string::npos) << lines[0];
+  EXPECT_EQ(lines[1], "  patch144 64x64: cpu-tensor f64: 8x cpu-coxdeboor, CPU figure (host CPU)");
+}
+
 TEST(StoreLimit, RowDescribesTheRequestsOutputStream) {
   const Scene scene = *make_builtin_scene("many-4");
   Sampling grid;
@@ -224,6 +343,43 @@ TEST(StoreLimit, RowDescribesTheRequestsOutputStream) {
     EXPECT_DOUBLE_EQ(r.throughput_pts_per_s, r.points / r.evaluate.median_s);
     EXPECT_DOUBLE_EQ(r.figures.at("store_bytes_per_s"), bytes * r.throughput_pts_per_s);
   }
+}
+
+TEST(StoreLimit, FractionOnlyFromAnOutputOfAtLeastTheStatedSize) {
+  auto limit_row = [](std::size_t points, double bytes_per_point) {
+    Record l;
+    l.scene = "patch144";
+    l.strategy = std::string(kStoreLimitName);
+    l.role = "limit";
+    l.precision = "f32";
+    l.samples = "64x64";
+    l.points = points;
+    l.throughput_pts_per_s = 4e9;
+    l.figures["bytes_per_point"] = bytes_per_point;
+    return l;
+  };
+  Record strategy = sample_record();  // patch144, 64x64, f32
+  strategy.throughput_pts_per_s = 1e9;
+  // 64x64 f32 positions: 48 KiB.
+  const std::vector<Record> small = {limit_row(4096, 12), strategy};
+  EXPECT_FALSE(fraction_of_store_limit(strategy, small));
+  EXPECT_TRUE(store_limit_too_small(strategy, small));
+  // The stated size exactly, and one point under it.
+  const std::size_t at = kStoreLimitMinBytes / 16;
+  const std::vector<Record> enough = {limit_row(at, 16), strategy};
+  ASSERT_TRUE(fraction_of_store_limit(strategy, enough));
+  EXPECT_DOUBLE_EQ(*fraction_of_store_limit(strategy, enough), 0.25);
+  EXPECT_FALSE(store_limit_too_small(strategy, enough));
+  EXPECT_FALSE(fraction_of_store_limit(strategy, {limit_row(at - 1, 16), strategy}));
+  // Not for the limit row itself, a failed record, or another request's limit.
+  EXPECT_FALSE(fraction_of_store_limit(enough[0], enough));
+  Record failed = strategy;
+  failed.status = Status::failed;
+  EXPECT_FALSE(fraction_of_store_limit(failed, {limit_row(at, 16), failed}));
+  Record f64 = strategy;
+  f64.precision = "f64";
+  EXPECT_FALSE(fraction_of_store_limit(f64, {limit_row(at, 16), f64}));
+  EXPECT_FALSE(store_limit_too_small(f64, {limit_row(4096, 12), f64}));
 }
 
 TEST(StoreLimit, StorePassWritesEveryValue) {
