@@ -87,6 +87,14 @@ Availability Context::probe(Platform platform) {
   return cache[platform] = a;
 }
 
+Availability Context::probe_any() {
+  const Availability egl = probe(Platform::egl);
+  if (egl.available) return egl;
+  const Availability osmesa = probe(Platform::osmesa);
+  if (osmesa.available) return osmesa;
+  return {false, fmt::format("{}; {}", egl.reason, osmesa.reason)};
+}
+
 Context::Context(Platform platform, std::unique_ptr<Backend> backend)
     : platform_(platform), backend_(std::move(backend)) {}
 

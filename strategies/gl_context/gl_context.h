@@ -59,6 +59,9 @@ class Context {
   static std::unique_ptr<Context> create(Platform platform);
   // Whether create(platform) succeeds here; computed once per process and platform.
   static Availability probe(Platform platform);
+  // A GL strategy's registry probe: available when either platform is (EGL first; with OSMesa
+  // only, --gl osmesa works and the default egl reports at create), else both reasons.
+  static Availability probe_any();
 
   ~Context();
   Context(const Context&) = delete;

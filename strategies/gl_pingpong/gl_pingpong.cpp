@@ -323,19 +323,11 @@ class GlPingPong final : public Strategy {
   std::size_t bytes_uploaded_ = 0, passes_ = 0, basis_passes_ = 0, tile_count_ = 0;
 };
 
-Availability pingpong_probe() {
-  const Availability egl = gl::Context::probe(gl::Platform::egl);
-  if (egl.available) return egl;
-  const Availability osmesa = gl::Context::probe(gl::Platform::osmesa);
-  if (osmesa.available) return osmesa;  // --gl osmesa works; the default egl reports at create
-  return {false, fmt::format("{}; {}", egl.reason, osmesa.reason)};
-}
-
 StrategyEntry entry(std::string name, bool packed_entry) {
   return {std::move(name),
           kSource,
           "strategy",
-          pingpong_probe,
+          gl::Context::probe_any,
           pingpong_capabilities,
           [packed_entry](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
             const auto it = options.extra.find("packed");

@@ -157,21 +157,13 @@ class GlslDeBoor final : public Strategy {
   std::size_t bytes_uploaded_ = 0;
 };
 
-Availability deboor_probe() {
-  const Availability egl = gl::Context::probe(gl::Platform::egl);
-  if (egl.available) return egl;
-  const Availability osmesa = gl::Context::probe(gl::Platform::osmesa);
-  if (osmesa.available) return osmesa;  // --gl osmesa works; the default egl reports at create
-  return {false, fmt::format("{}; {}", egl.reason, osmesa.reason)};
-}
-
 }  // namespace
 
 StrategyEntry glsl_deboor_entry() {
   return {"glsl-deboor",
           kSource,
           "strategy",
-          deboor_probe,
+          gl::Context::probe_any,
           deboor_capabilities,
           [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
             return std::make_unique<GlslDeBoor>(
