@@ -33,8 +33,8 @@ constexpr int kDefaultPointsPerPass = 16;
 Capabilities tspline_capabilities() {
   Capabilities c;
   // Every odd degree the data model allows: the shader's arrays are sized per compiled degree
-  // pair (MAX_DEGREE + 2 knots), so no fixed limit below kMaxDegree applies; degrees 1, 3 and 5
-  // are tested.
+  // pair (MAX_DEGREE + 2 knots), so no fixed limit below kMaxDegree applies; degrees 1 to 7 are
+  // tested.
   c.max_degree = kMaxDegree;
   c.rational = true;
   c.normals = true;

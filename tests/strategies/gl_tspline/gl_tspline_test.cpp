@@ -153,8 +153,9 @@ void expect_within_bound(const TSplineSurface& t, const EvalResult& r, const Ora
     const double angle =
         static_cast<double>(std::acos(std::clamp(dot, LD(-1), LD(1)))) * 180.0 / M_PI;
     worst_angle.update(angle, where);
-    // The harness's float32 normal gate (strategy_accuracy_test).
-    ASSERT_LE(angle, 1.0) << where();
+    // A quarter of the harness's float32 normal gate (1 degree, strategy_accuracy_test): the
+    // measured worst is 0.027 degrees, so a derivative sum off by more than rounding fails.
+    ASSERT_LE(angle, 0.25) << where();
   }
 }
 
@@ -177,8 +178,17 @@ TEST_F(GlTSpline, TensorMeshMatchesNurbsReference) {
   struct Degrees {
     int u, v;
   };
-  for (const Degrees d :
-       {Degrees{3, 3}, {3, 3}, {3, 3}, {3, 3}, {1, 1}, {3, 1}, {1, 3}, {5, 3}, {3, 5}, {5, 5}})
+  for (const Degrees d : {Degrees{3, 3},
+                          {3, 3},
+                          {3, 3},
+                          {3, 3},
+                          {1, 1},
+                          {3, 1},
+                          {1, 3},
+                          {5, 3},
+                          {3, 5},
+                          {5, 5},
+                          {7, 5}})
     for (const bool rational : {false, true}) {
       const int cu = d.u + 1 + test::uniform_int(rng, 0, 5);
       const int cv = d.v + 1 + test::uniform_int(rng, 0, 5);
