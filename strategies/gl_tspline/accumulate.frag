@@ -6,11 +6,9 @@
 // partial derivatives' sums ride along in two more targets (the quotient rule needs them). The
 // sums ping-pong between two sets of targets, as 001's NURBS passes do between tex1 and tex2.
 //
-// Defines: DEGREE_U, DEGREE_V (odd), POINTS_PER_PASS, NORMALS, LINEAR_WIDTH (region_tables.h).
-// CPU counterpart: nurbs::local_basis and detail::combine_tspline (reference/tspline.h): the same
-// products, summed in the same region order, in float.
-
-#define MAX_DEGREE (DEGREE_U > DEGREE_V ? DEGREE_U : DEGREE_V)
+// Defines: DEGREE_U, DEGREE_V (odd), LB_MAX_DEGREE (the larger), POINTS_PER_PASS, NORMALS,
+// LINEAR_WIDTH (region_tables.h); then local_basis.h. CPU counterpart: detail::combine_tspline
+// (reference/tspline.h): the same products, summed in the same region order, in float.
 
 uniform sampler2D previous_sum;  // per sample: sum of B_k (w x, w y, w z, w)
 #if NORMALS
@@ -36,32 +34,15 @@ ivec2 linear(int i) {
   return ivec2(i % LINEAR_WIDTH, i / LINEAR_WIDTH);
 }
 
-// 0/0 := 0, the Cox-de Boor convention for repeated knots.
-float ratio(float a, float b) {
-  return b == 0.0 ? 0.0 : a / b;
-}
-
-// (N(t), N'(t)) of the B-spline of `degree` on the local knots of `point`, using the polynomial
-// piece of span `span` (knots[span] <= t < knots[span + 1] for t in the region; beyond, the
-// piece's extension, as the reference does up to the region's closed edges). Cox-de Boor
-// (001 eq. 2) from N_{span,0} = 1 up: the triangle holds degree + 1 - r functions at order r.
-// The derivative is Piegl & Tiller eq. 2.9 from the order degree - 1 values.
+// (N(t), N'(t)) of the point's local B-spline: lb_local_basis (local_basis.h, prepended after
+// these defines by gl-tspline) on its knots fetched from the table.
 vec2 local_basis(sampler2D table, int point, int degree, int span, float t) {
-  float k[MAX_DEGREE + 2];
+  float k[LB_MAX_DEGREE + 2];
   for (int i = 0; i < degree + 2; ++i)
     k[i] = texelFetch(table, linear(point * (degree + 2) + i), 0).r;
-  float n[MAX_DEGREE + 1];
-  for (int i = 0; i <= degree; ++i) n[i] = i == span ? 1.0 : 0.0;
-  float derivative = 0.0;
-  for (int r = 1; r <= degree; ++r) {
-    if (r == degree)
-      derivative = float(degree) * (ratio(n[0], k[degree] - k[0]) -
-                                    ratio(n[1], k[degree + 1] - k[1]));
-    for (int i = 0; i <= degree - r; ++i)
-      n[i] = ratio((t - k[i]) * n[i], k[i + r] - k[i]) +
-             ratio((k[i + r + 1] - t) * n[i + 1], k[i + r + 1] - k[i + 1]);
-  }
-  return vec2(n[0], derivative);
+  float value, derivative;
+  lb_local_basis(degree, k, span, t, value, derivative);
+  return vec2(value, derivative);
 }
 
 void main() {

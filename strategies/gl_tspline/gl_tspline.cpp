@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <map>
 #include <tuple>
 
@@ -16,6 +17,7 @@ namespace nurbs::embedded {
 extern const std::string_view gl_fullscreen_triangle_vert;
 extern const std::string_view gl_tspline_accumulate_frag;
 extern const std::string_view gl_tspline_divide_frag;
+extern const std::string_view gl_tspline_local_basis_h;
 }  // namespace nurbs::embedded
 
 namespace nurbs {
@@ -33,7 +35,7 @@ constexpr int kDefaultPointsPerPass = 16;
 Capabilities tspline_capabilities() {
   Capabilities c;
   // Every odd degree the data model allows: the shader's arrays are sized per compiled degree
-  // pair (MAX_DEGREE + 2 knots), so no fixed limit below kMaxDegree applies; degrees 1 to 7 are
+  // pair (LB_MAX_DEGREE + 2 knots), so no fixed limit below kMaxDegree applies; degrees 1 to 7 are
   // tested.
   c.max_degree = kMaxDegree;
   c.rational = true;
@@ -94,11 +96,14 @@ struct PassPrograms {
     context.check("gl-tspline programs");
   }
 
+  // The program's constants, then the single-source local basis (GL 3.3 GLSL has no #include).
   static std::string defines(int degree_u, int degree_v, int points_per_pass, bool normals) {
     return fmt::format(
-        "#define DEGREE_U {}\n#define DEGREE_V {}\n#define POINTS_PER_PASS {}\n"
-        "#define NORMALS {}\n#define LINEAR_WIDTH {}\n",
-        degree_u, degree_v, points_per_pass, normals ? 1 : 0, kLinearWidth);
+               "#define DEGREE_U {}\n#define DEGREE_V {}\n#define LB_MAX_DEGREE {}\n"
+               "#define POINTS_PER_PASS {}\n#define NORMALS {}\n#define LINEAR_WIDTH {}\n",
+               degree_u, degree_v, std::max(degree_u, degree_v), points_per_pass, normals ? 1 : 0,
+               kLinearWidth) +
+           std::string(embedded::gl_tspline_local_basis_h);
   }
 
   gl::Program accumulate, divide;
