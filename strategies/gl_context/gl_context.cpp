@@ -175,6 +175,26 @@ DeviceInfo Context::device_info() const {
   return d;
 }
 
+DeviceTimer::~DeviceTimer() {
+  if (!query_) return;
+  context_.make_current();
+  context_.gl().DeleteQueries(1, &query_);
+}
+
+double DeviceTimer::time(std::string_view where, const std::function<void()>& work) {
+  context_.make_current();
+  const Functions& gl = context_.gl();
+  if (!query_) gl.GenQueries(1, &query_);
+  gl.BeginQuery(GL_TIME_ELAPSED, query_);
+  work();
+  gl.EndQuery(GL_TIME_ELAPSED);
+  context_.finish(where);
+  GLuint64 ns = 0;
+  gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
+  context_.check(where);
+  return static_cast<double>(ns) * 1e-9;
+}
+
 void Context::finish(std::string_view where) {
   GLsync fence = gl_.FenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   if (!fence) throw Error(fmt::format("{} ({}): glFenceSync failed", where, description_));

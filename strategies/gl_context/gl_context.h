@@ -4,6 +4,7 @@
 // the record, and GL errors (GL debug output in debug builds) turned into exceptions.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -108,6 +109,24 @@ class Context {
   std::vector<std::string> extensions_;
   int max_texture_size_ = 0, max_viewport_ = 0;
   std::vector<std::string> debug_errors_;
+};
+
+// GL_TIME_ELAPSED around a strategy's measured device work: the device side of its evaluate
+// phase (DeviceTimes::evaluate_s). The query object is made at the first use and reused.
+class DeviceTimer {
+ public:
+  explicit DeviceTimer(Context& context) : context_(context) {}
+  ~DeviceTimer();
+  DeviceTimer(const DeviceTimer&) = delete;
+  DeviceTimer& operator=(const DeviceTimer&) = delete;
+
+  // Makes the context current, runs `work` inside the query, waits for the device
+  // (Context::finish) and checks for GL errors, naming `where`; returns the device seconds.
+  double time(std::string_view where, const std::function<void()>& work);
+
+ private:
+  Context& context_;
+  GLuint query_ = 0;
 };
 
 // Platform backends; each throws UnavailableError with the reason. Defined only where built.

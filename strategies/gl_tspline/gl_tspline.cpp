@@ -127,6 +127,7 @@ class GlTSpline final : public Strategy {
     } catch (const gl::UnavailableError& e) {
       throw std::runtime_error(fmt::format("unavailable: {}", e.what()));
     }
+    timer_ = std::make_unique<gl::DeviceTimer>(*context_);
     triangle_ = std::make_unique<gl::FullscreenTriangle>(*context_);
   }
 
@@ -135,7 +136,6 @@ class GlTSpline final : public Strategy {
     surfaces_.clear();
     programs_.clear();
     triangle_.reset();
-    if (query_) context_->gl().DeleteQueries(1, &query_);
   }
 
   std::string_view name() const override { return kName; }
@@ -168,18 +168,10 @@ class GlTSpline final : public Strategy {
   }
 
   void evaluate() override {
-    context_->make_current();
-    const gl::Functions& gl = context_->gl();
-    if (!query_) gl.GenQueries(1, &query_);
-    draws_ = 0;
-    gl.BeginQuery(GL_TIME_ELAPSED, query_);
-    for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
-    gl.EndQuery(GL_TIME_ELAPSED);
-    context_->finish("gl-tspline evaluate");
-    GLuint64 ns = 0;
-    gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
-    device_evaluate_s_ = static_cast<double>(ns) * 1e-9;
-    context_->check("gl-tspline evaluate");
+    device_evaluate_s_ = timer_->time("gl-tspline evaluate", [&] {
+      draws_ = 0;
+      for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
+    });
   }
 
   DeviceTimes device_times() const override { return {device_evaluate_s_}; }
@@ -313,11 +305,11 @@ class GlTSpline final : public Strategy {
   int points_per_pass_;
   bool normals_ = false;
   std::unique_ptr<gl::Context> context_;
+  std::unique_ptr<gl::DeviceTimer> timer_;
   std::unique_ptr<gl::FullscreenTriangle> triangle_;
   std::map<std::tuple<int, int, bool>, std::unique_ptr<PassPrograms>> programs_;
   std::vector<SurfaceSamples> samples_;
   std::vector<SurfaceOnGpu> surfaces_;
-  GLuint query_ = 0;
   double device_evaluate_s_ = 0;
   std::size_t bytes_uploaded_ = 0, accumulation_passes_ = 0, regions_ = 0, draws_ = 0;
   int max_active_ = 0;
