@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <map>
+#include <stdexcept>
 #include <tuple>
 
 #include "reference/tspline.h"
@@ -44,7 +45,9 @@ Capabilities tspline_capabilities() {
   c.fp64 = false;                                // RGBA32F targets, as 001's textures
   c.sampling = SamplingModes{true, true, true};  // one fragment per sample, any (u, v) list
   c.tspline = true;
-  c.tspline_only = true;  // its NURBS counterpart is gl-pingpong (000 / 001's NURBS section)
+  c.tspline_only = true;
+  c.updates_control_points = true;  // the points texture alone is re-uploaded  // its NURBS
+                                    // counterpart is gl-pingpong (000 / 001's NURBS section)
   return c;
 }
 
@@ -114,6 +117,7 @@ struct SurfaceOnGpu {
   const PassPrograms* programs = nullptr;
   int accumulation_passes = 0;
   std::size_t count = 0;  // samples
+  std::size_t control_points = 0;
   gl::Texture points, knots_u, knots_v, offsets, active, parameters, regions;
   gl::RenderTargets sums[2];  // 001's tex1 / tex2, with the derivative sums beside the sum
   gl::RenderTargets output;   // position (and normal)
@@ -175,6 +179,27 @@ class GlTSpline final : public Strategy {
   }
 
   DeviceTimes device_times() const override { return {device_evaluate_s_}; }
+
+  // Moved points (same T-splines otherwise: knots, weights' count, samples): the region tables,
+  // knots and sample textures of prepare() stay; only the homogeneous points are re-uploaded.
+  void update_control_points(const Scene& scene) override {
+    if (scene.surfaces.size() != surfaces_.size())
+      throw std::invalid_argument(
+          fmt::format("{}: update_control_points with {} surfaces, prepared with {}", kName,
+                      scene.surfaces.size(), surfaces_.size()));
+    context_->make_current();
+    for (std::size_t i = 0; i < surfaces_.size(); ++i) {
+      const Surface& surface = scene.surfaces[i];
+      if (!surface.is_tspline() || surface.tspline->count() != surfaces_[i].control_points)
+        throw std::invalid_argument(
+            fmt::format("{}: update_control_points: surface '{}' is not the prepared T-spline",
+                        kName, surface.name));
+      const std::vector<float> points = gl_tspline::homogeneous_points(*surface.tspline);
+      surfaces_[i].points.upload(GL_RGBA, GL_FLOAT, points.data(), sizeof(float) * 4);
+    }
+    context_->finish("gl-tspline update");
+    context_->check("gl-tspline update");
+  }
 
   EvalResult read_back() override {
     context_->make_current();
@@ -239,6 +264,7 @@ class GlTSpline final : public Strategy {
     SurfaceOnGpu s;
     s.programs = &programs(ts.degree_u, ts.degree_v);
     s.count = table.count;
+    s.control_points = ts.count();
     s.accumulation_passes = gl_tspline::accumulation_passes(tables.max_active, points_per_pass_);
     s.points = linear_texture(GL_RGBA32F, GL_RGBA, GL_FLOAT, tables.homogeneous, 4, surface.name,
                               "the control points");

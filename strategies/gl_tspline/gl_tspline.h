@@ -8,7 +8,8 @@
 // accumulation passes over one fragment per sample, each adding its share of the region's
 // blending functions (Cox-de Boor on each point's local knots) times w P to ping-ponged float
 // sums (with the derivative sums for normals), then one divide pass. T-splines only, odd degrees,
-// float32, grid / span-grid / explicit samples, normals.
+// float32, grid / span-grid / explicit samples, normals; deforming frames re-upload the points
+// only.
 //
 // Where 001 is silent or ambiguous, and what is done here:
 // - Regions: 001 splits the T-mesh's faces by the knot values crossing them (Fig 7); here a region

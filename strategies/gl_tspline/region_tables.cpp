@@ -24,11 +24,7 @@ RegionTables make_region_tables(const TSplineSurface& s, const TSplineInfluence&
   t.degree_u = s.degree_u;
   t.degree_v = s.degree_v;
   t.points = s.count();
-  for (std::size_t k = 0; k < s.count(); ++k) {
-    const double w = s.weights[k];
-    for (int c = 0; c < 3; ++c) t.homogeneous.push_back(static_cast<float>(s.points[k][c] * w));
-    t.homogeneous.push_back(static_cast<float>(w));
-  }
+  t.homogeneous = homogeneous_points(s);
   for (double knot : s.knots_u) t.knots_u.push_back(static_cast<float>(knot));
   for (double knot : s.knots_v) t.knots_v.push_back(static_cast<float>(knot));
   for (int cu = 0; cu < index.cells_u(); ++cu)
@@ -49,12 +45,23 @@ RegionTables make_region_tables(const TSplineSurface& s, const TSplineInfluence&
     }
   t.regions = t.offsets.size();
   t.offsets.push_back(static_cast<std::int32_t>(t.entries));
-  pad_to_rows(t.homogeneous, 4);
   pad_to_rows(t.knots_u, 1);
   pad_to_rows(t.knots_v, 1);
   pad_to_rows(t.offsets, 1);
   pad_to_rows(t.active, 4);
   return t;
+}
+
+std::vector<float> homogeneous_points(const TSplineSurface& s) {
+  std::vector<float> h;
+  h.reserve(s.count() * 4);
+  for (std::size_t k = 0; k < s.count(); ++k) {
+    const double w = s.weights[k];
+    for (int c = 0; c < 3; ++c) h.push_back(static_cast<float>(s.points[k][c] * w));
+    h.push_back(static_cast<float>(w));
+  }
+  pad_to_rows(h, 4);
+  return h;
 }
 
 SampleTable make_sample_table(const TSplineInfluence& index, const SurfaceSamples& samples) {

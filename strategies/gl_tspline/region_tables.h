@@ -42,6 +42,9 @@ struct RegionTables {
 
 RegionTables make_region_tables(const TSplineSurface& surface, const TSplineInfluence& index);
 
+// RegionTables::homogeneous alone: what update_control_points re-uploads when the points move.
+std::vector<float> homogeneous_points(const TSplineSurface& surface);
+
 // Per sample, one texel per fragment of the passes: (u, v) in float and its region, found by the
 // influence index's binary searches (001: "O(log n) ... using binary search"). Sample k at texel
 // (k % width, k / width); the last row is padded with copies of sample 0.

@@ -17,6 +17,7 @@
 #include "reference/tmesh.h"
 #include "reference/tspline.h"
 #include "reference/validation.h"
+#include "scenes/deforming.h"
 #include "strategies/gl_context/gl_context.h"
 #include "strategies/registry.h"
 #include "tests/reference/random_nurbs.h"
@@ -296,6 +297,41 @@ TEST_F(GlTSpline, FinestSplitEqualsDefault) {
             << "sample " << k;
       }
   }
+}
+
+// Deforming frames (003 §2's benchmark): re-uploading the moved points gives exactly what a
+// fresh prepare() of the moved scene gives.
+TEST_F(GlTSpline, UpdatedPointsEqualAFreshPrepare) {
+  Rng rng(46);
+  const Scene base =
+      tspline_scene(infer_tspline(test::random_vertical_tmesh(rng, 3, 3, 9, 8, true), "t"));
+  Sampling grid;
+  grid.grid_u = 19;
+  grid.grid_v = 11;
+  const EvalRequest request{grid, Precision::f32, true};
+  auto strategy = find_strategy("gl-tspline")->create(StrategyOptions{});
+  ASSERT_TRUE(find_strategy("gl-tspline")->capabilities().updates_control_points);
+  strategy->prepare(base, request);
+  strategy->evaluate();
+  const EvalResult before = strategy->read_back();
+  const Scene moved = deformed_scene(base, 7);
+  strategy->update_control_points(moved);
+  strategy->evaluate();
+  const EvalResult updated = strategy->read_back();
+  const EvalResult fresh = run(moved, grid, true).result;
+  const PointArray &u = updated.surfaces[0].positions, &f = fresh.surfaces[0].positions;
+  ASSERT_EQ(u.size(), f.size());
+  bool moved_any = false;
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    ASSERT_EQ(u[k], f[k]) << "sample " << k;
+    ASSERT_EQ(updated.surfaces[0].normals[k], fresh.surfaces[0].normals[k]) << "sample " << k;
+    moved_any = moved_any || u[k] != before.surfaces[0].positions[k];
+  }
+  EXPECT_TRUE(moved_any);
+  // Another net is not an update.
+  const Scene other =
+      tspline_scene(infer_tspline(test::random_vertical_tmesh(rng, 3, 3, 5, 5, true), "o"));
+  EXPECT_THROW(strategy->update_control_points(other), std::invalid_argument);
 }
 
 // (5) NURBS scenes are refused, by the harness's rule and by prepare().
