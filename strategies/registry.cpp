@@ -7,6 +7,7 @@
 #include "strategies/cpu_tensor/cpu_tensor.h"
 #include "strategies/cpu_tspline/cpu_tspline.h"
 #include "strategies/gl_pingpong/gl_pingpong.h"
+#include "strategies/gl_tspline/gl_tspline.h"
 #include "strategies/glsl_deboor/glsl_deboor.h"
 #include "strategies/glu_nurbs/glu_nurbs.h"
 #include "strategies/occt/occt_strategy.h"
@@ -24,6 +25,7 @@ const std::vector<StrategyEntry>& strategy_registry() {
       gl_pingpong_entry(),
       gl_pingpong_packed_entry(),
       glsl_deboor_entry(),
+      gl_tspline_entry(),
       cl_stair_entry(),
       vk_ksquad_entry(),
       cpu_tspline_entry(),

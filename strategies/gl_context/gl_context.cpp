@@ -88,6 +88,14 @@ Availability Context::probe(Platform platform) {
   return cache[platform] = a;
 }
 
+Availability Context::probe_any() {
+  const Availability egl = probe(Platform::egl);
+  if (egl.available) return egl;
+  const Availability osmesa = probe(Platform::osmesa);
+  if (osmesa.available) return osmesa;
+  return {false, fmt::format("{}; {}", egl.reason, osmesa.reason)};
+}
+
 Context::Context(Platform platform, std::unique_ptr<Backend> backend)
     : platform_(platform), backend_(std::move(backend)) {}
 
@@ -193,6 +201,26 @@ DeviceInfo Context::device_info() const {
       {"glsl_version", glsl_version_}, {"gl_max_texture_size", std::to_string(max_texture_size_)}};
   if (software()) d.details["note"] = "software rasterizer: the 'GPU' is the CPU";
   return d;
+}
+
+DeviceTimer::~DeviceTimer() {
+  if (!query_) return;
+  context_.make_current();
+  context_.gl().DeleteQueries(1, &query_);
+}
+
+double DeviceTimer::time(std::string_view where, const std::function<void()>& work) {
+  context_.make_current();
+  const Functions& gl = context_.gl();
+  if (!query_) gl.GenQueries(1, &query_);
+  gl.BeginQuery(GL_TIME_ELAPSED, query_);
+  work();
+  gl.EndQuery(GL_TIME_ELAPSED);
+  context_.finish(where);
+  GLuint64 ns = 0;
+  gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
+  context_.check(where);
+  return static_cast<double>(ns) * 1e-9;
 }
 
 void Context::finish(std::string_view where) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -71,6 +72,9 @@ class Context {
   static std::unique_ptr<Context> create(Platform platform);
   // Whether create(platform) succeeds here; computed once per process and platform.
   static Availability probe(Platform platform);
+  // A GL strategy's registry probe: available when either platform is (EGL first; with OSMesa
+  // only, --gl osmesa works and the default egl reports at create), else both reasons.
+  static Availability probe_any();
 
   ~Context();
   Context(const Context&) = delete;
@@ -128,6 +132,24 @@ class Context {
   std::vector<std::string> extensions_;
   int max_texture_size_ = 0, max_viewport_ = 0;
   std::vector<std::string> debug_errors_;
+};
+
+// GL_TIME_ELAPSED around a strategy's measured device work: the device side of its evaluate
+// phase (DeviceTimes::evaluate_s). The query object is made at the first use and reused.
+class DeviceTimer {
+ public:
+  explicit DeviceTimer(Context& context) : context_(context) {}
+  ~DeviceTimer();
+  DeviceTimer(const DeviceTimer&) = delete;
+  DeviceTimer& operator=(const DeviceTimer&) = delete;
+
+  // Makes the context current, runs `work` inside the query, waits for the device
+  // (Context::finish) and checks for GL errors, naming `where`; returns the device seconds.
+  double time(std::string_view where, const std::function<void()>& work);
+
+ private:
+  Context& context_;
+  GLuint query_ = 0;
 };
 
 // Platform backends; each throws UnavailableError with the reason. Defined only where built.

@@ -105,8 +105,12 @@ Texture::Texture(Context& context, GLenum internal_format, int width, int height
   gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  const bool integer = internal_format == GL_R32I;
-  const GLenum format = integer ? GL_RED_INTEGER : GL_RGBA;
+  // Integer formats need an integer pixel format even with no data (GL 3.3 §8.5).
+  const GLenum format = internal_format == GL_R32I      ? GL_RED_INTEGER
+                        : internal_format == GL_RG32I   ? GL_RG_INTEGER
+                        : internal_format == GL_RGBA32I ? GL_RGBA_INTEGER
+                                                        : GL_RGBA;
+  const bool integer = format != GL_RGBA;
   const GLenum type = integer ? GL_INT : GL_FLOAT;
   gl.TexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(internal_format), width, height, 0, format,
                 type, nullptr);
@@ -170,6 +174,86 @@ void Texture::bind_to_unit(int unit) const {
   const Functions& gl = context_->gl();
   gl.ActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
   gl.BindTexture(GL_TEXTURE_2D, texture_);
+}
+
+RenderTargets::RenderTargets(Context& context, GLenum internal_format, int width, int height,
+                             int count)
+    : context_(&context) {
+  const Functions& gl = context.gl();
+  for (int i = 0; i < count; ++i)
+    textures_.emplace_back(context, internal_format, width, height, false);
+  gl.GenFramebuffers(1, &framebuffer_);
+  context.bind_framebuffer(framebuffer_);
+  std::vector<GLenum> buffers;
+  for (int i = 0; i < count; ++i) {
+    const GLenum attachment = static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + i);
+    gl.FramebufferTexture2D(GL_FRAMEBUFFER, attachment, GL_TEXTURE_2D,
+                            textures_[static_cast<std::size_t>(i)].id(), 0);
+    buffers.push_back(attachment);
+  }
+  gl.DrawBuffers(count, buffers.data());
+  const GLenum status = gl.CheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE)
+    throw Error(fmt::format("framebuffer of {} {}x{} textures incomplete (0x{:04x})", count, width,
+                            height, status));
+  context.check(fmt::format("{} render targets {}x{}", count, width, height));
+}
+
+RenderTargets::~RenderTargets() {
+  reset();
+}
+
+RenderTargets::RenderTargets(RenderTargets&& other) noexcept {
+  *this = std::move(other);
+}
+
+RenderTargets& RenderTargets::operator=(RenderTargets&& other) noexcept {
+  if (this != &other) {
+    reset();
+    context_ = std::exchange(other.context_, nullptr);
+    framebuffer_ = std::exchange(other.framebuffer_, 0);
+    textures_ = std::move(other.textures_);
+  }
+  return *this;
+}
+
+void RenderTargets::reset() {
+  if (!context_) return;
+  context_->make_current();
+  if (framebuffer_) context_->gl().DeleteFramebuffers(1, &framebuffer_);
+  framebuffer_ = 0;
+  textures_.clear();
+  context_ = nullptr;
+}
+
+void RenderTargets::bind_target() const {
+  context_->bind_framebuffer(framebuffer_);
+  context_->gl().Viewport(0, 0, textures_.front().width(), textures_.front().height());
+}
+
+std::vector<float> RenderTargets::read_rgba(int i) const {
+  const Functions& gl = context_->gl();
+  const Texture& t = texture(i);
+  std::vector<float> texels(static_cast<std::size_t>(t.width()) * t.height() * 4);
+  context_->bind_framebuffer(framebuffer_);
+  gl.ReadBuffer(static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + i));
+  gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+  gl.ReadPixels(0, 0, t.width(), t.height(), GL_RGBA, GL_FLOAT, texels.data());
+  return texels;
+}
+
+FullscreenTriangle::FullscreenTriangle(Context& context) : context_(context) {
+  context_.gl().GenVertexArrays(1, &vertex_array_);
+}
+
+FullscreenTriangle::~FullscreenTriangle() {
+  context_.make_current();
+  context_.gl().DeleteVertexArrays(1, &vertex_array_);
+}
+
+void FullscreenTriangle::draw() const {
+  context_.gl().BindVertexArray(vertex_array_);
+  context_.draw_arrays(GL_TRIANGLES, 0, 3);
 }
 
 }  // namespace nurbs::gl

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "strategies/gl_context/gl_context.h"
 
@@ -62,6 +63,47 @@ class Texture {
   Context* context_ = nullptr;
   GLuint texture_ = 0, framebuffer_ = 0;
   int width_ = 0, height_ = 0;
+};
+
+// Textures of one size and format written by one draw (multiple render targets): fragment
+// output location i lands in texture(i). For passes that produce several sums at once, e.g. a
+// point and its two partial derivatives.
+class RenderTargets {
+ public:
+  RenderTargets() = default;
+  RenderTargets(Context& context, GLenum internal_format, int width, int height, int count);
+  ~RenderTargets();
+  RenderTargets(RenderTargets&& other) noexcept;
+  RenderTargets& operator=(RenderTargets&& other) noexcept;
+
+  // Binds the framebuffer with every texture as a draw buffer and sets the viewport.
+  void bind_target() const;
+  const Texture& texture(int i) const { return textures_[static_cast<std::size_t>(i)]; }
+  int count() const { return static_cast<int>(textures_.size()); }
+  // Texture i, RGBA float, rows bottom to top: width * height * 4 floats.
+  std::vector<float> read_rgba(int i) const;
+
+ private:
+  void reset();
+  Context* context_ = nullptr;
+  GLuint framebuffer_ = 0;
+  std::vector<Texture> textures_;
+};
+
+// The empty vertex array a core profile needs to draw fullscreen_triangle.vert: one draw() is
+// one fragment-program pass over the bound target's viewport.
+class FullscreenTriangle {
+ public:
+  explicit FullscreenTriangle(Context& context);
+  ~FullscreenTriangle();
+  FullscreenTriangle(const FullscreenTriangle&) = delete;
+  FullscreenTriangle& operator=(const FullscreenTriangle&) = delete;
+
+  void draw() const;
+
+ private:
+  Context& context_;
+  GLuint vertex_array_ = 0;
 };
 
 }  // namespace nurbs::gl

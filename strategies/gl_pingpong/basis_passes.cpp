@@ -31,9 +31,9 @@ Programs::Programs(gl::Context& context_, bool packed)
       basis_degree(basis.uniform("degree")),
       basis_order(basis.uniform("order")),
       accumulate_a(accumulate.uniform("a")),
-      accumulate_b(accumulate.uniform("b")) {
+      accumulate_b(accumulate.uniform("b")),
+      triangle_(context_) {
   const gl::Functions& gl = context.gl();
-  gl.GenVertexArrays(1, &vertex_array_);
   // Sampler units never change: set them once per program.
   gl.UseProgram(basis.id());
   gl.Uniform1i(basis.uniform("knot_array"), 0);
@@ -51,15 +51,8 @@ Programs::Programs(gl::Context& context_, bool packed)
   context.check("gl-pingpong programs");
 }
 
-Programs::~Programs() {
-  context.make_current();
-  context.gl().DeleteVertexArrays(1, &vertex_array_);
-}
-
 void Programs::draw() const {
-  const gl::Functions& gl = context.gl();
-  gl.BindVertexArray(vertex_array_);
-  context.draw_arrays(GL_TRIANGLES, 0, 3);
+  triangle_.draw();
 }
 
 BasisChunk::BasisChunk(gl::Context& context, const ChunkInputs& in)

@@ -10,12 +10,11 @@
 
 namespace nurbs::gl_pingpong {
 
-// The three fragment programs (basis order, accumulation, divide) for one packing, and the empty
-// vertex array a core profile needs to draw the full-viewport triangle.
+// The three fragment programs (basis order, accumulation, divide) for one packing, and the
+// full-viewport triangle they are drawn with.
 class Programs {
  public:
   Programs(gl::Context& context, bool packed);
-  ~Programs();
   Programs(const Programs&) = delete;
   Programs& operator=(const Programs&) = delete;
 
@@ -26,7 +25,7 @@ class Programs {
   GLint basis_degree, basis_order, accumulate_a, accumulate_b;  // uniform locations
 
  private:
-  GLuint vertex_array_ = 0;
+  gl::FullscreenTriangle triangle_;
 };
 
 class BasisChunk {

@@ -70,6 +70,7 @@ class GlPingPong final : public Strategy {
     } catch (const gl::UnavailableError& e) {
       throw std::runtime_error(fmt::format("unavailable: {}", e.what()));
     }
+    timer_ = std::make_unique<gl::DeviceTimer>(*context_);
     programs_ = std::make_unique<Programs>(*context_, packed_);
     tile_ = std::min(context_->max_texture_size(), context_->max_viewport());
     if (tile_option > 0) tile_ = std::min(tile_, tile_option);
@@ -83,7 +84,6 @@ class GlPingPong final : public Strategy {
     trims_.reset();
     surfaces_.clear();
     programs_.reset();
-    if (query_) context_->gl().DeleteQueries(1, &query_);
   }
 
   std::string_view name() const override { return packed_ ? "gl-pingpong-packed" : "gl-pingpong"; }
@@ -147,20 +147,12 @@ class GlPingPong final : public Strategy {
   }
 
   void evaluate() override {
-    context_->make_current();
-    const gl::Functions& gl = context_->gl();
-    if (!query_) gl.GenQueries(1, &query_);
     const gl::DrawCounts before = context_->draw_counts();
     basis_passes_ = 0;
-    gl.BeginQuery(GL_TIME_ELAPSED, query_);
-    for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
-    gl.EndQuery(GL_TIME_ELAPSED);
+    device_evaluate_s_ = timer_->time("gl-pingpong evaluate", [&] {
+      for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
+    });
     passes_ = (context_->draw_counts() - before).passes;
-    context_->finish("gl-pingpong evaluate");
-    GLuint64 ns = 0;
-    gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
-    device_evaluate_s_ = static_cast<double>(ns) * 1e-9;
-    context_->check("gl-pingpong evaluate");
   }
 
   DeviceTimes device_times() const override { return {device_evaluate_s_}; }
@@ -351,6 +343,7 @@ class GlPingPong final : public Strategy {
 
   bool packed_;
   std::unique_ptr<gl::Context> context_;
+  std::unique_ptr<gl::DeviceTimer> timer_;
   std::unique_ptr<Programs> programs_;
   std::unique_ptr<trim_texture::TrimTextures> trims_;
   std::unique_ptr<gl::GridRenderer> renderer_;
@@ -358,25 +351,16 @@ class GlPingPong final : public Strategy {
   int tile_ = 0;
   std::vector<SurfaceSamples> samples_;
   std::vector<SurfaceOnGpu> surfaces_;
-  GLuint query_ = 0;
   double device_evaluate_s_ = 0;
   std::size_t bytes_uploaded_ = 0, bytes_updated_ = 0, tile_count_ = 0;
   std::uint64_t passes_ = 0, basis_passes_ = 0;  // of the last evaluate()
 };
 
-Availability pingpong_probe() {
-  const Availability egl = gl::Context::probe(gl::Platform::egl);
-  if (egl.available) return egl;
-  const Availability osmesa = gl::Context::probe(gl::Platform::osmesa);
-  if (osmesa.available) return osmesa;  // --gl osmesa works; the default egl reports at create
-  return {false, fmt::format("{}; {}", egl.reason, osmesa.reason)};
-}
-
 StrategyEntry entry(std::string name, bool packed_entry) {
   return {std::move(name),
           kSource,
           "strategy",
-          pingpong_probe,
+          gl::Context::probe_any,
           pingpong_capabilities,
           [packed_entry](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
             const auto it = options.extra.find("packed");

@@ -49,6 +49,7 @@ class GlslDeBoor final : public Strategy {
     } catch (const gl::UnavailableError& e) {
       throw std::runtime_error(fmt::format("unavailable: {}", e.what()));
     }
+    timer_ = std::make_unique<gl::DeviceTimer>(*context_);
     tile_ = std::min(context_->max_texture_size(), context_->max_viewport());
     if (tile_option > 0) tile_ = std::min(tile_, tile_option);
     evaluator_ = std::make_unique<glsl_deboor::Evaluator>(*context_, tile_);
@@ -60,7 +61,6 @@ class GlslDeBoor final : public Strategy {
     renderer_.reset();
     trims_.reset();
     evaluator_.reset();
-    if (query_) context_->gl().DeleteQueries(1, &query_);
   }
 
   std::string_view name() const override { return "glsl-deboor"; }
@@ -101,19 +101,9 @@ class GlslDeBoor final : public Strategy {
   }
 
   void evaluate() override {
-    context_->make_current();
-    const gl::Functions& gl = context_->gl();
-    if (!query_) gl.GenQueries(1, &query_);
     const gl::DrawCounts before = context_->draw_counts();
-    gl.BeginQuery(GL_TIME_ELAPSED, query_);
-    evaluator_->evaluate();
-    gl.EndQuery(GL_TIME_ELAPSED);
+    device_evaluate_s_ = timer_->time("glsl-deboor evaluate", [&] { evaluator_->evaluate(); });
     evaluated_ = context_->draw_counts() - before;
-    context_->finish("glsl-deboor evaluate");
-    GLuint64 ns = 0;
-    gl.GetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
-    device_evaluate_s_ = static_cast<double>(ns) * 1e-9;
-    context_->check("glsl-deboor evaluate");
   }
 
   DeviceTimes device_times() const override { return {device_evaluate_s_}; }
@@ -164,25 +154,17 @@ class GlslDeBoor final : public Strategy {
   }
 
   std::unique_ptr<gl::Context> context_;
+  std::unique_ptr<gl::DeviceTimer> timer_;
   std::unique_ptr<glsl_deboor::Evaluator> evaluator_;
   std::unique_ptr<trim_texture::TrimTextures> trims_;
   std::unique_ptr<glsl_deboor::Renderer> renderer_;
   std::array<float, 16> view_{};
   int tile_ = 0;
   std::vector<SurfaceSamples> samples_;
-  GLuint query_ = 0;
   double device_evaluate_s_ = 0;
   std::size_t bytes_uploaded_ = 0, bytes_updated_ = 0;
   gl::DrawCounts evaluated_;  // by the last evaluate()
 };
-
-Availability deboor_probe() {
-  const Availability egl = gl::Context::probe(gl::Platform::egl);
-  if (egl.available) return egl;
-  const Availability osmesa = gl::Context::probe(gl::Platform::osmesa);
-  if (osmesa.available) return osmesa;  // --gl osmesa works; the default egl reports at create
-  return {false, fmt::format("{}; {}", egl.reason, osmesa.reason)};
-}
 
 }  // namespace
 
@@ -190,7 +172,7 @@ StrategyEntry glsl_deboor_entry() {
   return {"glsl-deboor",
           kSource,
           "strategy",
-          deboor_probe,
+          gl::Context::probe_any,
           deboor_capabilities,
           [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
             return std::make_unique<GlslDeBoor>(
