@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "reference/bezier_decomposition.h"
+#include "reference/tspline.h"
 
 namespace nurbs {
 
@@ -15,6 +16,19 @@ MemoryRow memory_row(const Scene& scene) {
   row.scene = scene.name;
   row.surfaces = scene.surfaces.size();
   for (const Surface& s : scene.surfaces) {
+    if (s.is_tspline()) {
+      // Its Bézier extraction (reference/tspline_extraction.h): one patch per cell of the
+      // knot-line grid; the T-spline's own control points stand in the NURBS column.
+      const TSplineInfluence cells(*s.tspline, s.name);
+      const auto cu = static_cast<std::size_t>(cells.cells_u()),
+                 cv = static_cast<std::size_t>(cells.cells_v());
+      const auto p = static_cast<std::size_t>(s.degree_u), q = static_cast<std::size_t>(s.degree_v);
+      row.ksquads += cu * cv;
+      row.nurbs_control_points += s.tspline->count();
+      row.bezier_control_points += cu * cv * (p + 1) * (q + 1);
+      row.bezier_shared_control_points += (cu * p + 1) * (cv * q + 1);
+      continue;
+    }
     const std::size_t quads = ksquad_count(s);
     const std::array<std::size_t, 2> spans = nonempty_span_counts(s);
     const auto p = static_cast<std::size_t>(s.degree_u), q = static_cast<std::size_t>(s.degree_v);
@@ -55,7 +69,9 @@ std::string memory_table_text(const std::vector<MemoryRow>& rows) {
       "control points as homogeneous float32 (w*x, w*y, w*z, w), {} bytes each; knots not "
       "counted; Bezier points per patch ((p+1)(q+1) each); shared: the boundary rows adjacent "
       "patches of a surface share counted once ((su*p+1)(sv*q+1) a surface); KSQuads = Bezier "
-      "patches = non-empty span pairs (RPNS 2014, Table 1)\n",
+      "patches = non-empty span pairs (RPNS 2014, Table 1); a T-spline's NURBS#CP are its own "
+      "control points and its patches are its Bezier extraction's, one per cell of its knot "
+      "lines\n",
       kBytesPerControlPoint);
   return out;
 }

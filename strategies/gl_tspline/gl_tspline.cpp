@@ -294,7 +294,6 @@ class GlTSpline final : public Strategy {
     return s;
   }
 
-
   void bind_sums(const gl::RenderTargets& sums) const {
     for (int i = 0; i < sums.count(); ++i) sums.texture(i).bind_to_unit(kPreviousSum + i);
   }

@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "reference/bezier_decomposition.h"
+#include "reference/tspline.h"
+#include "reference/tspline_extraction.h"
 #include "scenes/builtin_scenes.h"
 
 namespace nurbs {
@@ -97,6 +99,26 @@ TEST(MemoryTable, JsonCarriesEveryColumnAndTheUnits) {
   EXPECT_EQ(row["bezier_shared_control_points"], 784);
   EXPECT_EQ(row["bezier_shared_bytes"], 784 * 16);
   EXPECT_DOUBLE_EQ(row["shared_ratio"].get<double>(), 784.0 / 144);
+}
+
+}  // namespace
+}  // namespace nurbs
+
+namespace nurbs {
+namespace {
+
+// A T-spline's row: its own control points, and its Bézier extraction's patches. tspline-refined
+// is tan21x23 (18 x 20 spans) with three new knot columns, so 21 x 20 cells.
+TEST(MemoryTable, TSplineRowIsItsBezierExtraction) {
+  const Scene scene = *make_builtin_scene("tspline-refined");
+  const MemoryRow row = memory_row(scene);
+  const TSplineSurface& t = *scene.surfaces[0].tspline;
+  const TSplineExtraction extraction = extract_bezier_elements(t, TSplineInfluence(t, "t"));
+  EXPECT_EQ(extraction.elements.size(), 21u * 20u);
+  EXPECT_EQ(row.ksquads, extraction.elements.size());
+  EXPECT_EQ(row.nurbs_control_points, 21u * 23u + 6u);
+  EXPECT_EQ(row.bezier_control_points, 21u * 20u * 16u);
+  EXPECT_EQ(row.bezier_shared_control_points, (21u * 3 + 1) * (20u * 3 + 1));
 }
 
 }  // namespace
