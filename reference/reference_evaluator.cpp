@@ -111,14 +111,9 @@ std::vector<ReferenceSurface> evaluate_reference(const Scene& scene,
                                                  bool with_normals, ReferencePrecision precision) {
   if (samples.size() != scene.surfaces.size())
     throw std::invalid_argument("evaluate_reference: one SurfaceSamples per surface needed");
-#if NURBSBENCH_HAS_FLOAT128
-  if (precision == ReferencePrecision::float128)
-    return evaluate_all<float128>(scene, samples, with_normals, precision);
-#else
-  if (precision == ReferencePrecision::float128)
-    throw std::invalid_argument("this build has no __float128 (compiler or platform)");
-#endif
-  return evaluate_all<long double>(scene, samples, with_normals, precision);
+  return with_reference_scalar(precision, [&]<typename T>() {
+    return evaluate_all<T>(scene, samples, with_normals, precision);
+  });
 }
 
 }  // namespace nurbs

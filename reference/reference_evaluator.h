@@ -5,10 +5,12 @@
 #pragma once
 
 #include <cstdint>
+#include <stdexcept>
 #include <string_view>
 #include <vector>
 
 #include "reference/sampling.h"
+#include "reference/scalar.h"
 #include "reference/surface.h"
 
 namespace nurbs {
@@ -26,6 +28,19 @@ struct ReferenceSurface {
   std::vector<std::uint8_t> inside;
   std::vector<double> trim_distance;
 };
+
+// Runs `work.template operator()<T>()` with T the extended-precision scalar `precision` names:
+// long double, or __float128 where the build has it (std::invalid_argument where it does not).
+template <typename Work>
+decltype(auto) with_reference_scalar(ReferencePrecision precision, Work&& work) {
+#if NURBSBENCH_HAS_FLOAT128
+  if (precision == ReferencePrecision::float128) return work.template operator()<float128>();
+#else
+  if (precision == ReferencePrecision::float128)
+    throw std::invalid_argument("this build has no __float128 (compiler or platform)");
+#endif
+  return work.template operator()<long double>();
+}
 
 std::vector<ReferenceSurface> evaluate_reference(
     const Scene& scene, const std::vector<SurfaceSamples>& samples, bool with_normals,

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <stdexcept>
 
 #include "reference/error_text.h"
 #include "reference/validation.h"
@@ -196,14 +195,9 @@ ReferenceSurface evaluate_tspline_reference(const TSplineSurface& surface,
                                             const TSplineInfluence& index,
                                             const SurfaceSamples& samples, bool with_normals,
                                             ReferencePrecision precision) {
-#if NURBSBENCH_HAS_FLOAT128
-  if (precision == ReferencePrecision::float128)
-    return tspline_reference<float128>(surface, index, samples, with_normals);
-#else
-  if (precision == ReferencePrecision::float128)
-    throw std::invalid_argument("this build has no __float128 (compiler or platform)");
-#endif
-  return tspline_reference<long double>(surface, index, samples, with_normals);
+  return with_reference_scalar(precision, [&]<typename T>() {
+    return tspline_reference<T>(surface, index, samples, with_normals);
+  });
 }
 
 Surface make_tspline_surface(TSplineSurface tspline) {

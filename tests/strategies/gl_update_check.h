@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <string>
+#include <vector>
 
 #include "harness/metrics.h"
 #include "harness/runner.h"
@@ -16,6 +18,23 @@
 #include "strategies/registry.h"
 
 namespace nurbs {
+
+// The cases both GL strategies' update tests run: one surface on a grid, a trimmed one on a span
+// grid (its trim textures stay from prepare), many surfaces tiled (or paged) at `many_tile`.
+struct GlUpdateCase {
+  const char* scene;
+  Sampling sampling;
+  std::string tile;  // "" : the strategy's default
+};
+inline std::vector<GlUpdateCase> gl_update_cases(const std::string& many_tile) {
+  Sampling grid;
+  grid.grid_u = 30;
+  grid.grid_v = 17;
+  Sampling span;
+  span.mode = SamplingMode::span_grid;
+  span.span_steps = 3;
+  return {{"patch144", grid, ""}, {"trimmed-plate", span, ""}, {"many-16", grid, many_tile}};
+}
 
 // Returns the updated strategy's record after the update, for the caller's own checks.
 inline DeviceInfo expect_update_equals_fresh_prepare(const StrategyEntry& entry,

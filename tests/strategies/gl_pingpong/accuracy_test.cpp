@@ -193,25 +193,18 @@ TEST_P(GlPingPongAccuracy, UpdateControlPointsEqualsAFreshPrepare) {
   if (!gl::Context::probe(*platform).available) GTEST_SKIP();
   const StrategyEntry& entry = *find_strategy(GetParam().strategy);
   EXPECT_TRUE(entry.capabilities().updates_control_points);
-  Sampling grid;
-  grid.grid_u = 30;
-  grid.grid_v = 17;
-  Sampling span;
-  span.mode = SamplingMode::span_grid;
-  span.span_steps = 3;
-  for (const auto& [name, sampling, tile] :
-       {std::tuple{"patch144", grid, ""}, std::tuple{"trimmed-plate", span, ""},
-        std::tuple{"many-16", grid, "7"}}) {
-    SCOPED_TRACE(name);
-    const Scene scene = *make_builtin_scene(name);
+  for (const GlUpdateCase& c : gl_update_cases("7")) {
+    SCOPED_TRACE(c.scene);
+    const Scene scene = *make_builtin_scene(c.scene);
     const DeviceInfo d = expect_update_equals_fresh_prepare(
-        entry, options_for(GetParam().platform, tile), scene, sampling, kBudgetUlp);
+        entry, options_for(GetParam().platform, c.tile), scene, c.sampling, kBudgetUlp);
     std::size_t points = 0;
     for (const Surface& s : scene.surfaces) points += s.points.size();
     EXPECT_EQ(d.details.at("bytes_updated"), std::to_string(points * 4 * sizeof(float)));
   }
   auto strategy = entry.create(options_for(GetParam().platform));
-  strategy->prepare(*make_builtin_scene("patch144"), EvalRequest{grid, Precision::f32, false});
+  strategy->prepare(*make_builtin_scene("patch144"),
+                    EvalRequest{gl_update_cases("").front().sampling, Precision::f32, false});
   EXPECT_THROW(strategy->update_control_points(*make_builtin_scene("degree-3")),
                std::invalid_argument);
   EXPECT_THROW(strategy->update_control_points(*make_builtin_scene("many-2")),

@@ -187,23 +187,17 @@ TEST_P(GlslDeBoorGl, UpdateControlPointsEqualsAFreshPrepare) {
   if (!gl::Context::probe(*platform).available) GTEST_SKIP();
   const StrategyEntry& entry = *find_strategy("glsl-deboor");
   EXPECT_TRUE(entry.capabilities().updates_control_points);
-  Sampling grid;
-  grid.grid_u = 30;
-  grid.grid_v = 17;
-  Sampling span;
-  span.mode = SamplingMode::span_grid;
-  span.span_steps = 3;
-  for (const auto& [name, sampling, tile] :
-       {std::tuple{"patch144", grid, ""}, std::tuple{"trimmed-plate", span, ""},
-        std::tuple{"many-16", grid, "40"}}) {
-    SCOPED_TRACE(name);
-    const DeviceInfo d = expect_update_equals_fresh_prepare(
-        entry, options_for(GetParam(), tile), *make_builtin_scene(name), sampling, kBudgetUlp);
+  for (const GlUpdateCase& c : gl_update_cases("40")) {
+    SCOPED_TRACE(c.scene);
+    const DeviceInfo d =
+        expect_update_equals_fresh_prepare(entry, options_for(GetParam(), c.tile),
+                                           *make_builtin_scene(c.scene), c.sampling, kBudgetUlp);
     EXPECT_EQ(d.details.count("bytes_updated"), 1u);
   }
   // patch144 alone: its page's control texture is exactly its 12 x 12 net.
   auto strategy = entry.create(options_for(GetParam()));
-  strategy->prepare(*make_builtin_scene("patch144"), EvalRequest{grid, Precision::f32, false});
+  strategy->prepare(*make_builtin_scene("patch144"),
+                    EvalRequest{gl_update_cases("").front().sampling, Precision::f32, false});
   strategy->update_control_points(deformed_scene(*make_builtin_scene("patch144"), 1));
   EXPECT_EQ(strategy->device().details.at("bytes_updated"), std::to_string(144 * 16));
   EXPECT_THROW(strategy->update_control_points(*make_builtin_scene("degree-3")),
