@@ -1,6 +1,7 @@
 #include "strategies/registry.h"
 
 #include "strategies/cl_stair/cl_stair.h"
+#include "strategies/cl_tspline_bezier/cl_tspline_bezier.h"
 #include "strategies/cpu_bezier/cpu_bezier.h"
 #include "strategies/cpu_coxdeboor/cpu_coxdeboor.h"
 #include "strategies/cpu_horner/cpu_horner.h"
@@ -24,6 +25,7 @@ const std::vector<StrategyEntry>& strategy_registry() {
       gl_pingpong_packed_entry(),
       glsl_deboor_entry(),
       cl_stair_entry(),
+      cl_tspline_bezier_entry(),
       vk_ksquad_entry(),
       cpu_tensor_entry(),
       cpu_horner_entry(),
