@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
@@ -77,12 +78,18 @@ class ClTSplineBezier final : public Strategy {
     refuse_unsupported(name(), capabilities(), scene, request);
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
+    // Every prepare() extracts again rather than caching by topology across calls: `upload` is
+    // then what a new model costs (its median would otherwise hide the extraction), and
+    // "extraction_s" says how much of it is this host work.
+    const auto start = std::chrono::steady_clock::now();
     topology_.clear();
     for (const Surface& s : scene.surfaces) {
       TSplineInfluence index(*s.tspline, s.name);
       TSplineExtraction extraction = extract_bezier_elements(*s.tspline, index);
       topology_.push_back({s.tspline, std::move(index), std::move(extraction)});
     }
+    record_.details["extraction_s"] = fmt::format(
+        "{:.6g}", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     if (request.precision == Precision::f32)
       upload<float>();
     else

@@ -23,7 +23,8 @@
 // device has cl_khr_fp64 (refused otherwise). Degree <= kMaxDegree (15): the kernel keeps only
 // four Bernstein rows of kMaxOrder reals per work-item. T-spline scenes only
 // (Capabilities::tspline_only). The program is built once per precision (first prepare());
-// DeviceInfo::details counts "program_builds" and gives "elements", "extraction_reals" and
+// DeviceInfo::details counts "program_builds" and gives "elements", "extraction_reals",
+// "extraction_s" (the host's influence index and extraction in the last prepare()) and
 // "decompose_s" (the last decomposition kernel's seconds).
 //
 // Options (StrategyOptions.extra): "device" = N, the N-th OpenCL device over all platforms.
