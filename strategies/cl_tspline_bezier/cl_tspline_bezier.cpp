@@ -111,9 +111,10 @@ class ClTSplineBezier final : public Strategy {
 
   EvalResult read_back() override {
     const std::size_t scalar = request_.precision == Precision::f32 ? 4 : 8;
-    std::vector<unsigned char> positions = read(positions_, total_ * 3 * scalar);
-    std::vector<unsigned char> normals =
-        request_.normals ? read(normals_, total_ * 3 * scalar) : std::vector<unsigned char>{};
+    std::vector<unsigned char> positions = read(positions_, total_ * 3 * scalar, "positions");
+    std::vector<unsigned char> normals = request_.normals
+                                             ? read(normals_, total_ * 3 * scalar, "normals")
+                                             : std::vector<unsigned char>{};
     EvalResult out;
     std::size_t base = 0;
     for (const SurfaceSamples& s : samples_) {
@@ -252,20 +253,18 @@ class ClTSplineBezier final : public Strategy {
                                                  (t.extraction.degree_v + 1));
     const std::vector<T> points = control_points<T>();
     points_count_ = points.size();
-    surfaces_ = upload_buffer(surfaces, "surface table");
-    elements_ = upload_buffer(elements, "element table");
-    active_ = upload_buffer(active, "active control points");
-    extraction_ = upload_buffer(extraction, "extraction operators");
-    points_ = upload_buffer(points, "control points");
-    params_ = upload_buffer(params, "parameters");
-    cells_ = upload_buffer(cells, "sample elements");
-    breaks_ = upload_buffer(breaks, "cell breaks");
-    patches_ = ctx_.buffer(CL_MEM_READ_WRITE, std::max<std::size_t>(patch_reals, 1) * sizeof(T),
+    surfaces_ = opencl::upload(ctx_, surfaces, "surface table");
+    elements_ = opencl::upload(ctx_, elements, "element table");
+    active_ = opencl::upload(ctx_, active, "active control points");
+    extraction_ = opencl::upload(ctx_, extraction, "extraction operators");
+    points_ = opencl::upload(ctx_, points, "control points");
+    params_ = opencl::upload(ctx_, params, "parameters");
+    cells_ = opencl::upload(ctx_, cells, "sample elements");
+    breaks_ = opencl::upload(ctx_, breaks, "cell breaks");
+    patches_ = ctx_.buffer(CL_MEM_READ_WRITE, static_cast<std::size_t>(patch_reals) * sizeof(T),
                            "Bézier patches");
-    positions_ = ctx_.buffer(CL_MEM_WRITE_ONLY, std::max<std::size_t>(total_, 1) * 3 * sizeof(T),
-                             "output positions");
-    normals_ = ctx_.buffer(CL_MEM_WRITE_ONLY,
-                           std::max<std::size_t>(request_.normals ? total_ : 0, 1) * 3 * sizeof(T),
+    positions_ = ctx_.buffer(CL_MEM_WRITE_ONLY, total_ * 3 * sizeof(T), "output positions");
+    normals_ = ctx_.buffer(CL_MEM_WRITE_ONLY, (request_.normals ? total_ : 0) * 3 * sizeof(T),
                            "output normals");
     record_.details["elements"] = std::to_string(element_count_);
     record_.details["extraction_reals"] = std::to_string(extraction.size());
@@ -310,41 +309,12 @@ class ClTSplineBezier final : public Strategy {
       throw std::invalid_argument(fmt::format(
           "cl-tspline-bezier: update_control_points got {} control point reals, prepare() had {}",
           points.size(), points_count_));
-    if (points.empty()) return;
-    cl_event done = nullptr;
-    opencl::check(clEnqueueWriteBuffer(ctx_.queue(), points_, CL_FALSE, 0,
-                                       points.size() * sizeof(T), points.data(), 0, nullptr, &done),
-                  "clEnqueueWriteBuffer (control points)");
-    opencl::wait(done, "clEnqueueWriteBuffer (control points)");
-    clReleaseEvent(done);
+    opencl::write(ctx_, points_, points.data(), points.size() * sizeof(T), "control points");
   }
 
-  template <typename V>
-  cl_mem upload_buffer(const std::vector<V>& data, const char* what) {
-    const std::size_t bytes = data.size() * sizeof(V);
-    // A zero-sized buffer is invalid in OpenCL; an empty table still gets a (never read) byte.
-    cl_mem mem = ctx_.buffer(CL_MEM_READ_ONLY, std::max<std::size_t>(bytes, 1), what);
-    if (bytes > 0) {
-      cl_event done = nullptr;
-      opencl::check(clEnqueueWriteBuffer(ctx_.queue(), mem, CL_FALSE, 0, bytes, data.data(), 0,
-                                         nullptr, &done),
-                    "clEnqueueWriteBuffer");
-      opencl::wait(done, "clEnqueueWriteBuffer");
-      clReleaseEvent(done);
-    }
-    return mem;
-  }
-
-  // Non-blocking and a bounded wait (opencl::wait): a blocking read has no bound.
-  std::vector<unsigned char> read(cl_mem mem, std::size_t bytes) {
+  std::vector<unsigned char> read(cl_mem mem, std::size_t bytes, const char* what) {
     std::vector<unsigned char> host(bytes);
-    if (bytes == 0) return host;
-    cl_event done = nullptr;
-    opencl::check(
-        clEnqueueReadBuffer(ctx_.queue(), mem, CL_FALSE, 0, bytes, host.data(), 0, nullptr, &done),
-        "clEnqueueReadBuffer");
-    opencl::wait(done, "clEnqueueReadBuffer");
-    clReleaseEvent(done);
+    opencl::read(ctx_, mem, host.data(), bytes, what);
     return host;
   }
 
