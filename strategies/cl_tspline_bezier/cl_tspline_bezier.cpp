@@ -220,15 +220,13 @@ class ClTSplineBezier final : public Strategy {
       }
       for (double b : t.index.breaks_u()) breaks.push_back(T(b));
       for (double b : t.index.breaks_v()) breaks.push_back(T(b));
-      // The reference's cell rule, in double (see cl_tspline_bezier.h).
-      for (double u : sm.u) {
-        params.push_back(T(u));
-        cells.push_back(t.index.cell_u(u));
-      }
-      for (double v : sm.v) {
-        params.push_back(T(v));
-        cells.push_back(t.index.cell_v(v));
-      }
+      // The reference's cell rule and the local parameter, in double (see cl_tspline_bezier.h).
+      const auto add = [&](double x, int cell, const std::vector<double>& b) {
+        cells.push_back(cell);
+        params.push_back(T((x - b[cell]) / (b[cell + 1] - b[cell])));
+      };
+      for (double u : sm.u) add(u, t.index.cell_u(u), t.index.breaks_u());
+      for (double v : sm.v) add(v, t.index.cell_v(v), t.index.breaks_v());
       const cl_long record[kSurfaceLongs] = {p,
                                              q,
                                              sm.tensor ? 1 : 0,

@@ -12,12 +12,15 @@
 // derivatives). update_control_points() re-sends the control points and reruns decompose_elements:
 // the operators, CSR lists and parameters stay (they are topology).
 //
-// Each sample's element is found on the host in prepare(), by the reference's own rule
-// (TSplineInfluence::cell_u/v in double: breaks[c] <= u < breaks[c+1], the domain end in the
-// last cell): a search in the kernel would compare float-rounded parameters with float-rounded
-// breaks and could pick the neighbour of the reference's cell at a break, and for grid and span
-// grid it is nu + nv searches against nu * nv evaluations. Explicit lists take one search per
-// sample (in the upload).
+// Each sample's element and element-local parameter are found on the host in prepare(), in
+// double, by the reference's own rule (TSplineInfluence::cell_u/v: breaks[c] <= u < breaks[c+1],
+// the domain end in the last cell); the kernel gets (cell, (u - breaks[c]) / width) rounded once
+// to its precision. A search in the kernel would compare float-rounded parameters with
+// float-rounded breaks and could pick the neighbour of the reference's cell at a break; and a
+// parameter rounded to float before the subtraction costs ulp(u) |S_u|, which grows with the
+// domain's offset (a bicubic 100x100 T-mesh on [0.25, 28.75] x [-0.125, 31.125] at 512x512: 103
+// float ulps, against 5.6 with the local parameter from double). Grid and span grid take nu + nv
+// searches against nu * nv evaluations; an explicit list one per sample (in the upload).
 //
 // Samplings: grid, span grid (cells between knot lines), explicit. f32 everywhere, f64 where the
 // device has cl_khr_fp64 (refused otherwise). Degree <= kMaxDegree (15): the kernel keeps only

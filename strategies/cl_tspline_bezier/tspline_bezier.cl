@@ -8,7 +8,7 @@
 // extraction operators are topology and stay.
 //
 // evaluate_samples, one work-item per sample: the rational Bézier patch of the sample's element
-// (the element index comes from the host, see cl_tspline_bezier.cpp) at the local parameter by
+// (the element and local parameter come from the host, see cl_tspline_bezier.h) at it by
 // Bernstein polynomials, and the normal from the quotient rule's first derivatives
 // (reference/tspline.h combine_tspline's formulas).
 
@@ -74,7 +74,8 @@ void bernstein(int degree, REAL t, REAL* b, REAL* derivative) {
 // surfaces: 12 longs each (cl_tspline_bezier.cpp, kSurfaceLongs): degree_u, degree_v, tensor,
 // nu, nv, parameter base, breaks base, cells_u, cells_v, patch base (reals), first sample, unused.
 // params/cells: each surface's u entries then its v entries (tensor: nu then nv; explicit: one
-// per sample in each). Normals are written when `normals` != 0.
+// per sample in each), the element-local parameter in [0, 1] and the element's cell; the breaks
+// give the element widths for the derivatives. Normals are written when `normals` != 0.
 __kernel void evaluate_samples(__global const long* surfaces, int surface_count,
                                __global const REAL* params, __global const int* cells,
                                __global const REAL* breaks, __global const REAL* patches,
@@ -106,11 +107,10 @@ __kernel void evaluate_samples(__global const long* surfaces, int surface_count,
   const int cells_v = (int)s[8];
   __global const REAL* bu_breaks = breaks + s[6];
   __global const REAL* bv_breaks = bu_breaks + s[7] + 1;
-  const REAL u0 = bu_breaks[cu], hu = bu_breaks[cu + 1] - u0;
-  const REAL v0 = bv_breaks[cv], hv = bv_breaks[cv + 1] - v0;
+  const REAL hu = bu_breaks[cu + 1] - bu_breaks[cu], hv = bv_breaks[cv + 1] - bv_breaks[cv];
   REAL bu[MAX_ORDER], bv[MAX_ORDER], du[MAX_ORDER], dv[MAX_ORDER];
-  bernstein(pu, (params[iu] - u0) / hu, bu, normals ? du : 0);
-  bernstein(pv, (params[iv] - v0) / hv, bv, normals ? dv : 0);
+  bernstein(pu, params[iu], bu, normals ? du : 0);
+  bernstein(pv, params[iv], bv, normals ? dv : 0);
   __global const REAL* origin =
       patches + s[9] + 4 * (long)(cu * cells_v + cv) * ((pu + 1) * (pv + 1) + 1);
   __global const REAL* q = origin + 4;
