@@ -1,6 +1,7 @@
 #include "strategies/registry.h"
 
 #include "strategies/cl_stair/cl_stair.h"
+#include "strategies/cl_tspline_bezier/cl_tspline_bezier.h"
 #include "strategies/cpu_bezier/cpu_bezier.h"
 #include "strategies/cpu_coxdeboor/cpu_coxdeboor.h"
 #include "strategies/cpu_horner/cpu_horner.h"
@@ -27,6 +28,7 @@ const std::vector<StrategyEntry>& strategy_registry() {
       glsl_deboor_entry(),
       gl_tspline_entry(),
       cl_stair_entry(),
+      cl_tspline_bezier_entry(),
       vk_ksquad_entry(),
       cpu_tspline_entry(),
       cpu_tensor_entry(),

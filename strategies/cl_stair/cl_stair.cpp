@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cstring>
 #include <optional>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -153,16 +152,7 @@ class ClStair final : public Strategy {
   EvalResult read_back() override {
     const std::size_t scalar = request_.precision == Precision::f32 ? 4 : 8;
     std::vector<unsigned char> host(total_ * 3 * scalar);
-    if (total_ > 0) {
-      cl_event done = nullptr;
-      // Non-blocking and a bounded wait (opencl::wait): a blocking read has no bound.
-      opencl::check(clEnqueueReadBuffer(ctx_.queue(), out_, CL_FALSE, 0, host.size(), host.data(),
-                                        0, nullptr, &done),
-                    "clEnqueueReadBuffer");
-      opencl::wait(done, "clEnqueueReadBuffer");
-      read_back_s_ = opencl::event_seconds(done);
-      clReleaseEvent(done);
-    }
+    if (total_ > 0) read_back_s_ = opencl::read(ctx_, out_, host.data(), host.size(), "positions");
     EvalResult out;
     std::size_t base = 0;
     for (const SurfaceSamples& s : samples_) {
@@ -269,13 +259,7 @@ class ClStair final : public Strategy {
       throw std::invalid_argument(fmt::format(
           "cl-stair: update_control_points got {} control point reals, prepare() had {}",
           points.size(), points_count_));
-    if (points.empty()) return;
-    cl_event done = nullptr;
-    opencl::check(clEnqueueWriteBuffer(ctx_.queue(), points_, CL_FALSE, 0,
-                                       points.size() * sizeof(T), points.data(), 0, nullptr, &done),
-                  "clEnqueueWriteBuffer (control points)");
-    opencl::wait(done, "clEnqueueWriteBuffer (control points)");
-    clReleaseEvent(done);
+    opencl::write(ctx_, points_, points.data(), points.size() * sizeof(T), "control points");
   }
 
   template <typename T>
@@ -384,17 +368,8 @@ class ClStair final : public Strategy {
   void read_back_mask(EvalResult* result) {
     std::vector<std::uint8_t> mask(trimmed_samples_);
     std::vector<cl_int> reads(trimmed_samples_);
-    for (auto [mem, bytes, host] :
-         {std::tuple{inside_, mask.size(), static_cast<void*>(mask.data())},
-          std::tuple{reads_, reads.size() * sizeof(cl_int), static_cast<void*>(reads.data())}}) {
-      if (bytes == 0) continue;
-      cl_event done = nullptr;
-      opencl::check(
-          clEnqueueReadBuffer(ctx_.queue(), mem, CL_FALSE, 0, bytes, host, 0, nullptr, &done),
-          "clEnqueueReadBuffer (trim)");
-      opencl::wait(done, "clEnqueueReadBuffer (trim)");
-      clReleaseEvent(done);
-    }
+    opencl::read(ctx_, inside_, mask.data(), mask.size(), "trim mask");
+    opencl::read(ctx_, reads_, reads.data(), reads.size() * sizeof(cl_int), "trim cost counter");
     trim_direct::Cost cost;
     for (cl_int r : reads) cost.add(2 * r);
     trim_direct::record_cost(cost, record_);
@@ -407,18 +382,7 @@ class ClStair final : public Strategy {
 
   template <typename V>
   cl_mem upload_buffer(const std::vector<V>& data, const char* what) {
-    const std::size_t bytes = data.size() * sizeof(V);
-    cl_mem mem = ctx_.buffer(CL_MEM_READ_ONLY, bytes, what);
-    if (bytes > 0) {
-      cl_event done = nullptr;
-      opencl::check(clEnqueueWriteBuffer(ctx_.queue(), mem, CL_FALSE, 0, bytes, data.data(), 0,
-                                         nullptr, &done),
-                    "clEnqueueWriteBuffer");
-      opencl::wait(done, "clEnqueueWriteBuffer");
-      upload_s_ += opencl::event_seconds(done);
-      clReleaseEvent(done);
-    }
-    return mem;
+    return opencl::upload(ctx_, data, what, &upload_s_);
   }
 
   // What prepare() made for one scene; the programs and kernels stay (~ClStair releases them).

@@ -4,6 +4,7 @@
 #include <memory>
 #include <mutex>
 #include <stdexcept>
+#include <type_traits>
 
 #include "strategies/device_wait.h"
 
@@ -207,6 +208,28 @@ double event_seconds(cl_event event) {
   check(clGetEventProfilingInfo(event, CL_PROFILING_COMMAND_END, sizeof end, &end, nullptr),
         "clGetEventProfilingInfo");
   return static_cast<double>(end - start) * 1e-9;
+}
+
+double write(const Context& ctx, cl_mem mem, const void* host, std::size_t bytes,
+             const char* what) {
+  if (bytes == 0) return 0;
+  cl_event done = nullptr;
+  check(clEnqueueWriteBuffer(ctx.queue(), mem, CL_FALSE, 0, bytes, host, 0, nullptr, &done), what);
+  // The event is released on every path, the wait's exceptions included.
+  const std::unique_ptr<std::remove_pointer_t<cl_event>, decltype(&clReleaseEvent)> owned(
+      done, clReleaseEvent);
+  wait(done, what);
+  return event_seconds(done);
+}
+
+double read(const Context& ctx, cl_mem mem, void* host, std::size_t bytes, const char* what) {
+  if (bytes == 0) return 0;
+  cl_event done = nullptr;
+  check(clEnqueueReadBuffer(ctx.queue(), mem, CL_FALSE, 0, bytes, host, 0, nullptr, &done), what);
+  const std::unique_ptr<std::remove_pointer_t<cl_event>, decltype(&clReleaseEvent)> owned(
+      done, clReleaseEvent);
+  wait(done, what);
+  return event_seconds(done);
 }
 
 }  // namespace nurbs::opencl

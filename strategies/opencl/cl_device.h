@@ -62,6 +62,22 @@ void wait(cl_event event, const char* what);
 // Seconds between CL_PROFILING_COMMAND_START and _END of a finished event.
 double event_seconds(cl_event event);
 
+// `bytes` between the host and `mem` (offset 0), enqueued non-blocking and waited for with wait():
+// a blocking transfer has no bound. Return the transfer's seconds (0 when `bytes` is 0).
+double write(const Context& ctx, cl_mem mem, const void* host, std::size_t bytes, const char* what);
+double read(const Context& ctx, cl_mem mem, void* host, std::size_t bytes, const char* what);
+
+// A read-only buffer holding `data`; adds the transfer's seconds to `*seconds` when given.
+template <typename V>
+cl_mem upload(const Context& ctx, const std::vector<V>& data, const char* what,
+              double* seconds = nullptr) {
+  const std::size_t bytes = data.size() * sizeof(V);
+  cl_mem mem = ctx.buffer(CL_MEM_READ_ONLY, bytes, what);
+  const double s = write(ctx, mem, data.data(), bytes, what);
+  if (seconds) *seconds += s;
+  return mem;
+}
+
 // Reads StrategyOptions.extra["device"] (default kPreferGpu); throws on a non-number.
 int device_option(const StrategyOptions& options);
 
