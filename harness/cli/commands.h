@@ -90,6 +90,7 @@ struct LodOptions {
   std::string out = "results/latest";
   int threads = 0;
   std::string gl;
+  std::string images;  // --images DIR (empty: no pictures)
 };
 int lod_command(const LodOptions& options);
 

@@ -1,14 +1,19 @@
 // `nurbsbench lod`: 002 Fig 15 on this machine (strategies/glsl_deboor/lod_experiment.h), one row
-// per grid size: the level change by one Haar step versus re-evaluation, both directions, and
-// each coarser level's distance to the surface. Writes DIR/lod.json (nurbsbench-lod/1).
+// per grid size: the level change by one Haar step versus re-evaluation (the de Boor passes alone,
+// and with the read-back, vertex upload and index rebuild 002's baseline pays), both directions;
+// each level drawn from its texture, timed; each coarser level's distance to the surface. Writes
+// DIR/lod.json (nurbsbench-lod/1: the fields added since are optional to its readers) and, with
+// --images, DIR/lod__<scene>__<samples>__L<level>.png.
 #include <fmt/format.h>
 
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "harness/atomic_file.h"
 #include "harness/cli/commands.h"
+#include "harness/error_image.h"
 #include "harness/machine.h"
 #include "harness/metrics.h"
 #include "harness/timing.h"
@@ -45,44 +50,77 @@ int lod_command(const LodOptions& options) {
           "--samples = '{}': {} does not halve {} times (--levels); use multiples of {}",
           options.samples, g.label(), options.levels, divisor));
 
+  if (!options.images.empty()) prepare_image_directory("--images", options.images);
+
   const double largest = scene.largest_coordinate();
   nlohmann::json rows = nlohmann::json::array();
-  std::string table = fmt::format(
-      "{:<11} {:>14} {:>14} {:>7}   {:>14} {:>14} {:>7}   level distances to the surface\n",
-      "samples", "coarser: Haar", "re-evaluate", "ratio", "finer: Haar", "re-evaluate", "ratio");
+  std::string changes =
+      fmt::format("{:<11} {:>13} {:>13} {:>13} {:>6} {:>10}   {:>13} {:>13} {:>13} {:>6} {:>10}\n",
+                  "samples", "coarser: Haar", "re-evaluate", "full re-eval", "ratio", "full ratio",
+                  "finer: Haar", "re-evaluate", "full re-eval", "ratio", "full ratio");
+  std::string draws =
+      fmt::format("{:<11} {:>5} {:>11} {:>11} {:>14} {:>12} {:>16}\n", "samples", "level",
+                  "level grid", "draw", "index elements", "drawn pixels", "max distance");
   std::string device;
   for (const Sampling& g : grids) {
     const glsl_deboor::LodMeasurement m =
         glsl_deboor::measure_lod(scene, g.grid_u, g.grid_v, options.levels, options.repetitions,
-                                 {threads, backend_extra(options.gl, "")});
+                                 {threads, backend_extra(options.gl, "")}, !options.images.empty());
     const double coarser_haar = PhaseStats::of(m.coarser_by_haar).median_s;
     const double coarser_eval = PhaseStats::of(m.coarser_by_reevaluation).median_s;
+    const double coarser_full = PhaseStats::of(m.coarser_by_full_reevaluation).median_s;
     const double finer_haar = PhaseStats::of(m.finer_by_haar).median_s;
     const double finer_eval = PhaseStats::of(m.finer_by_reevaluation).median_s;
+    const double finer_full = PhaseStats::of(m.finer_by_full_reevaluation).median_s;
+    // Level 0 is the evaluated grid itself: drawn like the levels, no distance of its own.
+    auto add_draw = [&](int level, int width, int height, const glsl_deboor::LodDraw& d,
+                        std::optional<double> distance) {
+      const double seconds = PhaseStats::of(d.seconds).median_s;
+      draws +=
+          fmt::format("{:<11} {:>5} {:>11} {:>8.3f} ms {:>14} {:>12} {:>16}\n", g.label(), level,
+                      fmt::format("{}x{}", width, height), seconds * 1e3, d.index_elements,
+                      d.drawn_pixels, distance ? fmt::format("{:.2e}", *distance) : "-");
+      if (d.picture)
+        write_render_image(
+            std::filesystem::path(options.images) /
+                safe_file_name(fmt::format("lod__{}__{}__L{}.png", scene.name, g.label(), level)),
+            *d.picture,
+            fmt::format("glsl-deboor Haar level {} ({}x{}) of {} at {}", level, width, height,
+                        scene.name, g.label()));
+      return nlohmann::json{{"render_s", seconds},
+                            {"index_elements", d.index_elements},
+                            {"drawn_pixels", d.drawn_pixels}};
+    };
+    nlohmann::json row = {{"scene", scene.name},
+                          {"samples", g.label()},
+                          {"device", {{"name", m.device.name}, {"kind", m.device.kind}}},
+                          {"repetitions", options.repetitions},
+                          {"coarser_by_haar_s", coarser_haar},
+                          {"coarser_by_reevaluation_s", coarser_eval},
+                          {"coarser_by_full_reevaluation_s", coarser_full},
+                          {"coarser_index_elements", m.coarser_index_elements},
+                          {"finer_by_haar_s", finer_haar},
+                          {"finer_by_reevaluation_s", finer_eval},
+                          {"finer_by_full_reevaluation_s", finer_full},
+                          {"finer_index_elements", m.finer_index_elements}};
+    row.update(add_draw(0, g.grid_u, g.grid_v, m.full_draw, std::nullopt));
     nlohmann::json levels = nlohmann::json::array();
-    std::string distances;
     for (const glsl_deboor::LodLevel& l : m.levels) {
-      const double ulp = ulps_of_largest_coordinate(l.max_distance, largest);
-      levels.push_back({{"level", l.level},
-                        {"samples", fmt::format("{}x{}", l.width, l.height)},
-                        {"max_distance", l.max_distance},
-                        {"max_ulp", ulp}});
-      distances += fmt::format("  L{} {:.2e}", l.level, l.max_distance);
+      nlohmann::json level = {{"level", l.level},
+                              {"samples", fmt::format("{}x{}", l.width, l.height)},
+                              {"max_distance", l.max_distance},
+                              {"max_ulp", ulps_of_largest_coordinate(l.max_distance, largest)}};
+      level.update(add_draw(l.level, l.width, l.height, l.draw, l.max_distance));
+      levels.push_back(std::move(level));
     }
-    rows.push_back({{"scene", scene.name},
-                    {"samples", g.label()},
-                    {"device", {{"name", m.device.name}, {"kind", m.device.kind}}},
-                    {"repetitions", options.repetitions},
-                    {"coarser_by_haar_s", coarser_haar},
-                    {"coarser_by_reevaluation_s", coarser_eval},
-                    {"finer_by_haar_s", finer_haar},
-                    {"finer_by_reevaluation_s", finer_eval},
-                    {"levels", levels}});
-    table += fmt::format(
-        "{:<11} {:>11.3f} ms {:>11.3f} ms {:>6.2f}x   {:>11.3f} ms {:>11.3f} ms "
-        "{:>6.2f}x {}\n",
-        g.label(), coarser_haar * 1e3, coarser_eval * 1e3, coarser_eval / coarser_haar,
-        finer_haar * 1e3, finer_eval * 1e3, finer_eval / finer_haar, distances);
+    row["levels"] = std::move(levels);
+    rows.push_back(std::move(row));
+    changes += fmt::format(
+        "{:<11} {:>10.3f} ms {:>10.3f} ms {:>10.3f} ms {:>5.2f}x {:>9.2f}x   {:>10.3f} ms "
+        "{:>10.3f} ms {:>10.3f} ms {:>5.2f}x {:>9.2f}x\n",
+        g.label(), coarser_haar * 1e3, coarser_eval * 1e3, coarser_full * 1e3,
+        coarser_eval / coarser_haar, coarser_full / coarser_haar, finer_haar * 1e3,
+        finer_eval * 1e3, finer_full * 1e3, finer_eval / finer_haar, finer_full / finer_haar);
     device = fmt::format("{} ({})", m.device.name, m.device.kind);
   }
   const nlohmann::json document = {{"format", kLodFormat},
@@ -92,16 +130,23 @@ int lod_command(const LodOptions& options) {
                                      {"samples", options.samples},
                                      {"levels", options.levels},
                                      {"repetitions", options.repetitions},
-                                     {"gl", options.gl.empty() ? "egl" : options.gl}}},
+                                     {"gl", options.gl.empty() ? "egl" : options.gl},
+                                     {"render_size", glsl_deboor::kLodRenderSize}}},
                                    {"rows", rows}};
   std::filesystem::create_directories(options.out);
   write_file_atomically(std::filesystem::path(options.out) / "lod.json", document.dump(1) + "\n");
   std::cout << fmt::format("002 Fig 15: LOD change on {} by Haar step vs re-evaluation, on {}\n",
                            scene.name, device)
-            << table
+            << changes
+            << "(re-evaluate: the de Boor passes alone; full re-eval: also the read-back, the "
+               "vertex-buffer upload and the new size's index buffer, 002's baseline; ratio = "
+               "re-evaluate / Haar, full ratio = full re-eval / Haar)\n\n"
+            << fmt::format("Each level drawn from its texture ({0}x{0} image, no read-back):\n",
+                           glsl_deboor::kLodRenderSize)
+            << draws
             << fmt::format(
-                   "(ratio = re-evaluation / Haar; medians of {} runs; distances in model "
-                   "units, largest coordinate {:.3g})\n{}/lod.json\n",
+                   "(medians of {} runs; distances in model units, largest coordinate {:.3g})\n"
+                   "{}/lod.json\n",
                    options.repetitions, largest, options.out);
   return 0;
 }

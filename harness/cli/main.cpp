@@ -150,6 +150,10 @@ int main(int argc, char** argv) {
   lod_cmd->add_option("--gl", lod.gl, "OpenGL platform: egl (default) or osmesa")
       ->check(CLI::IsMember({"osmesa", "egl"}));
   lod_cmd->add_option("--out", lod.out, "output directory for lod.json (default results/latest)");
+  lod_cmd
+      ->add_option("--images", lod.images,
+                   "write DIR/lod__<scene>__<samples>__L<level>.png: each level as drawn (PNG)")
+      ->type_name("DIR");
 
   MemoryOptions memory;
   auto* memory_cmd = app.add_subcommand(

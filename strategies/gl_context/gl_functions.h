@@ -74,6 +74,7 @@ namespace nurbs::gl {
   X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                       \
   X(PFNGLBINDBUFFERPROC, BindBuffer)                             \
   X(PFNGLBUFFERDATAPROC, BufferData)                             \
+  X(PFNGLGETBUFFERPARAMETERIVPROC, GetBufferParameteriv)         \
   X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)           \
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)   \
   X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, DisableVertexAttribArray) \

@@ -18,6 +18,18 @@ constexpr int kPointsUnit = 0, kTrimUnit = 1, kParametersUnit = 2;
 
 }  // namespace
 
+std::vector<GLuint> grid_triangle_indices(int nu, int nv) {
+  std::vector<GLuint> indices;
+  if (nu < 2 || nv < 2) return indices;
+  indices.reserve(static_cast<std::size_t>(nu - 1) * (nv - 1) * 6);
+  for (int b = 0; b + 1 < nv; ++b)
+    for (int a = 0; a + 1 < nu; ++a) {
+      const GLuint k = static_cast<GLuint>(b * nu + a), up = k + static_cast<GLuint>(nu);
+      for (GLuint i : {k, k + 1, up + 1, k, up + 1, up}) indices.push_back(i);
+    }
+  return indices;
+}
+
 std::array<float, 16> orthographic_view(const Scene& scene) {
   Point3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
   for (const Surface& s : scene.surfaces)
@@ -93,26 +105,27 @@ GridRenderer::~GridRenderer() {
   gl.DeleteTextures(1, &color_);
 }
 
-GLuint GridRenderer::index_buffer(int nu, int nv) {
+GLsizei GridRenderer::rebuild_index_buffer(int nu, int nv) {
   const Functions& gl = context_.gl();
-  auto [it, added] = index_buffers_.try_emplace({nu, nv});
-  if (added) {
-    // Two triangles per grid cell; vertex k = b * nu + a.
-    std::vector<GLuint> indices;
-    indices.reserve(static_cast<std::size_t>(nu - 1) * (nv - 1) * 6);
-    for (int b = 0; b + 1 < nv; ++b)
-      for (int a = 0; a + 1 < nu; ++a) {
-        const GLuint k = static_cast<GLuint>(b * nu + a), up = k + static_cast<GLuint>(nu);
-        for (GLuint i : {k, k + 1, up + 1, k, up + 1, up}) indices.push_back(i);
-      }
-    gl.GenBuffers(1, &it->second.first);
-    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, it->second.first);
-    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(GLuint)),
-                  indices.data(), GL_STATIC_DRAW);
-    it->second.second = static_cast<GLsizei>(indices.size());
-  }
-  gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, it->second.first);
-  return it->second.first;
+  // The element buffer binding is vertex-array state: keep it on this renderer's.
+  gl.BindVertexArray(vertex_array_);
+  auto& [buffer, count] = index_buffers_[{nu, nv}];
+  if (!buffer) gl.GenBuffers(1, &buffer);
+  const std::vector<GLuint> indices = grid_triangle_indices(nu, nv);
+  gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffer);
+  gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(GLuint)),
+                indices.data(), GL_STATIC_DRAW);
+  GLint bytes = 0;
+  gl.GetBufferParameteriv(GL_ELEMENT_ARRAY_BUFFER, GL_BUFFER_SIZE, &bytes);
+  count = static_cast<GLsizei>(static_cast<std::size_t>(bytes) / sizeof(GLuint));
+  return count;
+}
+
+GLsizei GridRenderer::index_buffer(int nu, int nv) {
+  const auto it = index_buffers_.find({nu, nv});
+  if (it == index_buffers_.end()) return rebuild_index_buffer(nu, nv);
+  context_.gl().BindBuffer(GL_ELEMENT_ARRAY_BUFFER, it->second.first);
+  return it->second.second;
 }
 
 void GridRenderer::begin_frame() {
@@ -145,14 +158,10 @@ void GridRenderer::draw(const GridPoints& grid, const float mvp[16], const GridT
   grid.texture->bind_to_unit(kPointsUnit);
   gl.Uniform2i(origin_, grid.origin_x, grid.origin_y);
   gl.Uniform1i(u_along_x_, grid.u_along_x ? 1 : 0);
-  index_buffer(grid.nu, grid.nv);
-  context_.draw_elements(GL_TRIANGLES, index_buffers_.at({grid.nu, grid.nv}).second,
-                         GL_UNSIGNED_INT, nullptr);
+  context_.draw_elements(GL_TRIANGLES, index_buffer(grid.nu, grid.nv), GL_UNSIGNED_INT, nullptr);
 }
 
-void GridRenderer::draw(const float* xyz, int nu, int nv, const float mvp[16],
-                        const GridTrim* trim) {
-  if (nu < 2 || nv < 2) return;
+void GridRenderer::upload_vertices(const float* xyz, int nu, int nv) {
   const Functions& gl = context_.gl();
   // The index buffer wants vertex k = b * nu + a.
   vertices_.resize(static_cast<std::size_t>(nu) * nv * 3);
@@ -161,15 +170,21 @@ void GridRenderer::draw(const float* xyz, int nu, int nv, const float mvp[16],
       for (int c = 0; c < 3; ++c)
         vertices_[(static_cast<std::size_t>(b) * nu + a) * 3 + c] =
             xyz[(static_cast<std::size_t>(a) * nv + b) * 3 + c];
-  set_common(traditional_, mvp, nu, trim);
+  // The attribute layout is vertex-array state: keep it on this renderer's.
+  gl.BindVertexArray(vertex_array_);
   gl.BindBuffer(GL_ARRAY_BUFFER, vertex_buffer_);
   gl.EnableVertexAttribArray(0);
   gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices_.size() * sizeof(float)),
                 vertices_.data(), GL_STREAM_DRAW);
   gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-  index_buffer(nu, nv);
-  context_.draw_elements(GL_TRIANGLES, index_buffers_.at({nu, nv}).second, GL_UNSIGNED_INT,
-                         nullptr);
+}
+
+void GridRenderer::draw(const float* xyz, int nu, int nv, const float mvp[16],
+                        const GridTrim* trim) {
+  if (nu < 2 || nv < 2) return;
+  set_common(traditional_, mvp, nu, trim);
+  upload_vertices(xyz, nu, nv);
+  context_.draw_elements(GL_TRIANGLES, index_buffer(nu, nv), GL_UNSIGNED_INT, nullptr);
 }
 
 void GridRenderer::end_frame(std::string_view where) {

@@ -34,6 +34,10 @@ struct GridTrim {
   int first_u = 0, first_v = 0;
 };
 
+// Two triangles per grid cell of an nu x nv grid whose vertex k is b * nu + a: (nu - 1)(nv - 1)
+// cells, 6 indices each.
+std::vector<GLuint> grid_triangle_indices(int nu, int nv);
+
 // Column-major orthographic view looking down -z at the scene's control-point bounding box,
 // scaled so the box fits in 90% of clip space in every axis (so nothing is clipped).
 std::array<float, 16> orthographic_view(const Scene& scene);
@@ -54,6 +58,13 @@ class GridRenderer {
   void draw(const float* xyz, int nu, int nv, const float mvp[16], const GridTrim* trim);
   void end_frame(std::string_view where);
 
+  // The steps of a draw from host points that Krishnamurthy's LOD repeats at every change of
+  // resolution (002 §2, Fig 15's baseline), callable without drawing: the points (SurfaceSamples
+  // order) uploaded as the vertex buffer, and the nu x nv index buffer generated on the host and
+  // uploaded again (a cached one is replaced). The latter returns the element count GL holds.
+  void upload_vertices(const float* xyz, int nu, int nv);
+  GLsizei rebuild_index_buffer(int nu, int nv);
+
   // The image, RGBA8, rows bottom-up as GL gives them.
   std::vector<unsigned char> image();
   // The same, rows top to bottom (Strategy::last_render).
@@ -68,7 +79,7 @@ class GridRenderer {
   };
   Variant variant(bool fetch);
   void set_common(const Variant& v, const float mvp[16], int nu, const GridTrim* trim);
-  GLuint index_buffer(int nu, int nv);  // built once per size, then reused; binds it
+  GLsizei index_buffer(int nu, int nv);  // built once per size, then reused; binds it
 
   Context& context_;
   int width_, height_;

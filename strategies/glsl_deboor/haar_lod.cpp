@@ -120,6 +120,14 @@ void HaarLod::inverse(int k) {
   context_.draw_arrays(GL_TRIANGLES, 0, 3);
 }
 
+gl::GridPoints HaarLod::grid(int k) const {
+  // Sample (a, b) of level 0 is output texel (a, output_row0 + b) (as forward(0) reads it); the
+  // levels' own textures hold sample (a, b) at texel (a, b).
+  if (k == 0) return {&page_.points, slot_.nu, slot_.nv, 0, slot_.output_row0, true};
+  const Level& l = levels_[static_cast<std::size_t>(k)];
+  return {&l.points, l.width, l.height, 0, 0, true};
+}
+
 std::vector<float> HaarLod::read(int k) const {
   const gl::Functions& gl = context_.gl();
   const Level& l = levels_[static_cast<std::size_t>(k)];

@@ -7,6 +7,7 @@
 
 #include <vector>
 
+#include "strategies/gl_context/grid_renderer.h"
 #include "strategies/glsl_deboor/deboor_evaluator.h"
 
 namespace nurbs::glsl_deboor {
@@ -26,6 +27,9 @@ class HaarLod {
   // Level k as (x, y, z) per point, ordered a * height + b like read_back. Level 0 is the
   // inverse-transformed copy (run inverse(0) first).
   std::vector<float> read(int k) const;
+  // Where level k lies, for drawing it by vertex texture fetch (002 §4.3: levels are drawn from
+  // the device, never read back). Level 0 is the de Boor output the levels were made from.
+  gl::GridPoints grid(int k) const;
   int width(int k) const { return levels_[static_cast<std::size_t>(k)].width; }
   int height(int k) const { return levels_[static_cast<std::size_t>(k)].height; }
 

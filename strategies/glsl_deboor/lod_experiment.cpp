@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -10,6 +11,7 @@
 #include "reference/nurbs_math.h"
 #include "reference/sampling.h"
 #include "strategies/gl_context/gl_context.h"
+#include "strategies/gl_context/grid_renderer.h"
 #include "strategies/glsl_deboor/haar_lod.h"
 
 namespace nurbs::glsl_deboor {
@@ -40,10 +42,28 @@ std::vector<long double> block_means(const std::vector<double>& parameters, int 
   return means;
 }
 
+// Draws `grid` in `repetitions` timed frames; the image and its coverage from the last.
+LodDraw timed_draw(gl::Context& context, gl::GridRenderer& renderer, const gl::GridPoints& grid,
+                   const float mvp[16], int repetitions, bool picture) {
+  LodDraw d;
+  // Built once per level before any draw, as 002 compiles each level's index data to a display
+  // list: the draws then reuse it.
+  d.index_elements = renderer.rebuild_index_buffer(grid.nu, grid.nv);
+  d.seconds = time_runs(context, repetitions, [&] {
+    renderer.begin_frame();
+    renderer.draw(grid, mvp, nullptr);
+    renderer.end_frame("glsl-deboor lod draw");
+  });
+  const std::vector<unsigned char> image = renderer.image();
+  for (std::size_t i = 3; i < image.size(); i += 4) d.drawn_pixels += image[i] != 0;
+  if (picture) d.picture = renderer.picture();
+  return d;
+}
+
 }  // namespace
 
 LodMeasurement measure_lod(const Scene& scene, int nu, int nv, int levels, int repetitions,
-                           const StrategyOptions& options) {
+                           const StrategyOptions& options, bool pictures) {
   const int divisor = 1 << levels;
   if (scene.surfaces.empty() || levels < 1 || nu % divisor != 0 || nv % divisor != 0)
     throw RefusedError(fmt::format("lod: a {}x{} grid does not halve {} times", nu, nv, levels));
@@ -77,10 +97,24 @@ LodMeasurement measure_lod(const Scene& scene, int nu, int nv, int levels, int r
   m.coarser_by_reevaluation = time_runs(*context, repetitions, [&] { coarse->evaluate(); });
   m.finer_by_haar = time_runs(*context, repetitions, [&] { lod.inverse(0); });
   m.finer_by_reevaluation = time_runs(*context, repetitions, [&] { fine->evaluate(); });
+  gl::GridRenderer renderer(*context, kLodRenderSize, kLodRenderSize);
+  auto full_reevaluation = [&](Evaluator& evaluator, int width, int height, int& elements) {
+    evaluator.evaluate();
+    const std::vector<std::vector<float>> xyz = evaluator.read_back();
+    renderer.upload_vertices(xyz[0].data(), width, height);
+    elements = renderer.rebuild_index_buffer(width, height);
+  };
+  m.coarser_by_full_reevaluation = time_runs(*context, repetitions, [&] {
+    full_reevaluation(*coarse, nu / 2, nv / 2, m.coarser_index_elements);
+  });
+  m.finer_by_full_reevaluation = time_runs(
+      *context, repetitions, [&] { full_reevaluation(*fine, nu, nv, m.finer_index_elements); });
 
   // Levels 1..levels from the (re-)evaluated grid, each against the surface in long double.
   fine->evaluate();
   for (int k = 0; k < levels; ++k) lod.forward(k);
+  const std::array<float, 16> view = gl::orthographic_view(single);
+  m.full_draw = timed_draw(*context, renderer, lod.grid(0), view.data(), repetitions, pictures);
   const SurfaceNet<long double> net(single.surfaces[0]);
   Sampling grid;
   grid.grid_u = nu;
@@ -99,7 +133,9 @@ LodMeasurement measure_lod(const Scene& scene, int nu, int nv, int levels, int r
         worst =
             std::max(worst, static_cast<double>(std::hypot(p[0] - s[0], p[1] - s[1], p[2] - s[2])));
       }
-    m.levels.push_back({k, width, height, worst});
+    m.levels.push_back(
+        {k, width, height, worst,
+         timed_draw(*context, renderer, lod.grid(k), view.data(), repetitions, pictures)});
   }
   context->check("lod experiment");
   return m;

@@ -473,7 +473,10 @@ TEST(CliLod, BadArgumentsLeaveNoOutputDirectory) {
       {{"--levels", "0"}, {"--levels", "0", "1..8"}},
       {{"--repetitions", "0"}, {"--repetitions", "0"}},
       {{"--samples", "1x1"}, {"--samples", "'1x1'"}},
+      // A file where the picture directory goes (or a build without OpenImageIO): refused too.
+      {{"--images", tmp / "a-file"}, {"--images", "a-file"}},
   };
+  write_text(fs::path(tmp / "a-file"), "not a directory");
   for (const auto& [args, expect] : cases) {
     SCOPED_TRACE(expect.front());
     std::vector<std::string> argv = {"lod", "--out", out};

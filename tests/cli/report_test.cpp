@@ -265,11 +265,13 @@ TEST_F(CliReport, ReadsLodAndMemoryFilesBesideTheResults) {
   const CliResult r = run_cli({"report", "--results", dir, "--out", out, "--error-images", "0"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string md = read_text(fs::path(out) / "REPORT.md");
+  // A lod.json from before the full baseline and the draws were measured: those read "n/a".
   EXPECT_NE(md.find("| tan21x23 | 128x128 | llvmpipe (LLVM 15) (a CPU implementation of the API, "
-                    "not a GPU) | 1 ms | 4 ms | 4 |"),
+                    "not a GPU) | 1 ms | 4 ms | n/a | 4 | n/a | 2 ms | 5 ms | n/a | 2.5 | n/a |"),
             std::string::npos)
       << md;
-  EXPECT_NE(md.find("| tan21x23 | 128x128 | 1 | 64x64 | 1e-06 | 3.5 |"), std::string::npos);
+  EXPECT_NE(md.find("| tan21x23 | 128x128 | 1 | 64x64 | 1e-06 | 3.5 | n/a | n/a | n/a |"),
+            std::string::npos);
   EXPECT_NE(md.find("| teapot | 32 | 512 | 16384 | 32 | 512 | 32768 | 2 | 32 | 512 | 8192 | 0.5 |"),
             std::string::npos)
       << md;
@@ -278,6 +280,62 @@ TEST_F(CliReport, ReadsLodAndMemoryFilesBesideTheResults) {
             std::string::npos);
   EXPECT_EQ(md.find("no data in these results: run nurbsbench lod"), std::string::npos);
   EXPECT_EQ(lower(md).find("nan"), std::string::npos);
+}
+
+// A lod.json with 002's full baseline and each level's draw: both shown, the level-0 draw as a row
+// of its own, and the Fig 15 claim taken against the full baseline.
+TEST_F(CliReport, ShowsLodFullBaselineAndLevelDraws) {
+  const std::string dir = tmp_ / "lod-only";
+  fs::create_directories(dir);
+  write_text(fs::path(dir) / "lod.json", R"JSON({"format": "nurbsbench-lod/1",
+    "machine": {"cpu_model": "Test CPU", "git_commit": "abc123"}, "settings": {},
+    "rows": [{"scene": "tan21x23", "samples": "128x128",
+              "device": {"name": "llvmpipe (LLVM 15)", "kind": "cpu"},
+              "coarser_by_haar_s": 0.001, "coarser_by_reevaluation_s": 0.002,
+              "coarser_by_full_reevaluation_s": 0.005, "coarser_index_elements": 23814,
+              "finer_by_haar_s": 0.002, "finer_by_reevaluation_s": 0.004,
+              "finer_by_full_reevaluation_s": 0.008, "finer_index_elements": 96774,
+              "render_s": 0.016, "index_elements": 96774, "drawn_pixels": 196333,
+              "levels": [{"level": 1, "samples": "64x64", "max_distance": 1e-6, "max_ulp": 3.5,
+                          "render_s": 0.006, "index_elements": 23814,
+                          "drawn_pixels": 188671}]}]})JSON");
+  const std::string out = tmp_ / "lod-report";
+  const CliResult r = run_cli({"report", "--results", dir, "--out", out, "--error-images", "0"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string md = read_text(fs::path(out) / "REPORT.md");
+  EXPECT_NE(md.find("| 1 ms | 2 ms | 5 ms | 2 | 5 | 2 ms | 4 ms | 8 ms | 2 | 4 |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| tan21x23 | 128x128 | 0 | 128x128 | n/a | n/a | 16 ms | 96774 | 196333 |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| tan21x23 | 128x128 | 1 | 64x64 | 1e-06 | 3.5 | 6 ms | 23814 | 188671 |"),
+            std::string::npos)
+      << md;
+  // Against the evaluate-only column the claim would read 2x and fail; the full baseline: 5x, 4x.
+  EXPECT_NE(md.find("full re-evaluation 5 ms / Haar 1 ms = 5×"), std::string::npos) << md;
+  EXPECT_NE(md.find("full re-evaluation 8 ms / Haar 2 ms = 4×"), std::string::npos) << md;
+}
+
+// The committed lod.json (nurbsbench-lod/1, written before the full baseline and the draws were
+// measured) still reads, its new columns "n/a".
+TEST_F(CliReport, ReadsTheCommittedLodFileWithoutTheNewColumns) {
+  const std::string dir = tmp_ / "committed-lod";
+  fs::create_directories(dir);
+  fs::copy_file(
+      fs::path(NURBSBENCH_SOURCE_DIR) / "results/amd-epyc-2t/fig14-deboor-vs-basis/lod.json",
+      fs::path(dir) / "lod.json");
+  const std::string out = tmp_ / "committed-lod-report";
+  const CliResult r = run_cli({"report", "--results", dir, "--out", out, "--error-images", "0"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string md = read_text(fs::path(out) / "REPORT.md");
+  EXPECT_NE(md.find("not a GPU) | 283 us | 1.26 ms | n/a | 4.46 | n/a | 366 us | 2.79 ms | n/a | "
+                    "7.62 | n/a |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| tan21x23 | 128x128 | 1 | 64x64 | 0.00787 | 6.47e+03 | n/a | n/a | n/a |"),
+            std::string::npos)
+      << md;
 }
 
 TEST_F(CliReport, ShowsDeformingFramesFromRecordsWithAFramePhase) {
