@@ -2,13 +2,10 @@
 // GS mapping (ksquad.geom) and the corner pass (ksquad_corners.comp). The includer defines
 // DEGREE_U(s) and DEGREE_V(s) and includes ksquad_tables.glsl and ../stair_basis/stair_basis.h first.
 
-// The parameter the tessellator's coordinate t gives in the patch's share [lo, hi] of its knot
-// span [x_i, x_i+1] (SB_KNOT(c, p - 1) = x_i, SB_KNOT(c, p) = x_i+1: StairConstants::knots). Both
-// blends are exact at t = 0 and 1 (and lo, hi are the same floats on both sides of a piece
-// boundary), so the patches meeting on a knot line or a cut evaluate the same parameter there.
+// share_parameter (ksquad_tables.glsl) on the span [x_i, x_i+1] of the stair constants c
+// (SB_KNOT(c, p - 1) = x_i, SB_KNOT(c, p) = x_i+1: StairConstants::knots).
 float span_parameter(int c, int p, float lo, float hi, float t) {
-  const float f = (1.0 - t) * lo + t * hi;
-  return (1.0 - f) * SB_KNOT(c, p - 1) + f * SB_KNOT(c, p);
+  return share_parameter(SB_KNOT(c, p - 1), SB_KNOT(c, p), lo, hi, t);
 }
 
 // S(u, v): the stair basis of the KSQuad's spans and A4.3 on its (p+1)(q+1) homogeneous control

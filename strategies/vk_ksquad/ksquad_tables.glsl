@@ -57,3 +57,20 @@ layout(push_constant) uniform Mode {
 float surface_knot_u(int s, int end) { return intBitsToFloat(surfaces[s + 12 + end]); }
 float surface_knot_v(int s, int end) { return intBitsToFloat(surfaces[s + 14 + end]); }
 
+// Uniform mapping, shared with vk-bezier's evaluation stage (bezier.tese):
+// The index of a tessellator vertex in its patch's run of samples [begin, begin + count), the
+// run's segments being the patch's level. round: the tessellator's k / level is within a float
+// ulp of the lattice point; an inner level raised from 1 to 2 by the tessellator lands on a vertex
+// already there.
+int lattice_index(float t, int level, int begin, int count) {
+  return begin + min(int(round(t * float(level))), count - 1);
+}
+
+// The parameter the tessellator's coordinate t gives in a patch's share [lo, hi] of its knot span
+// [x0, x1]. Both blends are exact at t = 0 and 1 (and lo, hi are the same floats on both sides of
+// a piece boundary), so the patches meeting on a knot line or a cut evaluate the same parameter
+// there.
+float share_parameter(float x0, float x1, float lo, float hi, float t) {
+  const float f = (1.0 - t) * lo + t * hi;
+  return (1.0 - f) * x0 + f * x1;
+}
