@@ -12,6 +12,7 @@
 #include "strategies/glu_nurbs/glu_nurbs.h"
 #include "strategies/occt/occt_strategy.h"
 #include "strategies/sisl/sisl_strategy.h"
+#include "strategies/vk_bezier/vk_bezier.h"
 #include "strategies/vk_ksquad/vk_ksquad.h"
 
 namespace nurbs {
@@ -28,6 +29,7 @@ const std::vector<StrategyEntry>& strategy_registry() {
       gl_tspline_entry(),
       cl_stair_entry(),
       vk_ksquad_entry(),
+      vk_bezier_entry(),
       cpu_tspline_entry(),
       cpu_tensor_entry(),
       cpu_horner_entry(),
