@@ -73,7 +73,8 @@ double f32_ulp_budget(const std::string& strategy) {
       {"occt-cached", 32.0},
       {"glu-nurbs", 32.0},  // GLU in float at its own samples; measured worst 15.6 (clustered)
       {"cl-stair", 64.0},
-      {"vk-ksquad", 32.0}};  // issue asks 64; measured worst 24.6 (clustered span16)
+      {"vk-ksquad", 32.0},   // issue asks 64; measured worst 24.6 (clustered span16)
+      {"vk-bezier", 32.0}};  // vk-ksquad's gate (its own test derives a bound per scene)
   const auto it = budgets.find(strategy);
   return it != budgets.end() ? it->second : 64.0;
 }
