@@ -74,3 +74,41 @@ float share_parameter(float x0, float x1, float lo, float hi, float t) {
   const float f = (1.0 - t) * lo + t * hi;
   return (1.0 - f) * x0 + f * x1;
 }
+
+bool normalize_if_resolved(vec3 n, vec3 a, vec3 b, out vec3 unit) {
+  // reference/nurbs_math.h detail::normalize_if_resolved with float's epsilon
+  const float scale = length(a) + length(b);
+  const float len = length(n);
+  if (!(len > 1024.0 * 1.1920929e-7 * scale * scale) || isinf(len) || isnan(len)) return false;
+  unit = n / len;
+  return true;
+}
+
+// The unit normal at (u, v) of surface row s from the homogeneous sums A = sum B P and its
+// derivatives A_u, A_v, A_uv (whatever basis made them: vk-ksquad's stair basis, vk-bezier's
+// Bernstein), written to normals[slot]: the quotient rule for S = A / w (A3.6 / A4.4 to first
+// order in each direction), Su x Sv, or where a tangent vanishes the limit along the surface
+// (reference/nurbs_math.h surface_normal's first two stages, line by line; its third, a nudged
+// neighbour sample, may leave the patch and is not done here: the zero vector is written instead).
+void write_normal_from_sums(int slot, int s, vec4 a, vec4 au, vec4 av, vec4 auv, float u, float v) {
+  const vec3 point = a.xyz / a.w;
+  const vec3 su = (au.xyz - au.w * point) / a.w;
+  const vec3 sv = (av.xyz - av.w * point) / a.w;
+  const vec3 suv = (auv.xyz - auv.w * point - au.w * sv - av.w * su) / a.w;
+  vec3 n = vec3(0.0);
+  if (!normalize_if_resolved(cross(su, sv), su, sv, n)) {
+    if (length(su) <= length(sv)) {
+      // side: which end of the v domain the sample is nearer
+      const float v0 = surface_knot_v(s, 0), v1 = surface_knot_v(s, 1);
+      const float side = (v - v0) <= (v1 - v) ? 1.0 : -1.0;
+      if (!normalize_if_resolved(side * cross(suv, sv), suv, sv, n)) n = vec3(0.0);
+    } else {
+      const float u0 = surface_knot_u(s, 0), u1 = surface_knot_u(s, 1);
+      const float side = (u - u0) <= (u1 - u) ? 1.0 : -1.0;
+      if (!normalize_if_resolved(side * cross(su, suv), su, suv, n)) n = vec3(0.0);
+    }
+  }
+  normals[3 * slot] = n.x;
+  normals[3 * slot + 1] = n.y;
+  normals[3 * slot + 2] = n.z;
+}
