@@ -12,7 +12,8 @@
 //    parameter; a span grid's are the tessellator's (ksquad_tables.glsl share_parameter), returned
 //    with the positions.
 //  * The decomposition runs in double (as cpu-bezier's, a CPU converter holding the model in
-//    double, 003 Fig. 3(a)); its homogeneous points are rounded to float once, on upload.
+//    double, 003 Fig. 3(a)); its homogeneous points are rounded to float once, on upload,
+//    relative to their patch's origin (decompose_all).
 #include "strategies/vk_bezier/vk_bezier.h"
 
 #include <fmt/format.h>
@@ -22,6 +23,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "reference/bezier_decomposition.h"
@@ -46,7 +48,8 @@ using vk_ksquad::kPatchInts;
 using vk_ksquad::kSurfaceInts;
 
 // ksquad_tables.glsl's bindings 0..12. The ones bezier.tese reads or writes: 0 surfaces,
-// 1 patches, 3 Bézier points, 4 parameters, 5 positions, 12 the span grid's parameters; 6 and 7
+// 1 patches, 3 Bézier points, 4 parameters, 5 positions, 8 normals, 12 the span grid's
+// parameters; 6 and 7
 // are statically used by the shared control stage's adaptive branch (never taken here) and get a
 // placeholder, as do the rest.
 constexpr int kBuffers = 13;
@@ -65,8 +68,8 @@ Capabilities bezier_capabilities() {
   // bezier.tese's BEZIER_MAX_ORDER; the points are a storage buffer and one vertex is a patch, so
   // no device limit grows with the degree.
   c.max_degree = kMaxDegree;
-  c.normals = false;
-  c.fp64 = false;  // Vulkan tessellation stages in float; shaderFloat64 is optional
+  c.normals = true;  // Bernstein derivatives of the same triangle (bezier.tese)
+  c.fp64 = false;    // Vulkan tessellation stages in float; shaderFloat64 is optional
   c.sampling.explicit_list = false;  // the tessellator's lattices are tensors of runs
   c.chooses_own_samples = true;      // span grid: the tessellator's (a grid's: the requested)
   c.updates_control_points = true;   // the whole decomposition + upload (update_control_points)
@@ -125,13 +128,16 @@ class VkBezier final : public Strategy {
     points_buf_ = storage(points_, "Bézier points");
     positions_ = vulkan::Buffer(device_, total_ * 3 * sizeof(float),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output positions");
+    normals_ = vulkan::Buffer(device_, (request.normals ? total_ * 3 : 0) * sizeof(float),
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output normals");
     sample_params_ = vulkan::Buffer(device_, (span_grid() ? total_ * 2 : 0) * sizeof(float),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output sample parameters");
     const vulkan::Buffer* none = &placeholder_;
     set_->write({&surfaces_buf_, &patches_buf_, none, &points_buf_, &params_buf_, &positions_, none,
-                 none, none, none, none, none, &sample_params_});
+                 none, &normals_, none, none, none, &sample_params_});
     mode_ = {};
     mode_.span_grid = span_grid() ? 1 : 0;
+    mode_.normals = request.normals ? 1 : 0;
     for (const vk_ksquad::Draw& draw : draws_) {
       VkPipeline& pipeline = pipelines_[{draw.du, draw.dv}];
       if (!pipeline) {
@@ -198,6 +204,10 @@ class VkBezier final : public Strategy {
       r.samples = uv.empty() ? s : vk_ksquad::chosen_samples(s, uv.data() + 2 * base);
       r.positions = PointArray(Precision::f32, s.count());
       std::memcpy(r.positions.f32(), host.data() + base * 3, s.count() * 3 * sizeof(float));
+      if (request_.normals) {
+        r.normals = PointArray(Precision::f32, s.count());
+        normals_.read(r.normals.f32(), s.count() * 3 * sizeof(float), base * 3 * sizeof(float));
+      }
       base += s.count();
       out.surfaces.push_back(std::move(r));
     }
@@ -216,16 +226,31 @@ class VkBezier final : public Strategy {
     return b;
   }
 
-  // A5.7 on every surface's current net (double), then all Bézier points as float homogeneous
-  // vec4s, surface after surface, each surface's patches in BezierPatches order.
+  // A5.7 on every surface's current net (double), then every Bézier patch as float homogeneous
+  // vec4s, surface after surface in BezierPatches order: its origin (its first control point, in
+  // float; w unused), then its points relative to it. Why relative (cpu-bezier's reason): knot
+  // insertion packs the Bézier points closely, and their float rounding far from the origin tilts
+  // normals (far-origin, |x| = 1e4: 1.35 degrees with absolute points); the Bézier form is affine
+  // invariant, so S = O + sum B w (P - O) / sum B w exactly.
   void decompose_all() {
     points_.clear();
     first_point_.clear();
     for (Decomposed& d : surfaces_) {
       decompose_surface(d.net, d.patches, d.scratch);
       first_point_.push_back(points_.size() / 4);
-      for (const Vec4<double>& h : d.patches.points)
-        for (int c = 0; c < 4; ++c) points_.push_back(static_cast<float>(h[c]));
+      const std::size_t per_patch = d.patches.points_per_patch();
+      for (std::size_t g = 0; g < d.patches.patch_count(); ++g) {
+        const Vec4<double>* from = d.patches.points.data() + g * per_patch;
+        float origin[3];
+        for (int c = 0; c < 3; ++c) origin[c] = static_cast<float>(from[0][c] / from[0][3]);
+        points_.insert(points_.end(), {origin[0], origin[1], origin[2], 0.0f});
+        for (std::size_t k = 0; k < per_patch; ++k) {
+          const double w = from[k][3];
+          for (int c = 0; c < 3; ++c)
+            points_.push_back(static_cast<float>(from[k][c] - double(origin[c]) * w));
+          points_.push_back(static_cast<float>(w));
+        }
+      }
     }
   }
 
@@ -251,10 +276,23 @@ class VkBezier final : public Strategy {
       const int g = d.segment_of_span_u[q.u.span], h = d.segment_of_span_v[q.v.span];
       if (g < 0 || h < 0)
         throw std::logic_error("vk-bezier: a run of samples in a span the decomposition skipped");
-      const std::size_t first =
-          first_point_[q.surface] +
-          (static_cast<std::size_t>(g) * d.patches.segments_v + h) * d.patches.points_per_patch();
+      const std::size_t stride = d.patches.points_per_patch() + 1;  // the origin, the points
+      const std::size_t first = first_point_[q.surface] +
+                                (static_cast<std::size_t>(g) * d.patches.segments_v + h) * stride +
+                                1;
       const auto bits = [](double knot) { return std::bit_cast<int>(static_cast<float>(knot)); };
+      // The next Bézier patch in u (v) for normals at the span's end knot: its offset and its
+      // span's end knot; none at the domain's end or where the next span is empty in float.
+      const auto next = [&](int segment, int segments, const std::vector<double>& breaks,
+                            std::size_t step) -> std::pair<int, int> {
+        if (segment + 1 >= segments ||
+            !(static_cast<float>(breaks[segment + 1]) < static_cast<float>(breaks[segment + 2])))
+          return {0, 0};
+        return {static_cast<int>(step), bits(breaks[segment + 2])};
+      };
+      const auto [next_u, end_u] =
+          next(g, d.patches.segments_u, d.patches.breaks_u, d.patches.segments_v * stride);
+      const auto [next_v, end_v] = next(h, d.patches.segments_v, d.patches.breaks_v, stride);
       for (const ksquad::SpanRun& a : vk_ksquad::split_run(q.u, cap))
         for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, cap)) {
           const auto [u_lo, u_hi] = vk_ksquad::piece_share(q.u, a);
@@ -275,10 +313,10 @@ class VkBezier final : public Strategy {
                                        bits(s.knots_u[q.u.span + 1]),
                                        bits(s.knots_v[q.v.span]),
                                        bits(s.knots_v[q.v.span + 1]),
-                                       0,
-                                       0,
-                                       0,
-                                       0,
+                                       next_u,
+                                       next_v,
+                                       end_u,
+                                       end_v,
                                        std::bit_cast<int>(u_lo),
                                        std::bit_cast<int>(u_hi),
                                        std::bit_cast<int>(v_lo),
@@ -303,14 +341,14 @@ class VkBezier final : public Strategy {
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;
   std::vector<Decomposed> surfaces_;
-  std::vector<float> points_;             // the Bézier points uploaded (4 floats each)
+  std::vector<float> points_;             // what is uploaded: origins and Bézier points
   std::vector<std::size_t> first_point_;  // per surface, in vec4s
   std::vector<int> patches_;              // the patch table
   std::vector<vk_ksquad::Draw> draws_;
   std::size_t total_ = 0;
   vk_ksquad::ModeConstants mode_{};
   vulkan::Buffer placeholder_, surfaces_buf_, patches_buf_, points_buf_, params_buf_, positions_,
-      sample_params_;
+      normals_, sample_params_;
   std::optional<double> evaluate_s_;
 };
 

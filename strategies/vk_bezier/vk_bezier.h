@@ -8,7 +8,7 @@
 // point, the baseline's per-frame cost; vk-ksquad re-sends only the NURBS points, and cpu-bezier
 // decomposes and evaluates on the CPU -- `run --deforming N` compares the three.
 //
-// f32 positions (no normals), grid and span grid, degrees up to 15; no trims, no T-splines.
+// f32 positions and normals, grid and span grid, degrees up to 15; no trims, no T-splines.
 // Options (StrategyOptions.extra): "device" = N, the N-th Vulkan physical device;
 // vk-vertices-per-draw = N (as vk-ksquad's, strategies/vk_ksquad/ksquad_settings.h).
 #pragma once

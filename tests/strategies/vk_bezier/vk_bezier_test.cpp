@@ -34,8 +34,9 @@ std::unique_ptr<Strategy> make(const char* name) {
   return find_strategy(name)->create(StrategyOptions{});
 }
 
-EvalResult run(Strategy& strategy, const Scene& scene, const Sampling& sampling) {
-  strategy.prepare(scene, EvalRequest{sampling, Precision::f32, false});
+EvalResult run(Strategy& strategy, const Scene& scene, const Sampling& sampling,
+               bool normals = false) {
+  strategy.prepare(scene, EvalRequest{sampling, Precision::f32, normals});
   strategy.evaluate();
   return strategy.read_back();
 }
@@ -50,7 +51,7 @@ EvalResult run(Strategy& strategy, const Scene& scene, const Sampling& sampling)
 //  * both magnified by the weight ratio w_max / w_min (the divide by sum B w; the hodograph of a
 //    rational patch), the NURBS net's ratio bounding the Bézier points' (their weights are convex
 //    combinations of it);
-//  * the divide: u.
+//  * the divide and the patch origin's addition (its points are relative to it): 2u.
 // Measured on lavapipe far below it (~2 ulps, printed), like vk-ksquad at its 32-ulp gate.
 double derived_bound_ulps(const Scene& scene) {
   double worst = 0;
@@ -58,7 +59,7 @@ double derived_bound_ulps(const Scene& scene) {
     const auto [lo, hi] = std::minmax_element(s.weights.begin(), s.weights.end());
     const double ratio = *hi / *lo;
     const int p = s.degree_u, q = s.degree_v;
-    worst = std::max(worst, ((9.0 * (p + q) + 4) * ratio + 1) / 2);
+    worst = std::max(worst, ((9.0 * (p + q) + 4) * ratio + 2) / 2);
   }
   return worst;
 }
@@ -75,24 +76,28 @@ class VkBezierTest : public ::testing::Test {
 
 // Grid (the requested samples, 33 x 29 so samples fall inside spans, not only on knots), span
 // grid T = 16 and T = 100 (past the tessellator's cap of 64: runs cut into pieces of one Bézier
-// patch).
+// patch). Normals within 0.1 degree (the shared suite allows 1; measured worst 0.0085, clustered
+// span100; teapot, with collapsed edges, 1.7e-4): the Bernstein derivatives at a span's end knot
+// are the next patch's, as the reference's on a crease.
 TEST_F(VkBezierTest, WithinTheDerivedBoundOnBuiltinScenes) {
-  for (const char* name : {"patch144", "teapot", "degree-5", "clustered", "degree-9"}) {
+  for (const char* name : {"patch144", "teapot", "degree-5", "clustered", "degree-9", "creases"}) {
     const Scene scene = *make_builtin_scene(name);
     const double bound = derived_bound_ulps(scene);
     for (const Sampling& sampling : {grid(33, 29), span_grid(16), span_grid(100)}) {
       SCOPED_TRACE(std::string(name) + " " + sampling.label());
-      const EvalResult result = run(*strategy_, scene, sampling);
+      const EvalResult result = run(*strategy_, scene, sampling, true);
       const auto produced = result_samples(result);
       if (sampling.mode == SamplingMode::grid) {
         EXPECT_TRUE(same_samples(produced, sample_parameters(scene, sampling)));
       }
       const Accuracy acc =
-          measure_accuracy(scene, result, evaluate_reference(scene, produced, false));
+          measure_accuracy(scene, result, evaluate_reference(scene, produced, true));
       EXPECT_EQ(acc.non_finite, 0u);
       EXPECT_LE(acc.max_ulp, bound);
+      ASSERT_TRUE(acc.max_normal_angle_deg.has_value());
+      EXPECT_LE(*acc.max_normal_angle_deg, 0.1);
       std::cout << "vk-bezier " << name << " " << sampling.label() << ": max_ulp " << acc.max_ulp
-                << " (bound " << bound << ")\n";
+                << " (bound " << bound << "), normals " << *acc.max_normal_angle_deg << " deg\n";
     }
   }
 }
@@ -175,8 +180,6 @@ TEST_F(VkBezierTest, HighDegreesMatchTheReference) {
 TEST_F(VkBezierTest, RefusesWhatItCannotDo) {
   const Scene patch = *make_builtin_scene("patch144");
   EXPECT_THROW(strategy_->prepare(patch, EvalRequest{grid(8, 8), Precision::f64, false}),
-               RefusedError);
-  EXPECT_THROW(strategy_->prepare(patch, EvalRequest{grid(8, 8), Precision::f32, true}),
                RefusedError);
   Sampling list;
   list.mode = SamplingMode::explicit_list;
