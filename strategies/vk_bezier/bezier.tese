@@ -28,7 +28,8 @@ layout(location = 4) patch in int patch_row;  // from ksquad.tesc
 
 // The Piegl & Tiller A1.3 AllBernstein triangle: B_{k,n}(t), k = 0..n, convex combinations of
 // non-negative numbers (the stability of de Casteljau, whose scheme it runs on the basis), in
-// O(n^2) per parameter against de Casteljau's O(p^2 q) points per sample. As cpu-bezier does.
+// O(n^2) per parameter against de Casteljau's O(p^2 q) points per sample. Mirrors the tested C++
+// all_bernstein of strategies/cpu_bezier/cpu_bezier.cpp line by line.
 void all_bernstein(int n, float t, out float b[BEZIER_MAX_ORDER]) {
   b[0] = 1.0;
   const float t1 = 1.0 - t;
@@ -45,7 +46,8 @@ void all_bernstein(int n, float t, out float b[BEZIER_MAX_ORDER]) {
 
 // B_{k,n}(t) as all_bernstein (the same operations: the last level of the triangle) and their
 // derivatives d/dx = scale (B_{k-1,n-1} - B_{k,n-1}) from the level before, scale = n / (x1 - x0)
-// (The NURBS Book ch. 1; the chain rule through the span's length).
+// (The NURBS Book ch. 1; the chain rule through the span's length). Mirrors cpu-bezier's
+// axis_sample (derivatives branch) line by line.
 void bernstein_derivative(int n, float t, float scale, out float b[BEZIER_MAX_ORDER],
                           out float d[BEZIER_MAX_ORDER]) {
   float lower[BEZIER_MAX_ORDER];
