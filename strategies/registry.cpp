@@ -13,6 +13,7 @@
 #include "strategies/glu_nurbs/glu_nurbs.h"
 #include "strategies/occt/occt_strategy.h"
 #include "strategies/sisl/sisl_strategy.h"
+#include "strategies/vk_bezier/vk_bezier.h"
 #include "strategies/vk_ksquad/vk_ksquad.h"
 
 namespace nurbs {
@@ -35,6 +36,7 @@ const std::vector<StrategyEntry>& strategy_registry() {
       cpu_tensor_entry(),
       cpu_horner_entry(),
       cpu_bezier_entry(),
+      vk_bezier_entry(),
       glu_nurbs_entry(),
       sisl_entry(),
       occt_entry(),

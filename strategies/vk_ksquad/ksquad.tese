@@ -66,10 +66,8 @@ void main() {
     const int u_begin = patches[row + 5], u_count = patches[row + 6];
     const int v_begin = patches[row + 7], v_count = patches[row + 8];
     const int level_u = patches[row + 9], level_v = patches[row + 10];
-    // round: the tessellator's k / level is within a float ulp of the lattice point; an inner
-    // level raised from 1 to 2 by the tessellator lands on a vertex already there.
-    a = u_begin + min(int(round(gl_TessCoord.x * float(level_u))), u_count - 1);
-    b = v_begin + min(int(round(gl_TessCoord.y * float(level_v))), v_count - 1);
+    a = lattice_index(gl_TessCoord.x, level_u, u_begin, u_count);
+    b = lattice_index(gl_TessCoord.y, level_v, v_begin, v_count);
   }
   float u, v;
   if (mode.adaptive != 0) {

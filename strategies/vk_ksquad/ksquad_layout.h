@@ -1,8 +1,10 @@
 // The host side of ksquad_tables.glsl: record layouts of the tables every vk-ksquad mapping
-// shares, and the host copies of the tables the mappings read back against.
+// shares (and vk-bezier, which draws through the same control stage), the push constants, and the
+// host copies of the tables the mappings read back against.
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace nurbs::vk_ksquad {
@@ -13,6 +15,15 @@ inline constexpr int kPatchLevelU = 9, kPatchLevelV = 10;  // a patch row's tess
 inline constexpr int kPatchPiece = 11;                     // adaptive: the piece of its KSQuad
 inline constexpr int kSlotFloats = 5;                      // SLOT_FLOATS
 inline constexpr int kCornerInts = 8;                      // CORNER_INTS
+
+// ksquad_tables.glsl: Mode (push constants).
+struct ModeConstants {
+  float view_projection[16];
+  float viewport[2];
+  float mu;
+  std::int32_t adaptive, max_level, region, normals, patch_base, span_grid, pieces;
+};
+static_assert(sizeof(ModeConstants) == 104);
 
 // Host copies of the surface table, the Info-KSQuad table and the stair constants.
 struct HostTables {

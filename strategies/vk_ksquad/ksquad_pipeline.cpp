@@ -14,9 +14,14 @@ extern const std::string_view vk_ksquad_frag;
 
 namespace nurbs::vk_ksquad {
 
-VkPipeline make_pipeline(const vulkan::Device& device, VkPipelineLayout layout, bool raster,
-                         bool geometry, VkRenderPass pass, int du, int dv, std::uint32_t width,
-                         std::uint32_t height) {
+PipelineShaders ksquad_shaders() {
+  return {embedded::vk_ksquad_vert, embedded::vk_ksquad_tesc, embedded::vk_ksquad_tese,
+          embedded::vk_ksquad_geom, embedded::vk_ksquad_frag};
+}
+
+VkPipeline make_pipeline(const vulkan::Device& device, const PipelineShaders& shaders,
+                         VkPipelineLayout layout, bool raster, bool geometry, VkRenderPass pass,
+                         int du, int dv, std::uint32_t width, std::uint32_t height) {
   const VkDevice d = device.handle();
   struct Modules {
     VkDevice d;
@@ -30,14 +35,14 @@ VkPipeline make_pipeline(const vulkan::Device& device, VkPipelineLayout layout, 
     modules.m.push_back(device.shader_module(spirv));
     stage_bits.push_back(bit);
   };
-  add(VK_SHADER_STAGE_VERTEX_BIT, embedded::vk_ksquad_vert);
+  add(VK_SHADER_STAGE_VERTEX_BIT, shaders.vert);
   if (geometry) {
-    add(VK_SHADER_STAGE_GEOMETRY_BIT, embedded::vk_ksquad_geom);
+    add(VK_SHADER_STAGE_GEOMETRY_BIT, shaders.geom);
   } else {
-    add(VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT, embedded::vk_ksquad_tesc);
-    add(VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, embedded::vk_ksquad_tese);
+    add(VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT, shaders.tesc);
+    add(VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, shaders.tese);
   }
-  if (raster) add(VK_SHADER_STAGE_FRAGMENT_BIT, embedded::vk_ksquad_frag);
+  if (raster) add(VK_SHADER_STAGE_FRAGMENT_BIT, shaders.frag);
   // ksquad.tese, ksquad.geom: kRaster, kDegreeU, kDegreeV; ksquad.tesc: kRaster
   const std::int32_t constants[3] = {raster ? 1 : 0, du, dv};
   const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
@@ -114,6 +119,71 @@ VkPipeline make_pipeline(const vulkan::Device& device, VkPipelineLayout layout, 
   vulkan::check(vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
                 "vkCreateGraphicsPipelines");
   return pipeline;
+}
+
+VkPipelineLayout make_layout(const vulkan::Device& device, const vulkan::StorageSet& set,
+                             VkShaderStageFlags push_stages) {
+  VkPipelineLayoutCreateInfo layout_info{};
+  layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &set.layout();
+  const VkPushConstantRange push{push_stages, 0, sizeof(ModeConstants)};
+  layout_info.pushConstantRangeCount = 1;
+  layout_info.pPushConstantRanges = &push;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  vulkan::check(vkCreatePipelineLayout(device.handle(), &layout_info, nullptr, &layout),
+                "vkCreatePipelineLayout");
+  return layout;
+}
+
+void record_draws(VkCommandBuffer cb, VkPipelineLayout layout, const vulkan::StorageSet& set,
+                  const Pipelines& pipelines, const std::vector<Draw>& draws,
+                  const ModeConstants& mode, VkShaderStageFlags push_stages) {
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout, 0, 1, &set.handle(), 0,
+                          nullptr);
+  for (const Draw& draw : draws) {
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.at({draw.du, draw.dv}));
+    ModeConstants m = mode;
+    m.patch_base = static_cast<std::int32_t>(draw.first);
+    vkCmdPushConstants(cb, layout, push_stages, 0, sizeof m, &m);
+    vkCmdDraw(cb, draw.count, 1, 0, 0);
+  }
+}
+
+CaptureTarget::CaptureTarget(const vulkan::Device& device) : device_(device) {
+  const VkDevice d = device_.handle();
+  VkSubpassDescription subpass{};
+  subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  VkRenderPassCreateInfo rp{};
+  rp.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
+  rp.subpassCount = 1;
+  rp.pSubpasses = &subpass;
+  vulkan::check(vkCreateRenderPass(d, &rp, nullptr, &pass_), "vkCreateRenderPass");
+  VkFramebufferCreateInfo fb{};
+  fb.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
+  fb.renderPass = pass_;
+  fb.width = 1;
+  fb.height = 1;
+  fb.layers = 1;
+  if (const VkResult r = vkCreateFramebuffer(d, &fb, nullptr, &framebuffer_); r != VK_SUCCESS) {
+    vkDestroyRenderPass(d, pass_, nullptr);
+    vulkan::check(r, "vkCreateFramebuffer");
+  }
+}
+
+CaptureTarget::~CaptureTarget() {
+  const VkDevice d = device_.handle();
+  if (framebuffer_) vkDestroyFramebuffer(d, framebuffer_, nullptr);
+  if (pass_) vkDestroyRenderPass(d, pass_, nullptr);
+}
+
+void CaptureTarget::begin(VkCommandBuffer cb) const {
+  VkRenderPassBeginInfo begin{};
+  begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
+  begin.renderPass = pass_;
+  begin.framebuffer = framebuffer_;
+  begin.renderArea.extent = {1, 1};
+  vkCmdBeginRenderPass(cb, &begin, VK_SUBPASS_CONTENTS_INLINE);
 }
 
 RasterTarget::RasterTarget(const vulkan::Device& device, std::uint32_t width, std::uint32_t height)

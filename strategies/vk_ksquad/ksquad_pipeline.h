@@ -1,27 +1,73 @@
-// The Vulkan pieces every vk-ksquad mapping draws with: its graphics pipelines (capture: the
-// evaluation stage stores, rasterization discarded; raster: render()'s image) and render()'s
-// offscreen target.
+// The Vulkan pieces every vk-ksquad mapping draws with (and vk-bezier, the same pipeline with its
+// own evaluation stage): the graphics pipelines (capture: the evaluation stage stores,
+// rasterization discarded; raster: render()'s image), their layout and draws, the capture pass
+// and render()'s offscreen target.
 #pragma once
 
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 #include "strategies/strategy.h"
+#include "strategies/vk_ksquad/ksquad_layout.h"
+#include "strategies/vk_ksquad/patches.h"
 #include "strategies/vulkan/vk_device.h"
 
 namespace nurbs::vk_ksquad {
 
 inline constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
+// The embedded SPIR-V of a pipeline's stages (empty: a stage the pipeline never uses).
+struct PipelineShaders {
+  std::string_view vert, tesc, tese, geom, frag;
+};
+// vk-ksquad's (ksquad.vert, .tesc, .tese, .geom, .frag). vk-bezier draws with its vertex and
+// control stages and its own evaluation stage.
+PipelineShaders ksquad_shaders();
+
 // Capture (rasterization discarded) or raster (the evaluation stage's kRaster = 1, a fragment
 // stage, depth test, a width x height viewport); the degrees are the evaluation stage's
 // specialization constants (0: read from the surface table). `geometry`: the GS mapping's
 // vertex + geometry stages (ksquad.geom) instead of the tessellation stages.
-VkPipeline make_pipeline(const vulkan::Device& device, VkPipelineLayout layout, bool raster,
-                         bool geometry, VkRenderPass pass, int du, int dv, std::uint32_t width,
-                         std::uint32_t height);
+VkPipeline make_pipeline(const vulkan::Device& device, const PipelineShaders& shaders,
+                         VkPipelineLayout layout, bool raster, bool geometry, VkRenderPass pass,
+                         int du, int dv, std::uint32_t width, std::uint32_t height);
+
+// The pipeline layout: `set` and ModeConstants as push constants to `push_stages`.
+VkPipelineLayout make_layout(const vulkan::Device& device, const vulkan::StorageSet& set,
+                             VkShaderStageFlags push_stages);
+
+// Pipelines by degree pair (created once per pair, kept).
+using Pipelines = std::map<std::pair<int, int>, VkPipeline>;
+
+// Binds `set` and, per draw, its degree pair's pipeline and `mode` with the draw's first row as
+// patch_base; one patch (one vertex) per row.
+void record_draws(VkCommandBuffer cb, VkPipelineLayout layout, const vulkan::StorageSet& set,
+                  const Pipelines& pipelines, const std::vector<Draw>& draws,
+                  const ModeConstants& mode, VkShaderStageFlags push_stages);
+
+// Capture only: a render pass without attachments and its 1x1 framebuffer (rasterization is
+// discarded, the evaluation stage's stores are the output).
+class CaptureTarget {
+ public:
+  explicit CaptureTarget(const vulkan::Device& device);
+  ~CaptureTarget();
+  CaptureTarget(const CaptureTarget&) = delete;
+  CaptureTarget& operator=(const CaptureTarget&) = delete;
+  VkRenderPass pass() const { return pass_; }
+  // Begins the pass on `cb`.
+  void begin(VkCommandBuffer cb) const;
+
+ private:
+  const vulkan::Device& device_;
+  VkRenderPass pass_ = VK_NULL_HANDLE;
+  VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
+};
 
 // The render target of render(): RGBA8 colour (copied out by tests), 32-bit depth, a render
 // pass clearing both.

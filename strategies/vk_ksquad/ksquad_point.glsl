@@ -2,13 +2,10 @@
 // GS mapping (ksquad.geom) and the corner pass (ksquad_corners.comp). The includer defines
 // DEGREE_U(s) and DEGREE_V(s) and includes ksquad_tables.glsl and ../stair_basis/stair_basis.h first.
 
-// The parameter the tessellator's coordinate t gives in the patch's share [lo, hi] of its knot
-// span [x_i, x_i+1] (SB_KNOT(c, p - 1) = x_i, SB_KNOT(c, p) = x_i+1: StairConstants::knots). Both
-// blends are exact at t = 0 and 1 (and lo, hi are the same floats on both sides of a piece
-// boundary), so the patches meeting on a knot line or a cut evaluate the same parameter there.
+// share_parameter (ksquad_tables.glsl) on the span [x_i, x_i+1] of the stair constants c
+// (SB_KNOT(c, p - 1) = x_i, SB_KNOT(c, p) = x_i+1: StairConstants::knots).
 float span_parameter(int c, int p, float lo, float hi, float t) {
-  const float f = (1.0 - t) * lo + t * hi;
-  return (1.0 - f) * SB_KNOT(c, p - 1) + f * SB_KNOT(c, p);
+  return share_parameter(SB_KNOT(c, p - 1), SB_KNOT(c, p), lo, hi, t);
 }
 
 // S(u, v): the stair basis of the KSQuad's spans and A4.3 on its (p+1)(q+1) homogeneous control
@@ -28,19 +25,8 @@ vec3 ksquad_point(int s, int span_u, int span_v, int cu, int cv, float u, float 
   return sum.xyz / sum.w;
 }
 
-bool normalize_if_resolved(vec3 n, vec3 a, vec3 b, out vec3 unit) {
-  // reference/nurbs_math.h detail::normalize_if_resolved with float's epsilon
-  const float scale = length(a) + length(b);
-  const float len = length(n);
-  if (!(len > 1024.0 * 1.1920929e-7 * scale * scale) || isinf(len) || isnan(len)) return false;
-  unit = n / len;
-  return true;
-}
-
-// Unit normal from the derivatives of the same stair basis (stair_derivative): Su x Sv, or where
-// a tangent vanishes the limit along the surface (reference/nurbs_math.h surface_normal's first
-// two stages, line by line; its third, a nudged neighbour sample, may leave the KSQuad and is not
-// done here: the zero vector is written instead). `span_u`, `cu` (and v) are the span whose
+// Unit normal from the derivatives of the same stair basis (stair_derivative), through
+// write_normal_from_sums (ksquad_tables.glsl). `span_u`, `cu` (and v) are the span whose
 // basis is used: at a span's end knot the caller passes the next span, as A2.1 assigns the knot
 // to it -- on a crease the two one-sided normals differ, and the reference takes that one.
 void write_normal(int slot, int s, int span_u, int span_v, int cu, int cv, float u, float v) {
@@ -64,25 +50,5 @@ void write_normal(int slot, int s, int span_u, int span_v, int cu, int cv, float
     av += bu[i] * row_v;
     auv += du[i] * row_v;
   }
-  // The quotient rule for S = A / w (A3.6 / A4.4 to first order in each direction).
-  const vec3 point = a.xyz / a.w;
-  const vec3 su = (au.xyz - au.w * point) / a.w;
-  const vec3 sv = (av.xyz - av.w * point) / a.w;
-  const vec3 suv = (auv.xyz - auv.w * point - au.w * sv - av.w * su) / a.w;
-  vec3 n = vec3(0.0);
-  if (!normalize_if_resolved(cross(su, sv), su, sv, n)) {
-    if (length(su) <= length(sv)) {
-      // side: which end of the v domain the sample is nearer
-      const float v0 = surface_knot_v(s, 0), v1 = surface_knot_v(s, 1);
-      const float side = (v - v0) <= (v1 - v) ? 1.0 : -1.0;
-      if (!normalize_if_resolved(side * cross(suv, sv), suv, sv, n)) n = vec3(0.0);
-    } else {
-      const float u0 = surface_knot_u(s, 0), u1 = surface_knot_u(s, 1);
-      const float side = (u - u0) <= (u1 - u) ? 1.0 : -1.0;
-      if (!normalize_if_resolved(side * cross(su, suv), su, suv, n)) n = vec3(0.0);
-    }
-  }
-  normals[3 * slot] = n.x;
-  normals[3 * slot + 1] = n.y;
-  normals[3 * slot + 2] = n.z;
+  write_normal_from_sums(slot, s, a, au, av, auv, u, v);
 }

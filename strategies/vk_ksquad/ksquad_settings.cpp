@@ -113,11 +113,16 @@ KsquadSettings ksquad_settings(const StrategyOptions& options) {
   a.max_level = positive_option(options, "vk-max-level", "vk-ksquad");
   if (const int pieces = positive_option(options, "vk-pieces", "vk-ksquad"); pieces > 0)
     a.pieces = pieces;
-  if (auto it = options.extra.find("vk-vertices-per-draw"); it != options.extra.end())
-    a.vertices_per_draw = it->second == "0" ? 0
-                                            : static_cast<std::uint64_t>(positive_option(
-                                                  options, "vk-vertices-per-draw", "vk-ksquad"));
+  a.vertices_per_draw = vertices_per_draw_option(options, "vk-ksquad");
   return a;
+}
+
+std::uint64_t vertices_per_draw_option(const StrategyOptions& options, const char* strategy) {
+  const auto it = options.extra.find("vk-vertices-per-draw");
+  if (it == options.extra.end()) return kDefaultVerticesPerDraw;
+  return it->second == "0" ? 0
+                           : static_cast<std::uint64_t>(
+                                 positive_option(options, "vk-vertices-per-draw", strategy));
 }
 
 std::array<float, 16> scene_camera(const Scene& scene, const KsquadSettings& settings) {

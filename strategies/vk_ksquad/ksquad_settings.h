@@ -35,6 +35,10 @@ struct KsquadSettings {
 
 KsquadSettings ksquad_settings(const StrategyOptions& options);
 
+// vk-vertices-per-draw (kDefaultVerticesPerDraw when absent; 0 = one draw per degree pair), the
+// one setting vk-bezier shares; `strategy` names the strategy in errors.
+std::uint64_t vertices_per_draw_option(const StrategyOptions& options, const char* strategy);
+
 // Column-major perspective(fov_y) * look_at(eye, center, up = +z, or +y when looking along z).
 std::array<float, 16> view_projection(const std::array<double, 3>& eye,
                                       const std::array<double, 3>& center, double fov_y_deg,

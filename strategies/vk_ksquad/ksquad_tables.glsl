@@ -57,3 +57,58 @@ layout(push_constant) uniform Mode {
 float surface_knot_u(int s, int end) { return intBitsToFloat(surfaces[s + 12 + end]); }
 float surface_knot_v(int s, int end) { return intBitsToFloat(surfaces[s + 14 + end]); }
 
+// Uniform mapping, shared with vk-bezier's evaluation stage (bezier.tese):
+// The index of a tessellator vertex in its patch's run of samples [begin, begin + count), the
+// run's segments being the patch's level. round: the tessellator's k / level is within a float
+// ulp of the lattice point; an inner level raised from 1 to 2 by the tessellator lands on a vertex
+// already there.
+int lattice_index(float t, int level, int begin, int count) {
+  return begin + min(int(round(t * float(level))), count - 1);
+}
+
+// The parameter the tessellator's coordinate t gives in a patch's share [lo, hi] of its knot span
+// [x0, x1]. Both blends are exact at t = 0 and 1 (and lo, hi are the same floats on both sides of
+// a piece boundary), so the patches meeting on a knot line or a cut evaluate the same parameter
+// there.
+float share_parameter(float x0, float x1, float lo, float hi, float t) {
+  const float f = (1.0 - t) * lo + t * hi;
+  return (1.0 - f) * x0 + f * x1;
+}
+
+bool normalize_if_resolved(vec3 n, vec3 a, vec3 b, out vec3 unit) {
+  // reference/nurbs_math.h detail::normalize_if_resolved with float's epsilon
+  const float scale = length(a) + length(b);
+  const float len = length(n);
+  if (!(len > 1024.0 * 1.1920929e-7 * scale * scale) || isinf(len) || isnan(len)) return false;
+  unit = n / len;
+  return true;
+}
+
+// The unit normal at (u, v) of surface row s from the homogeneous sums A = sum B P and its
+// derivatives A_u, A_v, A_uv (whatever basis made them: vk-ksquad's stair basis, vk-bezier's
+// Bernstein), written to normals[slot]: the quotient rule for S = A / w (A3.6 / A4.4 to first
+// order in each direction), Su x Sv, or where a tangent vanishes the limit along the surface
+// (reference/nurbs_math.h surface_normal's first two stages, line by line; its third, a nudged
+// neighbour sample, may leave the patch and is not done here: the zero vector is written instead).
+void write_normal_from_sums(int slot, int s, vec4 a, vec4 au, vec4 av, vec4 auv, float u, float v) {
+  const vec3 point = a.xyz / a.w;
+  const vec3 su = (au.xyz - au.w * point) / a.w;
+  const vec3 sv = (av.xyz - av.w * point) / a.w;
+  const vec3 suv = (auv.xyz - auv.w * point - au.w * sv - av.w * su) / a.w;
+  vec3 n = vec3(0.0);
+  if (!normalize_if_resolved(cross(su, sv), su, sv, n)) {
+    if (length(su) <= length(sv)) {
+      // side: which end of the v domain the sample is nearer
+      const float v0 = surface_knot_v(s, 0), v1 = surface_knot_v(s, 1);
+      const float side = (v - v0) <= (v1 - v) ? 1.0 : -1.0;
+      if (!normalize_if_resolved(side * cross(suv, sv), suv, sv, n)) n = vec3(0.0);
+    } else {
+      const float u0 = surface_knot_u(s, 0), u1 = surface_knot_u(s, 1);
+      const float side = (u - u0) <= (u1 - u) ? 1.0 : -1.0;
+      if (!normalize_if_resolved(side * cross(su, suv), su, suv, n)) n = vec3(0.0);
+    }
+  }
+  normals[3 * slot] = n.x;
+  normals[3 * slot + 1] = n.y;
+  normals[3 * slot + 2] = n.z;
+}

@@ -2,11 +2,15 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
+#include <tuple>
 #include <utility>
 #include <vector>
 
+#include "reference/surface.h"
 #include "strategies/ksquad/ksquad_table.h"
+#include "strategies/vk_ksquad/ksquad_layout.h"
 
 namespace nurbs::vk_ksquad {
 
@@ -79,6 +83,65 @@ inline std::uint64_t quad_domain_vertices(int lu, int lv) {
   const std::uint64_t i0 = std::max(lu, 2), i1 = std::max(lv, 2);
   return 2 * static_cast<std::uint64_t>(lu) + 2 * static_cast<std::uint64_t>(lv) +
          (i0 - 1) * (i1 - 1);
+}
+
+// One vkCmdDraw: rows [first, first + count) of the patch table, all of one degree pair (the
+// evaluation stage's specialization constants: one pipeline per pair).
+struct Draw {
+  int du = 0, dv = 0;
+  std::uint32_t first = 0, count = 0;
+};
+
+// The sort key of a patch row (kPatchInts ints, row[0] its surface): its surface's degrees, and
+// whether it holds no samples (a level 0).
+inline std::tuple<int, int, bool> draw_key(const int* row, const Scene& scene) {
+  const Surface& s = scene.surfaces[row[0]];
+  return {s.degree_u, s.degree_v, row[kPatchLevelU] == 0 || row[kPatchLevelV] == 0};
+}
+
+// Groups the patch table by degree pair, one draw (and one specialised pipeline) each, stably; a
+// grid's patches without samples last in their group, drawn by render() only. (Captured with
+// level 0 among the others, the patches after them got wrong samples on lavapipe -- tan256 grid
+// 64x64: 1e7 ulps -- as if the evaluation stage's gl_PrimitiveID skipped the discarded ones.)
+inline void sort_by_degrees(std::vector<int>& patches, const Scene& scene) {
+  std::vector<std::array<int, kPatchInts>> rows(patches.size() / kPatchInts);
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    std::copy_n(&patches[kPatchInts * k], kPatchInts, rows[k].begin());
+  std::stable_sort(rows.begin(), rows.end(), [&](const auto& a, const auto& b) {
+    return draw_key(a.data(), scene) < draw_key(b.data(), scene);
+  });
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    std::copy(rows[k].begin(), rows[k].end(), &patches[kPatchInts * k]);
+}
+
+// The draws of a table sorted by sort_by_degrees: runs of rows of one degree pair, each also
+// ended where its vertices would pass `vertices_per_draw` (0: no bound; see
+// kDefaultVerticesPerDraw). A patch counts as `fixed_vertices` when non-zero (adaptive: the level
+// cap), else as its levels' vertex count. `with_empty`: the rows without samples too (render()).
+inline std::vector<Draw> make_draws(const std::vector<int>& patches, const Scene& scene,
+                                    bool with_empty, std::uint64_t vertices_per_draw,
+                                    std::uint64_t fixed_vertices) {
+  std::vector<Draw> draws;
+  std::uint64_t draw_vertices = 0;
+  for (std::size_t k = 0; k < patches.size() / kPatchInts; ++k) {
+    const int* row = &patches[kPatchInts * k];
+    const auto [du, dv, empty] = draw_key(row, scene);
+    if (empty && !with_empty) continue;
+    const std::uint64_t vertices =
+        fixed_vertices > 0
+            ? fixed_vertices
+            : quad_domain_vertices(std::max(row[kPatchLevelU], 1), std::max(row[kPatchLevelV], 1));
+    const bool full =
+        vertices_per_draw > 0 && draw_vertices > 0 && draw_vertices + vertices > vertices_per_draw;
+    if (draws.empty() || draws.back().du != du || draws.back().dv != dv || full ||
+        draws.back().first + draws.back().count != k) {
+      draws.push_back({du, dv, static_cast<std::uint32_t>(k), 0});
+      draw_vertices = 0;
+    }
+    ++draws.back().count;
+    draw_vertices += vertices;
+  }
+  return draws;
 }
 
 }  // namespace nurbs::vk_ksquad

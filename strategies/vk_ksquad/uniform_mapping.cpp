@@ -1,8 +1,44 @@
 #include "strategies/vk_ksquad/uniform_mapping.h"
 
+#include <bit>
+
+#include "strategies/vk_ksquad/ksquad_layout.h"
 #include "strategies/vk_ksquad/patches.h"
 
 namespace nurbs::vk_ksquad {
+
+SurfaceTable surface_table(const Scene& scene, const std::vector<SurfaceSamples>& samples) {
+  SurfaceTable out;
+  std::size_t point_base = 0;
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+    const Surface& s = scene.surfaces[i];
+    const SurfaceSamples& sm = samples[i];
+    const int param_u = static_cast<int>(out.params.size());
+    for (double u : sm.u) out.params.push_back(static_cast<float>(u));
+    const int param_v = static_cast<int>(out.params.size());
+    for (double v : sm.v) out.params.push_back(static_cast<float>(v));
+    const int rec[kSurfaceInts] = {s.degree_u,
+                                   s.degree_v,
+                                   s.count_u,
+                                   s.count_v,
+                                   static_cast<int>(point_base),
+                                   param_u,
+                                   param_v,
+                                   static_cast<int>(sm.v.size()),
+                                   static_cast<int>(out.total),
+                                   0,
+                                   0,
+                                   0,
+                                   std::bit_cast<int>(static_cast<float>(s.u_min())),
+                                   std::bit_cast<int>(static_cast<float>(s.u_max())),
+                                   std::bit_cast<int>(static_cast<float>(s.v_min())),
+                                   std::bit_cast<int>(static_cast<float>(s.v_max()))};
+    out.surfaces.insert(out.surfaces.end(), rec, rec + kSurfaceInts);
+    point_base += s.points.size();
+    out.total += sm.count();
+  }
+  return out;
+}
 
 std::vector<ksquad::KSQuad> grid_ksquads(const Scene& scene,
                                          const std::vector<SurfaceSamples>& samples) {

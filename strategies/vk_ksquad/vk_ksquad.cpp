@@ -73,6 +73,7 @@ extern const std::string_view vk_ksquad_corners_comp;
 namespace nurbs {
 namespace {
 
+using vk_ksquad::Draw;
 using vk_ksquad::kCornerInts;
 using vk_ksquad::kPatchInts;
 using vk_ksquad::kPatchLevelU;
@@ -81,6 +82,8 @@ using vk_ksquad::kSlotFloats;
 using vk_ksquad::ksquad_settings;
 using vk_ksquad::KsquadSettings;
 using vk_ksquad::kSurfaceInts;
+using vk_ksquad::ModeConstants;
+using vulkan::memory_barrier;
 
 constexpr int kConstantFloats = kStairConstantReals;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
@@ -90,15 +93,6 @@ constexpr int kBuffers = 14;
 // one row of kTrimSurfaceInts per surface; 12 is the span grid's sample parameters.
 constexpr int kFirstTrimBinding = 9, kTrimBindings = 3;
 constexpr int kTrimSurfaceInts = 5;
-
-// ksquad_tables.glsl: Mode (push constants).
-struct ModeConstants {
-  float view_projection[16];
-  float viewport[2];
-  float mu;
-  std::int32_t adaptive, max_level, region, normals, patch_base, span_grid, pieces;
-};
-static_assert(sizeof(ModeConstants) == 104);
 
 // The stages that read the tables and the push constants; the GS mapping (ksquad.geom) adds its
 // stage only where the geometry-shader feature is enabled (VkKsquad::draw_stages), the corner pass
@@ -113,15 +107,6 @@ static_assert(kGsMaxSteps * 2 * (kGsMaxSteps + 1) == kGsMaxVertices);
 constexpr VkQueryPipelineStatisticFlags kStatistics =
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_CONTROL_SHADER_PATCHES_BIT |
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_EVALUATION_SHADER_INVOCATIONS_BIT;
-
-void memory_barrier(VkCommandBuffer cb, VkPipelineStageFlags src_stage, VkAccessFlags src_access,
-                    VkPipelineStageFlags dst_stage, VkAccessFlags dst_access) {
-  VkMemoryBarrier barrier{};
-  barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-  barrier.srcAccessMask = src_access;
-  barrier.dstAccessMask = dst_access;
-  vkCmdPipelineBarrier(cb, src_stage, dst_stage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
-}
 
 vulkan::Requirements ksquad_requirements(bool geometry = false) {
   vulkan::Requirements r;
@@ -184,8 +169,6 @@ class VkKsquad final : public Strategy {
     const VkDevice d = device_.handle();
     for (const auto& pipelines : {capture_pipelines_, raster_pipelines_})
       for (const auto& [degrees, pipeline] : pipelines) vkDestroyPipeline(d, pipeline, nullptr);
-    if (framebuffer_) vkDestroyFramebuffer(d, framebuffer_, nullptr);
-    if (render_pass_) vkDestroyRenderPass(d, render_pass_, nullptr);
     if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
   }
 
@@ -255,12 +238,7 @@ class VkKsquad final : public Strategy {
       queries_.reset(cb);
       queries_.begin(cb);
       record_corners(cb);
-      VkRenderPassBeginInfo begin{};
-      begin.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
-      begin.renderPass = render_pass_;
-      begin.framebuffer = framebuffer_;
-      begin.renderArea.extent = {1, 1};
-      vkCmdBeginRenderPass(cb, &begin, VK_SUBPASS_CONTENTS_INLINE);
+      capture_->begin(cb);
       record_draws(cb, capture_pipelines_, draws_);
       vkCmdEndRenderPass(cb);
       queries_.end(cb);
@@ -445,40 +423,12 @@ class VkKsquad final : public Strategy {
 
   // Surface table, per-span stair constants and the Info-KSQuad table (one row per patch).
   void build_tables(const Scene& scene) {
-    tables_.surfaces.clear();
+    vk_ksquad::SurfaceTable table = vk_ksquad::surface_table(scene, samples_);
+    tables_.surfaces = std::move(table.surfaces);
     tables_.patches.clear();
     tables_.constants.clear();
-    params_.clear();
-    std::size_t out_base = 0, point_base = 0;
-    std::vector<int> param_u(scene.surfaces.size()), param_v(scene.surfaces.size());
-    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
-      const Surface& s = scene.surfaces[i];
-      const SurfaceSamples& sm = samples_[i];
-      param_u[i] = static_cast<int>(params_.size());
-      for (double u : sm.u) params_.push_back(static_cast<float>(u));
-      param_v[i] = static_cast<int>(params_.size());
-      for (double v : sm.v) params_.push_back(static_cast<float>(v));
-      const int rec[kSurfaceInts] = {s.degree_u,
-                                     s.degree_v,
-                                     s.count_u,
-                                     s.count_v,
-                                     static_cast<int>(point_base),
-                                     param_u[i],
-                                     param_v[i],
-                                     static_cast<int>(sm.v.size()),
-                                     static_cast<int>(out_base),
-                                     0,
-                                     0,
-                                     0,
-                                     std::bit_cast<int>(static_cast<float>(s.u_min())),
-                                     std::bit_cast<int>(static_cast<float>(s.u_max())),
-                                     std::bit_cast<int>(static_cast<float>(s.v_min())),
-                                     std::bit_cast<int>(static_cast<float>(s.v_max()))};
-      tables_.surfaces.insert(tables_.surfaces.end(), rec, rec + kSurfaceInts);
-      point_base += s.points.size();
-      out_base += sm.count();
-    }
-    total_ = out_base;
+    params_ = std::move(table.params);
+    total_ = table.total;
     // (surface, direction, span) -> offset of its constants in floats.
     std::map<std::tuple<int, int, int>, int> constant_of;
     const auto constants = [&](int surface, int direction, int span) {
@@ -574,51 +524,20 @@ class VkKsquad final : public Strategy {
             stats_.max_level = std::max({stats_.max_level, lu, lv});
           }
     }
-    // Grouped by degree pair, one draw (and one specialised pipeline) each; a grid's patches
-    // without samples last in their group, drawn by render() only. (Captured with level 0 among
-    // the others, the patches after them got wrong samples on lavapipe -- tan256 grid 64x64:
-    // 1e7 ulps -- as if the evaluation stage's gl_PrimitiveID skipped the discarded ones.)
-    std::vector<std::array<int, kPatchInts>> rows(tables_.patches.size() / kPatchInts);
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      std::copy_n(&tables_.patches[kPatchInts * k], kPatchInts, rows[k].begin());
-    const auto key = [&](const std::array<int, kPatchInts>& row) {
-      const Surface& s = scene.surfaces[row[0]];
-      return std::make_tuple(s.degree_u, s.degree_v,
-                             row[kPatchLevelU] == 0 || row[kPatchLevelV] == 0);
-    };
-    std::stable_sort(rows.begin(), rows.end(),
-                     [&](const auto& a, const auto& b) { return key(a) < key(b); });
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      std::copy(rows[k].begin(), rows[k].end(), &tables_.patches[kPatchInts * k]);
-    // A draw also ends where its vertices would pass vk-vertices-per-draw (see
-    // kDefaultVerticesPerDraw); adaptive patches are counted at the level cap.
+    vk_ksquad::sort_by_degrees(tables_.patches, scene);
+    // Adaptive patches are counted at the level cap (the control stage sets their levels).
+    const std::uint64_t fixed_vertices =
+        settings_.adaptive
+            ? vk_ksquad::quad_domain_vertices(settings_.max_level, settings_.max_level)
+            : 0;
     const auto make_draws = [&](bool with_empty) {
-      std::vector<Draw> draws;
-      std::uint64_t draw_vertices = 0;
-      for (std::size_t k = 0; k < rows.size(); ++k) {
-        const auto [du, dv, empty] = key(rows[k]);
-        if (empty && !with_empty) continue;
-        const std::uint64_t vertices =
-            settings_.adaptive
-                ? vk_ksquad::quad_domain_vertices(settings_.max_level, settings_.max_level)
-                : vk_ksquad::quad_domain_vertices(std::max(rows[k][kPatchLevelU], 1),
-                                                  std::max(rows[k][kPatchLevelV], 1));
-        const bool full = settings_.vertices_per_draw > 0 && draw_vertices > 0 &&
-                          draw_vertices + vertices > settings_.vertices_per_draw;
-        if (draws.empty() || draws.back().du != du || draws.back().dv != dv || full ||
-            draws.back().first + draws.back().count != k) {
-          draws.push_back({du, dv, static_cast<std::uint32_t>(k), 0});
-          draw_vertices = 0;
-        }
-        ++draws.back().count;
-        draw_vertices += vertices;
-      }
-      return draws;
+      return vk_ksquad::make_draws(tables_.patches, scene, with_empty, settings_.vertices_per_draw,
+                                   fixed_vertices);
     };
     draws_ = make_draws(false);
     raster_draws_ = make_draws(true);
     record_.details["draws"] = std::to_string(draws_.size());
-    patch_count_ = rows.size();
+    patch_count_ = tables_.patch_count();
     stats_.patches_drawn = 0;
     for (const Draw& draw : draws_) stats_.patches_drawn += draw.count;
   }
@@ -661,54 +580,26 @@ class VkKsquad final : public Strategy {
 
   // Once per strategy (STYLE.md: compiled shaders are created once, never in evaluate()).
   void create_pipeline() {
-    const VkDevice d = device_.handle();
     std::vector<VkShaderStageFlags> stages(kBuffers, draw_stages() | VK_SHADER_STAGE_COMPUTE_BIT);
     for (int k = kFirstTrimBinding; k < kFirstTrimBinding + kTrimBindings; ++k)
       stages[k] = VK_SHADER_STAGE_FRAGMENT_BIT;
     set_ = std::make_unique<vulkan::StorageSet>(device_, stages);
-    VkPipelineLayoutCreateInfo layout_info{};
-    layout_info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
-    layout_info.setLayoutCount = 1;
-    layout_info.pSetLayouts = &set_->layout();
-    const VkPushConstantRange push{draw_stages(), 0, sizeof(ModeConstants)};
-    layout_info.pushConstantRangeCount = 1;
-    layout_info.pPushConstantRanges = &push;
-    vulkan::check(vkCreatePipelineLayout(d, &layout_info, nullptr, &layout_),
-                  "vkCreatePipelineLayout");
+    layout_ = vk_ksquad::make_layout(device_, *set_, draw_stages());
     corner_pass_ = std::make_unique<vulkan::ComputePipeline>(
         device_, *set_, static_cast<std::uint32_t>(sizeof(ModeConstants)),
         embedded::vk_ksquad_corners_comp, "ksquad_corners.comp");
 
-    // Capture only: a render pass without attachments, rasterization discarded.
-    VkSubpassDescription subpass{};
-    subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-    VkRenderPassCreateInfo rp{};
-    rp.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
-    rp.subpassCount = 1;
-    rp.pSubpasses = &subpass;
-    vulkan::check(vkCreateRenderPass(d, &rp, nullptr, &render_pass_), "vkCreateRenderPass");
-    VkFramebufferCreateInfo fb{};
-    fb.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
-    fb.renderPass = render_pass_;
-    fb.width = 1;
-    fb.height = 1;
-    fb.layers = 1;
-    vulkan::check(vkCreateFramebuffer(d, &fb, nullptr, &framebuffer_), "vkCreateFramebuffer");
+    capture_ = std::make_unique<vk_ksquad::CaptureTarget>(device_);
   }
 
-  // One draw per degree pair: patches [first, first + count) of the Info-KSQuad table.
-  struct Draw {
-    int du = 0, dv = 0;
-    std::uint32_t first = 0, count = 0;
-  };
-  using Pipelines = std::map<std::pair<int, int>, VkPipeline>;
+  using Pipelines = vk_ksquad::Pipelines;
 
   VkPipeline pipeline_for(Pipelines& pipelines, bool raster, const Draw& draw) {
     auto& pipeline = pipelines[{draw.du, draw.dv}];
     if (!pipeline)
-      pipeline = vk_ksquad::make_pipeline(device_, layout_, raster, settings_.gs,
-                                          raster ? raster_->pass() : render_pass_, draw.du, draw.dv,
-                                          image_width(), image_height());
+      pipeline = vk_ksquad::make_pipeline(device_, vk_ksquad::ksquad_shaders(), layout_, raster,
+                                          settings_.gs, raster ? raster_->pass() : capture_->pass(),
+                                          draw.du, draw.dv, image_width(), image_height());
     return pipeline;
   }
 
@@ -727,16 +618,8 @@ class VkKsquad final : public Strategy {
   }
 
   void record_draws(VkCommandBuffer cb, const Pipelines& pipelines,
-                    const std::vector<Draw>& draws) {
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, 0, 1, &set_->handle(), 0,
-                            nullptr);
-    for (const Draw& draw : draws) {
-      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_GRAPHICS, pipelines.at({draw.du, draw.dv}));
-      ModeConstants mode = mode_;
-      mode.patch_base = static_cast<std::int32_t>(draw.first);
-      vkCmdPushConstants(cb, layout_, draw_stages(), 0, sizeof mode, &mode);
-      vkCmdDraw(cb, draw.count, 1, 0, 0);
-    }
+                    const std::vector<Draw>& draws) const {
+    vk_ksquad::record_draws(cb, layout_, *set_, pipelines, draws, mode_, draw_stages());
   }
 
   VkShaderStageFlags draw_stages() const {
@@ -754,11 +637,10 @@ class VkKsquad final : public Strategy {
   DeviceInfo record_;
   std::unique_ptr<vulkan::StorageSet> set_;  // created once, in create_pipeline()
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkRenderPass render_pass_ = VK_NULL_HANDLE;
-  VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
-  Pipelines capture_pipelines_, raster_pipelines_;   // created once per degree pair, kept
-  std::vector<Draw> draws_, raster_draws_;           // capture: patches with samples; raster: all
-  std::unique_ptr<vk_ksquad::RasterTarget> raster_;  // made on render()'s first call
+  std::unique_ptr<vk_ksquad::CaptureTarget> capture_;  // created once, in create_pipeline()
+  Pipelines capture_pipelines_, raster_pipelines_;     // created once per degree pair, kept
+  std::vector<Draw> draws_, raster_draws_;             // capture: patches with samples; raster: all
+  std::unique_ptr<vk_ksquad::RasterTarget> raster_;    // made on render()'s first call
 
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;

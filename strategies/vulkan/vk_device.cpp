@@ -468,6 +468,15 @@ void Image::release() {
   memory_ = VK_NULL_HANDLE;
 }
 
+void memory_barrier(VkCommandBuffer cb, VkPipelineStageFlags src_stage, VkAccessFlags src_access,
+                    VkPipelineStageFlags dst_stage, VkAccessFlags dst_access) {
+  VkMemoryBarrier barrier{};
+  barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  barrier.srcAccessMask = src_access;
+  barrier.dstAccessMask = dst_access;
+  vkCmdPipelineBarrier(cb, src_stage, dst_stage, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+}
+
 QueryPools::QueryPools(const Device& device, VkQueryPipelineStatisticFlags statistics)
     : device_(device), statistic_count_(std::popcount(statistics)) {
   period_ns_ = device.limits().timestampPeriod;

@@ -176,6 +176,10 @@ class ComputePipeline {
   VkPipeline pipeline_ = VK_NULL_HANDLE;
 };
 
+// A global memory barrier from (src_stage, src_access) to (dst_stage, dst_access).
+void memory_barrier(VkCommandBuffer cb, VkPipelineStageFlags src_stage, VkAccessFlags src_access,
+                    VkPipelineStageFlags dst_stage, VkAccessFlags dst_access);
+
 // Two timestamps around the measured work, and optionally the pipeline statistics of it.
 class QueryPools {
  public:
