@@ -255,7 +255,8 @@ TEST(SummaryDigest, FastestWithinItsGatesOverTheBaseline) {
   ASSERT_EQ(lines.size(), 2u);
   EXPECT_EQ(lines[0],
             "digest: per scene, the fastest strategy within its accuracy gates, evaluate "
-            "throughput over cpu-coxdeboor at the same precision:");
+            "throughput over cpu-coxdeboor (cpu-tspline on T-spline scenes) at the same "
+            "precision:");
   EXPECT_EQ(lines[1],
             "  patch144 64x64: gl-pingpong f32: 4x cpu-coxdeboor, CPU figure (llvmpipe (LLVM "
             "15.0.6, 256 bits))");
@@ -272,6 +273,21 @@ TEST(SummaryDigest, FailedAndUngatedRecordsAreSkippedAndGpuFiguresSaySo) {
                      {{"cpu-coxdeboor", "*", "max_ulp", 32}, {"vk-*", "*", "max_ulp", 32}});
   ASSERT_EQ(lines.size(), 2u);
   EXPECT_EQ(lines[1], "  sphere 64x64: vk-ksquad f32: 3x cpu-coxdeboor, GPU (Some GPU)");
+}
+
+// A T-spline scene has no cpu-coxdeboor record: cpu-tspline is the baseline there.
+TEST(SummaryDigest, TSplineScenesAreMeasuredOverCpuTSpline) {
+  const std::vector<std::string> lines =
+      summary_digest({digest_record("cpu-tspline", "tsm-fan", 1e6),
+                      digest_record("cl-tspline-bezier", "tsm-fan", 3e7),
+                      digest_record("cpu-coxdeboor", "patch144", 1e6),
+                      digest_record("cpu-tspline", "patch144", 9e6)},
+                     kDigestGates);
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[1],
+            "  tsm-fan 64x64: cl-tspline-bezier f32: 30x cpu-tspline, CPU figure (host CPU)");
+  // cpu-coxdeboor stays the baseline wherever it was measured.
+  EXPECT_EQ(lines[2], "  patch144 64x64: cpu-tspline f32: 9x cpu-coxdeboor, CPU figure (host CPU)");
 }
 
 TEST(SummaryDigest, SceneWithoutTheBaselineSaysSo) {
