@@ -5,14 +5,14 @@
 # per (R, tolerance) into OUT/r<R>-t<T>/ (its log beside it), then the report of them all in
 # OUT/report (section "trim_texture_resolution"). GL on llvmpipe is a CPU: its times are CPU times.
 #
-#   scripts/trim_texture_study.sh                        # results/amd-epyc-2t/trim-texture-study
+#   scripts/trim_texture_study.sh                        # results/canonical/trim-texture-study
 #   scripts/trim_texture_study.sh --out DIR
 #   scripts/trim_texture_study.sh --nurbsbench PATH      # default build/rel, then build/release
 #   scripts/trim_texture_study.sh --resolutions 64,1024 --tolerances 1e-5 --samples 128x128
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-out=results/amd-epyc-2t/trim-texture-study
+out=results/canonical/trim-texture-study
 nb=""
 resolutions=64,128,256,512,1024,2048,4096
 tolerances=1e-2,1e-3,1e-5  # fractions of each surface's (u,v) domain diagonal

@@ -23,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const fs::path kCommitted = fs::path(NURBSBENCH_SOURCE_DIR) / "results/amd-epyc-2t";
+const fs::path kCommitted = fs::path(NURBSBENCH_SOURCE_DIR) / "results/canonical";
 
 std::vector<std::string> split(const std::string& text, char separator) {
   std::vector<std::string> parts;

@@ -317,13 +317,14 @@ TEST_F(CliReport, ShowsLodFullBaselineAndLevelDraws) {
   EXPECT_NE(md.find("full re-evaluation 8 ms / Haar 2 ms = 4×"), std::string::npos) << md;
 }
 
-// The committed lod.json (nurbsbench-lod/1, written before the full baseline and the draws were
-// measured) still reads, its new columns "n/a".
+// A lod.json written before the full baseline and the draws were measured (nurbsbench-lod/1, the
+// canonical results' file as it was: tests/data/lod_v1_without_full_baseline.json) still reads,
+// its new columns "n/a".
 TEST_F(CliReport, ReadsTheCommittedLodFileWithoutTheNewColumns) {
   const std::string dir = tmp_ / "committed-lod";
   fs::create_directories(dir);
   fs::copy_file(
-      fs::path(NURBSBENCH_SOURCE_DIR) / "results/amd-epyc-2t/fig14-deboor-vs-basis/lod.json",
+      fs::path(NURBSBENCH_TEST_DATA) / "lod_v1_without_full_baseline.json",
       fs::path(dir) / "lod.json");
   const std::string out = tmp_ / "committed-lod-report";
   const CliResult r = run_cli({"report", "--results", dir, "--out", out, "--error-images", "0"});

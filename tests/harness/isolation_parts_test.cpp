@@ -133,10 +133,10 @@ TEST(Status, NamesInCtsOrderRoundTrip) {
 // Results written before isolation existed still read, every status as it was written.
 TEST(Status, CommittedResultsStillParse) {
   const ResultsFile file =
-      read_results(fs::path(NURBSBENCH_SOURCE_DIR) / "results/amd-epyc-2t/accuracy");
+      read_results(fs::path(NURBSBENCH_SOURCE_DIR) / "results/canonical/accuracy");
   ASSERT_FALSE(file.records.empty());
   const nlohmann::json raw = nlohmann::json::parse(
-      std::ifstream(fs::path(NURBSBENCH_SOURCE_DIR) / "results/amd-epyc-2t/accuracy/results.json"));
+      std::ifstream(fs::path(NURBSBENCH_SOURCE_DIR) / "results/canonical/accuracy/results.json"));
   ASSERT_EQ(raw["records"].size(), file.records.size());
   for (std::size_t k = 0; k < file.records.size(); ++k)
     EXPECT_EQ(to_string(file.records[k].status), raw["records"][k]["status"].get<std::string>());
