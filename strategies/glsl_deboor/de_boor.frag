@@ -3,7 +3,8 @@
 // the samples of one non-empty knot span; span and its 2p knots are uniforms, so no span search.
 // direction 0 (pass 1): texel (a, row0 + j) = C_j(u_a), the control row j as a curve in u.
 // direction 1 (pass 2): texel (a, out0 + b) = S(u_a, v_b), the pass-1 column a as a curve in v,
-// divided by w. De Boor mirrors nurbs::glsl_deboor::de_boor (strategies/glsl_deboor/de_boor.h).
+// divided by w. db_de_boor is the single-source strategies/glsl_deboor/de_boor_source.h, which the
+// host puts after the defines.
 
 uniform sampler2D control;     // homogeneous control points (pass 1) or curve points (pass 2)
 uniform sampler2D parameters;  // row `surface_row`: the surface's u (pass 1) or v (pass 2) list
@@ -29,11 +30,6 @@ void main() {
   for (int j = 0; j <= degree; ++j)
     d[j] = direction == 0 ? texelFetch(control, ivec2(span_first + j, at.y), 0)
                           : texelFetch(control, ivec2(at.x, control_row0 + span_first + j), 0);
-  for (int r = 1; r <= degree; ++r)
-    for (int j = degree; j >= r; --j) {
-      float alpha = (u - knots[j - 1]) / (knots[j + degree - r] - knots[j - 1]);
-      d[j] = (1.0 - alpha) * d[j - 1] + alpha * d[j];
-    }
-  vec4 p = d[degree];
+  vec4 p = db_de_boor(degree, knots, u, d);
   result = direction == 0 ? p : vec4(p.xyz / p.w, 1.0);
 }

@@ -13,14 +13,18 @@
 namespace nurbs::embedded {
 extern const std::string_view gl_fullscreen_triangle_vert;
 extern const std::string_view glsl_deboor_de_boor_frag;
+extern const std::string_view glsl_deboor_de_boor_source_h;
 }  // namespace nurbs::embedded
 
 namespace nurbs::glsl_deboor {
-namespace {
 
-std::string defines(int degree) {
-  return fmt::format("#define DEGREE {}\n", degree);
+// The degree, then the single-source de Boor (GL 3.3 GLSL has no #include).
+std::string de_boor_defines(int degree) {
+  return fmt::format("#define DEGREE {}\n", degree) +
+         std::string(embedded::glsl_deboor_de_boor_source_h);
 }
+
+namespace {
 
 SurfaceSlot make_slot(std::size_t index, const Surface& s, const SurfaceSamples& samples) {
   SurfaceSlot slot;
@@ -73,7 +77,7 @@ gl::Texture parameter_texture(gl::Context& context, const std::vector<std::vecto
 
 DeBoorProgram::DeBoorProgram(gl::Context& context, int degree)
     : program(context, embedded::gl_fullscreen_triangle_vert, embedded::glsl_deboor_de_boor_frag,
-              defines(degree), fmt::format("glsl-deboor de_boor.frag (degree {})", degree)),
+              de_boor_defines(degree), fmt::format("glsl-deboor de_boor.frag (degree {})", degree)),
       direction(program.uniform("direction")),
       span_first(program.uniform("span_first")),
       control_row0(program.uniform("control_row0")),

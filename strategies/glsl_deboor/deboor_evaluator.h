@@ -35,6 +35,10 @@ struct Page {
   gl::Texture u_parameters, v_parameters;  // R32F, one row per surface
 };
 
+// What goes after a de Boor shader's #version line: DEGREE and the single-source de Boor
+// (de_boor_source.h). The test that runs that source as GLSL builds its programs with it too.
+std::string de_boor_defines(int degree);
+
 // de_boor.frag compiled for one degree, with its uniform locations.
 struct DeBoorProgram {
   DeBoorProgram(gl::Context& context, int degree);
