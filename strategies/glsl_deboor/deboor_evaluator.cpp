@@ -74,7 +74,8 @@ gl::Texture parameter_texture(gl::Context& context, const std::vector<std::vecto
   return t;
 }
 
-// Instances per row of the instance tables: rows of 2 * 256 and 2p * 256 <= 7680 texels.
+// Instances per row of the instance tables: rows stay within any texture width limit (2 * 256 and
+// 2p * 256 <= 7680 texels) and a table still holds 256 instances per row of its height.
 constexpr int kSpansPerRow = 256;
 
 int degree_of(const SurfaceSlot& s, int direction) {
