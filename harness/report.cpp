@@ -1,6 +1,7 @@
 #include "harness/report.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -150,6 +151,8 @@ bool is_frame_measurement(const Record& r) {
 
 // Labels name the strategy; the precision and the results set only where the report holds more
 // than one of them, so a single run's chart reads "cpu-tensor", not "cpu-tensor f32 [latest]".
+// glsl-deboor's instanced draw mode (device detail "draw") is its own series beside the per-span
+// default, so Fig 14 shows both where both were measured.
 class Labeller {
  public:
   explicit Labeller(const std::vector<ResultSet>& sets) {
@@ -164,6 +167,9 @@ class Labeller {
   }
   std::string operator()(const Row& row) const {
     std::string label = row.record->strategy;
+    const auto draw = row.record->device.details.find("draw");
+    if (draw != row.record->device.details.end() && draw->second == "instanced")
+      label += " (instanced)";
     if (by_precision_) label += " " + row.record->precision;
     if (by_set_) label += " [" + row.set->tag + "]";
     return label;
@@ -523,6 +529,32 @@ ReportSection deboor_vs_basis(const std::vector<ResultSet>& sets, const Labeller
   s.notes.push_back(
       "The paper compares its one-pass de Boor evaluation with Krishnamurthy's basis-function "
       "passes; every strategy measured on these scenes is shown beside them.");
+  // Per scene where both of glsl-deboor's draw modes were measured: what one draw per span costs,
+  // from the records' draw counts and medians.
+  std::vector<std::string> modes;
+  for (const std::string& scene : categories) {
+    const Record *per_span = nullptr, *instanced = nullptr;
+    for (const Row& r : rows)
+      if (r.record->scene == scene && r.record->strategy == "glsl-deboor")
+        (label(r).ends_with(" (instanced)") ? instanced : per_span) = r.record;
+    if (!per_span || !instanced) continue;
+    const auto draws = [](const Record& r) {
+      const auto d = r.device.details.find("draws");
+      return d == r.device.details.end() ? std::string("?") : d->second;
+    };
+    modes.push_back(
+        fmt::format("{}: per span {} draws, {} s; instanced {} draws, {} s (ratio {:.2f})", scene,
+                    draws(*per_span), report_number(per_span->evaluate.median_s), draws(*instanced),
+                    report_number(instanced->evaluate.median_s),
+                    per_span->evaluate.median_s / instanced->evaluate.median_s));
+  }
+  if (!modes.empty())
+    s.notes.push_back(
+        "glsl-deboor draws one quad per non-empty knot span (the paper's form) or, with "
+        "--strategy-option deboor-draw=instanced, the same quads as one instanced draw per pass "
+        "and degree: the same points bit for bit, so the difference is the cost of the draws "
+        "themselves (evaluate medians; ratio = per span / instanced). " +
+        fmt::format("{}.", fmt::join(modes, "; ")));
   return s;
 }
 

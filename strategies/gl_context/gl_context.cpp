@@ -168,6 +168,11 @@ void Context::draw_arrays(GLenum mode, GLint first, GLsizei count) {
   count_draw();
 }
 
+void Context::draw_arrays_instanced(GLenum mode, GLint first, GLsizei count, GLsizei instances) {
+  counted_.DrawArraysInstanced(mode, first, count, instances);
+  count_draw();
+}
+
 void Context::draw_elements(GLenum mode, GLsizei count, GLenum type, const void* indices) {
   counted_.DrawElements(mode, count, type, indices);
   count_draw();

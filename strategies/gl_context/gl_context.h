@@ -88,6 +88,8 @@ class Context {
   // The only way to bind a framebuffer (GL_FRAMEBUFFER) or to draw: see DrawCounts.
   void bind_framebuffer(GLuint framebuffer);
   void draw_arrays(GLenum mode, GLint first, GLsizei count);
+  // One draw however many instances: what a draw costs the driver is paid once.
+  void draw_arrays_instanced(GLenum mode, GLint first, GLsizei count, GLsizei instances);
   void draw_elements(GLenum mode, GLsizei count, GLenum type, const void* indices);
   // Since the context was created; a strategy records the difference over its evaluate().
   DrawCounts draw_counts() const { return draw_counts_; }

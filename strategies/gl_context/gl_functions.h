@@ -85,11 +85,13 @@ namespace nurbs::gl {
   X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)
 
 // The draws and the framebuffer bindings are not in Functions: they are reachable only through
-// Context::draw_arrays / draw_elements / bind_framebuffer, which count them, so the pass counts a
-// strategy records are the draws it issued and no draw can bypass the count.
-#define NURBSBENCH_GL_COUNTED_FUNCTIONS(X)     \
-  X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer) \
-  X(PFNGLDRAWARRAYSPROC, DrawArrays)           \
+// Context::draw_arrays / draw_arrays_instanced / draw_elements / bind_framebuffer, which count
+// them, so the pass counts a strategy records are the draws it issued and no draw can bypass the
+// count.
+#define NURBSBENCH_GL_COUNTED_FUNCTIONS(X)             \
+  X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)         \
+  X(PFNGLDRAWARRAYSPROC, DrawArrays)                   \
+  X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced) \
   X(PFNGLDRAWELEMENTSPROC, DrawElements)
 
 #define NURBSBENCH_GL_DECLARE(type, name) type name = nullptr;

@@ -1,15 +1,23 @@
-// De Boor's triangular scheme in homogeneous coordinates (002 §3.2, Eqs. 5-7; Piegl & Tiller
-// A5.1's corner-cutting form), written once: the CPU copy the tests check against
-// nurbs::surface_point, and the one de_boor.frag mirrors line by line.
-//
-// The knots come as the 2p values around the span, K[t] = knots[span - p + 1 + t] for
-// t = 0..2p-1 (002 §3.3.2: "the related knot vector ... transferred as uniform variables"), so the
-// evaluator never searches for the span: the caller tells it.
+// The C++ builds of the single-source de Boor (strategies/glsl_deboor/de_boor_source.h): float as
+// de_boor.frag runs it, double and long double for the tests; and 002 §3.3.3's two-pass
+// composition on the CPU, the one the tests check against nurbs::surface_point.
 #pragma once
 
 #include "reference/nurbs_math.h"
 
 namespace nurbs::glsl_deboor {
+
+namespace source {
+#define DB_REAL float
+#include "strategies/glsl_deboor/de_boor_source.h"
+#undef DB_REAL
+#define DB_REAL double
+#include "strategies/glsl_deboor/de_boor_source.h"
+#undef DB_REAL
+#define DB_REAL long double
+#include "strategies/glsl_deboor/de_boor_source.h"
+#undef DB_REAL
+}  // namespace source
 
 // The 2p knots de Boor reads for span `span` of a degree-p knot vector.
 template <typename T>
@@ -18,16 +26,9 @@ void span_knots(int degree, int span, const T* knots, T* K) {
 }
 
 // d[0..p] = the p+1 homogeneous control points P_{span-p} .. P_span on entry; returns C(u).
-// Eq. (6): d_j <- (1 - alpha) d_{j-1} + alpha d_j, Eq. (7): alpha = (u - u_j) / (u_{j+k} - u_j),
-// with the knot indices shifted into K. Every denominator contains the non-empty span.
 template <typename T>
 Vec4<T> de_boor(int degree, const T* K, T u, Vec4<T>* d) {
-  for (int r = 1; r <= degree; ++r)
-    for (int j = degree; j >= r; --j) {
-      const T alpha = (u - K[j - 1]) / (K[j + degree - r] - K[j - 1]);
-      for (int c = 0; c < 4; ++c) d[j][c] = (T(1) - alpha) * d[j - 1][c] + alpha * d[j][c];
-    }
-  return d[degree];
+  return source::db_de_boor(degree, K, u, d);
 }
 
 // 002 §3.3.3 on the CPU: the q+1 control rows around span_v evaluated as curves in u (pass 1),

@@ -13,14 +13,19 @@
 namespace nurbs::embedded {
 extern const std::string_view gl_fullscreen_triangle_vert;
 extern const std::string_view glsl_deboor_de_boor_frag;
+extern const std::string_view glsl_deboor_de_boor_source_h;
+extern const std::string_view glsl_deboor_span_quad_vert;
 }  // namespace nurbs::embedded
 
 namespace nurbs::glsl_deboor {
-namespace {
 
-std::string defines(int degree) {
-  return fmt::format("#define DEGREE {}\n", degree);
+// The degree, then the single-source de Boor (GL 3.3 GLSL has no #include).
+std::string de_boor_defines(int degree) {
+  return fmt::format("#define DEGREE {}\n", degree) +
+         std::string(embedded::glsl_deboor_de_boor_source_h);
 }
+
+namespace {
 
 SurfaceSlot make_slot(std::size_t index, const Surface& s, const SurfaceSamples& samples) {
   SurfaceSlot slot;
@@ -69,32 +74,132 @@ gl::Texture parameter_texture(gl::Context& context, const std::vector<std::vecto
   return t;
 }
 
+// Instances per row of the instance tables: rows stay within any texture width limit (2 * 256 and
+// 2p * 256 <= 7680 texels) and a table still holds 256 instances per row of its height.
+constexpr int kSpansPerRow = 256;
+
+int degree_of(const SurfaceSlot& s, int direction) {
+  return direction == 0 ? s.degree_u : s.degree_v;
+}
+const std::vector<SpanRun>& runs_of(const SurfaceSlot& s, int direction) {
+  return direction == 0 ? s.runs_u : s.runs_v;
+}
+
+// What one span quad draws, in either draw mode: its rectangle in the pass's target (texels) and
+// de_boor.frag's per-span values.
+struct SpanQuad {
+  int x = 0, y = 0, width = 0, height = 0;
+  int span_first = 0, control_row0 = 0, output_row0 = 0, surface_row = 0;
+  float knots[2 * kMaxDegree] = {};
+};
+
+// Pass 1 (§3.3.2): each control row of the surface as a curve in u, the span's u samples x the
+// surface's count_v rows. Pass 2 (§3.3.3, Fig 6): the pass-1 texture as control points in v, all
+// u samples x the span's v samples.
+SpanQuad span_quad(const SurfaceSlot& s, const SpanRun& run, int direction) {
+  SpanQuad q;
+  const int degree = degree_of(s, direction);
+  span_knots(degree, run.span, (direction == 0 ? s.knots_u : s.knots_v).data(), q.knots);
+  q.span_first = run.span - degree;
+  q.control_row0 = s.control_row0;
+  q.output_row0 = direction == 0 ? 0 : s.output_row0;
+  q.surface_row = s.parameter_row;
+  if (direction == 0) {
+    q.x = run.first;
+    q.y = s.control_row0;
+    q.width = run.count;
+    q.height = s.count_v;
+  } else {
+    q.y = s.output_row0 + run.first;
+    q.width = s.nu;
+    q.height = run.count;
+  }
+  return q;
+}
+
+// The instance tables of one pass and degree (layout: span_quad.vert, de_boor.frag).
+SpanBatch make_batch(gl::Context& context, int degree, const std::vector<SpanQuad>& quads,
+                     std::size_t& bytes) {
+  SpanBatch b;
+  b.degree = degree;
+  b.count = static_cast<int>(quads.size());
+  const int columns = std::min(b.count, kSpansPerRow);
+  const int rows = (b.count + kSpansPerRow - 1) / kSpansPerRow;
+  const int knots_per = 2 * degree;
+  std::vector<float> spans(static_cast<std::size_t>(columns) * rows * 8, 0.0f),
+      knots(static_cast<std::size_t>(columns) * rows * knots_per, 0.0f);
+  for (std::size_t i = 0; i < quads.size(); ++i) {
+    const SpanQuad& q = quads[i];
+    const std::size_t row = i / kSpansPerRow, column = i % kSpansPerRow;
+    const float values[8] = {float(q.x),           float(q.y),          float(q.width),
+                             float(q.height),      float(q.span_first), float(q.control_row0),
+                             float(q.output_row0), float(q.surface_row)};
+    std::copy(values, values + 8, &spans[(row * columns + column) * 8]);
+    std::copy(q.knots, q.knots + knots_per, &knots[(row * columns + column) * knots_per]);
+  }
+  b.spans = gl::Texture(context, GL_RGBA32F, 2 * columns, rows, false);
+  bytes += b.spans.upload(GL_RGBA, GL_FLOAT, spans.data(), sizeof(float) * 4);
+  b.knots = gl::Texture(context, GL_R32F, knots_per * columns, rows, false);
+  bytes += b.knots.upload(GL_RED, GL_FLOAT, knots.data(), sizeof(float));
+  return b;
+}
+
+// One batch per degree of the page's span quads in `direction`, in slot order.
+std::vector<SpanBatch> make_batches(gl::Context& context, const std::vector<SurfaceSlot>& slots,
+                                    int direction, std::size_t& bytes) {
+  std::map<int, std::vector<SpanQuad>> by_degree;
+  for (const SurfaceSlot& s : slots)
+    for (const SpanRun& run : runs_of(s, direction))
+      by_degree[degree_of(s, direction)].push_back(span_quad(s, run, direction));
+  std::vector<SpanBatch> out;
+  for (const auto& [degree, quads] : by_degree)
+    out.push_back(make_batch(context, degree, quads, bytes));
+  return out;
+}
+
+std::string program_defines(int degree, DrawMode draw) {
+  return fmt::format("#define INSTANCED {}\n#define SPANS_PER_ROW {}\n",
+                     draw == DrawMode::instanced ? 1 : 0, kSpansPerRow) +
+         de_boor_defines(degree);
+}
+
 }  // namespace
 
-DeBoorProgram::DeBoorProgram(gl::Context& context, int degree)
-    : program(context, embedded::gl_fullscreen_triangle_vert, embedded::glsl_deboor_de_boor_frag,
-              defines(degree), fmt::format("glsl-deboor de_boor.frag (degree {})", degree)),
-      direction(program.uniform("direction")),
-      span_first(program.uniform("span_first")),
-      control_row0(program.uniform("control_row0")),
-      output_row0(program.uniform("output_row0")),
-      surface_row(program.uniform("surface_row")),
-      knots(program.uniform("knots")) {
+DeBoorProgram::DeBoorProgram(gl::Context& context, int degree, DrawMode draw)
+    : program(context,
+              draw == DrawMode::instanced ? embedded::glsl_deboor_span_quad_vert
+                                          : embedded::gl_fullscreen_triangle_vert,
+              embedded::glsl_deboor_de_boor_frag, program_defines(degree, draw),
+              fmt::format("glsl-deboor de_boor.frag (degree {}, {})", degree,
+                          draw == DrawMode::instanced ? "instanced" : "per-span")),
+      direction(program.uniform("direction")) {
   const gl::Functions& gl = context.gl();
   gl.UseProgram(program.id());
   gl.Uniform1i(program.uniform("control"), 0);
   gl.Uniform1i(program.uniform("parameters"), 1);
+  if (draw == DrawMode::instanced) {
+    gl.Uniform1i(program.uniform("spans"), 2);
+    gl.Uniform1i(program.uniform("span_knots"), 3);
+    target_size = program.uniform("target_size");
+  } else {
+    span_first = program.uniform("span_first");
+    control_row0 = program.uniform("control_row0");
+    output_row0 = program.uniform("output_row0");
+    surface_row = program.uniform("surface_row");
+    knots = program.uniform("knots");
+  }
   gl.UseProgram(0);
   context.check("glsl-deboor program");
 }
 
-Evaluator::Evaluator(gl::Context& context, int tile) : context_(context), tile_(tile) {
+Evaluator::Evaluator(gl::Context& context, int tile, DrawMode draw)
+    : context_(context), tile_(tile), draw_(draw) {
   context_.gl().GenVertexArrays(1, &vertex_array_);
 }
 
 const DeBoorProgram& Evaluator::program(int degree) {
   std::unique_ptr<DeBoorProgram>& p = programs_[degree];
-  if (!p) p = std::make_unique<DeBoorProgram>(context_, degree);
+  if (!p) p = std::make_unique<DeBoorProgram>(context_, degree, draw_);
   return *p;
 }
 
@@ -152,6 +257,10 @@ std::size_t Evaluator::prepare(const Scene& scene, const std::vector<SurfaceSamp
     page.points = gl::Texture(context_, GL_RGBA32F, out_w, out_h, true);
     page.u_parameters = parameter_texture(context_, us, bytes);
     page.v_parameters = parameter_texture(context_, vs, bytes);
+    if (draw_ == DrawMode::instanced) {
+      page.batches_u = make_batches(context_, slots, 0, bytes);
+      page.batches_v = make_batches(context_, slots, 1, bytes);
+    }
     page.slots = std::move(slots);
     pages_.push_back(std::move(page));
   }
@@ -183,52 +292,59 @@ std::size_t Evaluator::update_control_points(const Scene& scene) {
   return bytes;
 }
 
-void Evaluator::evaluate() {
-  const gl::Functions& gl = context_.gl();
-  gl.BindVertexArray(vertex_array_);
-  float knots[2 * kMaxDegree];
-  for (Page& page : pages_) {
-    // Pass 1 (§3.3.2): each control row j of each surface as a curve in u; one quad per span
-    // covering the span's u samples x the surface's count_v rows.
-    page.curves.bind_target();
-    page.control.bind_to_unit(0);
-    page.u_parameters.bind_to_unit(1);
-    for (const SurfaceSlot& s : page.slots) {
-      const DeBoorProgram& p = *programs_.at(s.degree_u);
-      gl.UseProgram(p.program.id());
-      gl.Uniform1i(p.direction, 0);
-      gl.Uniform1i(p.surface_row, s.parameter_row);
-      gl.Uniform1i(p.control_row0, s.control_row0);
-      gl.Uniform1i(p.output_row0, 0);
-      for (const SpanRun& run : s.runs_u) {
-        span_knots(s.degree_u, run.span, s.knots_u.data(), knots);
-        gl.Uniform1fv(p.knots, 2 * s.degree_u, knots);
-        gl.Uniform1i(p.span_first, run.span - s.degree_u);
-        gl.Viewport(run.first, s.control_row0, run.count, s.count_v);
-        context_.draw_arrays(GL_TRIANGLES, 0, 3);
-      }
-    }
-    // Pass 2 (§3.3.3, Fig 6): the pass-1 texture as control points in v; quads across all u
-    // samples x the span's v samples.
-    page.points.bind_target();
-    page.curves.bind_to_unit(0);
-    page.v_parameters.bind_to_unit(1);
-    for (const SurfaceSlot& s : page.slots) {
-      const DeBoorProgram& p = *programs_.at(s.degree_v);
-      gl.UseProgram(p.program.id());
-      gl.Uniform1i(p.direction, 1);
-      gl.Uniform1i(p.surface_row, s.parameter_row);
-      gl.Uniform1i(p.control_row0, s.control_row0);
-      gl.Uniform1i(p.output_row0, s.output_row0);
-      for (const SpanRun& run : s.runs_v) {
-        span_knots(s.degree_v, run.span, s.knots_v.data(), knots);
-        gl.Uniform1fv(p.knots, 2 * s.degree_v, knots);
-        gl.Uniform1i(p.span_first, run.span - s.degree_v);
-        gl.Viewport(0, s.output_row0 + run.first, s.nu, run.count);
-        context_.draw_arrays(GL_TRIANGLES, 0, 3);
-      }
+std::size_t Evaluator::evaluate() {
+  context_.gl().BindVertexArray(vertex_array_);
+  std::size_t quads = 0;
+  for (const Page& page : pages_) {
+    // Pass 1 into the curve texture from the control points, pass 2 into the output from it.
+    for (int direction : {0, 1}) {
+      (direction == 0 ? page.curves : page.points).bind_target();
+      (direction == 0 ? page.control : page.curves).bind_to_unit(0);
+      (direction == 0 ? page.u_parameters : page.v_parameters).bind_to_unit(1);
+      quads += draw_ == DrawMode::instanced ? draw_instanced(page, direction)
+                                            : draw_per_span(page, direction);
     }
   }
+  return quads;
+}
+
+std::size_t Evaluator::draw_per_span(const Page& page, int direction) {
+  const gl::Functions& gl = context_.gl();
+  std::size_t quads = 0;
+  for (const SurfaceSlot& s : page.slots) {
+    const DeBoorProgram& p = *programs_.at(degree_of(s, direction));
+    gl.UseProgram(p.program.id());
+    gl.Uniform1i(p.direction, direction);
+    for (const SpanRun& run : runs_of(s, direction)) {
+      const SpanQuad q = span_quad(s, run, direction);
+      gl.Uniform1i(p.surface_row, q.surface_row);
+      gl.Uniform1i(p.control_row0, q.control_row0);
+      gl.Uniform1i(p.output_row0, q.output_row0);
+      gl.Uniform1fv(p.knots, 2 * degree_of(s, direction), q.knots);
+      gl.Uniform1i(p.span_first, q.span_first);
+      gl.Viewport(q.x, q.y, q.width, q.height);
+      context_.draw_arrays(GL_TRIANGLES, 0, 3);
+      ++quads;
+    }
+  }
+  return quads;
+}
+
+std::size_t Evaluator::draw_instanced(const Page& page, int direction) {
+  const gl::Functions& gl = context_.gl();
+  std::size_t quads = 0;
+  const gl::Texture& target = direction == 0 ? page.curves : page.points;
+  for (const SpanBatch& b : direction == 0 ? page.batches_u : page.batches_v) {
+    const DeBoorProgram& p = *programs_.at(b.degree);
+    gl.UseProgram(p.program.id());
+    gl.Uniform1i(p.direction, direction);
+    gl.Uniform2i(p.target_size, target.width(), target.height());
+    b.spans.bind_to_unit(2);
+    b.knots.bind_to_unit(3);
+    context_.draw_arrays_instanced(GL_TRIANGLES, 0, 6, b.count);
+    quads += static_cast<std::size_t>(b.count);
+  }
+  return quads;
 }
 
 std::vector<std::vector<float>> Evaluator::read_back() {

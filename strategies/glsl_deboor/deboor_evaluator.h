@@ -26,26 +26,47 @@ struct SurfaceSlot {
   int parameter_row = 0;  // row of the parameter textures
 };
 
+// How a pass draws its span quads. per_span: one draw each, its viewport and uniforms set
+// before it (002 §3.3.2's form). instanced: one instanced draw per pass and degree, the per-span
+// values in instance tables (span_quad.vert); the same texels bit for bit, far fewer draws.
+enum class DrawMode { per_span, instanced };
+
+// The span quads of one pass and degree in a page, for DrawMode::instanced (layout:
+// span_quad.vert and de_boor.frag).
+struct SpanBatch {
+  int degree = 0;
+  int count = 0;      // instances
+  gl::Texture spans;  // RGBA32F: rectangle, then (span - p, control_row0, output_row0, surface_row)
+  gl::Texture knots;  // R32F: the 2p knots of each
+};
+
 // Surfaces sharing one set of textures. Output texel (a, output_row0 + b) = S(u_a, v_b), w = 1.
 struct Page {
   std::vector<SurfaceSlot> slots;
-  gl::Texture control;                     // count_u x count_v per surface, homogeneous
-  gl::Texture curves;                      // nu x count_v per surface: pass 1
-  gl::Texture points;                      // nu x nv per surface: pass 2
-  gl::Texture u_parameters, v_parameters;  // R32F, one row per surface
+  gl::Texture control;                          // count_u x count_v per surface, homogeneous
+  gl::Texture curves;                           // nu x count_v per surface: pass 1
+  gl::Texture points;                           // nu x nv per surface: pass 2
+  gl::Texture u_parameters, v_parameters;       // R32F, one row per surface
+  std::vector<SpanBatch> batches_u, batches_v;  // DrawMode::instanced: pass 1, pass 2
 };
 
-// de_boor.frag compiled for one degree, with its uniform locations.
+// What goes after a de Boor shader's #version line: DEGREE and the single-source de Boor
+// (de_boor_source.h). The test that runs that source as GLSL builds its programs with it too.
+std::string de_boor_defines(int degree);
+
+// de_boor.frag compiled for one degree and draw mode, with its uniform locations (those of the
+// other mode: -1).
 struct DeBoorProgram {
-  DeBoorProgram(gl::Context& context, int degree);
+  DeBoorProgram(gl::Context& context, int degree, DrawMode draw);
   gl::Program program;
-  GLint direction, span_first, control_row0, output_row0, surface_row, knots;
+  GLint direction, span_first = -1, control_row0 = -1, output_row0 = -1, surface_row = -1,
+                   knots = -1, target_size = -1;
 };
 
 class Evaluator {
  public:
   // `tile`: largest texture side / viewport to use.
-  Evaluator(gl::Context& context, int tile);
+  Evaluator(gl::Context& context, int tile, DrawMode draw = DrawMode::per_span);
   ~Evaluator();
 
   // Builds the pages and uploads control points, parameters; throws RefusedError when one
@@ -55,16 +76,21 @@ class Evaluator {
   // surfaces): knots, spans, parameters and targets stay. Throws std::invalid_argument when a net
   // differs in number, size or degree from the prepared scene's. Returns the bytes uploaded.
   std::size_t update_control_points(const Scene& scene);
-  // Both passes over every page (no synchronisation).
-  void evaluate();
+  // Both passes over every page (no synchronisation). Returns the span quads drawn: one per draw
+  // per span, one per instance instanced.
+  std::size_t evaluate();
   // Positions, (x, y, z) per sample, in each surface's sample order (a * nv + b).
   std::vector<std::vector<float>> read_back();
 
   const std::vector<Page>& pages() const { return pages_; }
 
  private:
+  std::size_t draw_per_span(const Page& page, int direction);
+  std::size_t draw_instanced(const Page& page, int direction);
+
   gl::Context& context_;
   int tile_;
+  DrawMode draw_;
   // Compiled in prepare() for the degrees a scene has, kept for later scenes.
   const DeBoorProgram& program(int degree);
   std::map<int, std::unique_ptr<DeBoorProgram>> programs_;

@@ -41,9 +41,21 @@ Capabilities deboor_capabilities() {
   return c;
 }
 
+// Option deboor-draw: per-span (default, 002's form) or instanced.
+glsl_deboor::DrawMode draw_option(const StrategyOptions& options) {
+  const auto it = options.extra.find("deboor-draw");
+  if (it == options.extra.end() || it->second.empty() || it->second == "per-span")
+    return glsl_deboor::DrawMode::per_span;
+  if (it->second == "instanced") return glsl_deboor::DrawMode::instanced;
+  throw std::invalid_argument(fmt::format(
+      "glsl-deboor option deboor-draw = '{}': must be per-span or instanced", it->second));
+}
+
 class GlslDeBoor final : public Strategy {
  public:
-  GlslDeBoor(gl::Platform platform, int tile_option, const trim_texture::Options& trim_options) {
+  GlslDeBoor(gl::Platform platform, int tile_option, const trim_texture::Options& trim_options,
+             glsl_deboor::DrawMode draw)
+      : draw_(draw) {
     try {
       context_ = gl::Context::create(platform);
     } catch (const gl::UnavailableError& e) {
@@ -52,7 +64,7 @@ class GlslDeBoor final : public Strategy {
     timer_ = std::make_unique<gl::DeviceTimer>(*context_);
     tile_ = std::min(context_->max_texture_size(), context_->max_viewport());
     if (tile_option > 0) tile_ = std::min(tile_, tile_option);
-    evaluator_ = std::make_unique<glsl_deboor::Evaluator>(*context_, tile_);
+    evaluator_ = std::make_unique<glsl_deboor::Evaluator>(*context_, tile_, draw_);
     trims_ = std::make_unique<trim_texture::TrimTextures>(*context_, trim_options, "glsl-deboor");
   }
 
@@ -70,9 +82,12 @@ class GlslDeBoor final : public Strategy {
     DeviceInfo d = context_->device_info();
     d.details["tile"] = std::to_string(tile_);
     d.details["pages"] = std::to_string(evaluator_->pages().size());
-    // Counted from the draws the last evaluate() issued (gl::DrawCounts), 0 before one: a quad
-    // is one draw, a pass one target drawn into.
-    d.details["quads"] = std::to_string(evaluated_.draws);
+    // The draw mode tells a per-span record from an instanced one (the report labels them apart).
+    d.details["draw"] = draw_ == glsl_deboor::DrawMode::instanced ? "instanced" : "per-span";
+    // Counted from the draws the last evaluate() issued (gl::DrawCounts), 0 before one: a pass is
+    // one target drawn into; per span a quad is one draw, instanced one instance.
+    d.details["quads"] = std::to_string(evaluated_quads_);
+    d.details["draws"] = std::to_string(evaluated_.draws);
     d.details["passes"] = std::to_string(evaluated_.passes);
     d.details["bytes_uploaded"] = std::to_string(bytes_uploaded_);
     if (bytes_updated_) d.details["bytes_updated"] = std::to_string(bytes_updated_);
@@ -86,6 +101,7 @@ class GlslDeBoor final : public Strategy {
     view_ = gl::orthographic_view(scene);
     context_->make_current();
     evaluated_ = {};
+    evaluated_quads_ = 0;
     bytes_updated_ = 0;
     bytes_uploaded_ = evaluator_->prepare(scene, samples_);
     trims_->prepare(scene, samples_);
@@ -102,7 +118,8 @@ class GlslDeBoor final : public Strategy {
 
   void evaluate() override {
     const gl::DrawCounts before = context_->draw_counts();
-    device_evaluate_s_ = timer_->time("glsl-deboor evaluate", [&] { evaluator_->evaluate(); });
+    device_evaluate_s_ =
+        timer_->time("glsl-deboor evaluate", [&] { evaluated_quads_ = evaluator_->evaluate(); });
     evaluated_ = context_->draw_counts() - before;
   }
 
@@ -163,7 +180,9 @@ class GlslDeBoor final : public Strategy {
   std::vector<SurfaceSamples> samples_;
   double device_evaluate_s_ = 0;
   std::size_t bytes_uploaded_ = 0, bytes_updated_ = 0;
+  glsl_deboor::DrawMode draw_;
   gl::DrawCounts evaluated_;  // by the last evaluate()
+  std::size_t evaluated_quads_ = 0;
 };
 
 }  // namespace
@@ -177,7 +196,7 @@ StrategyEntry glsl_deboor_entry() {
           [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
             return std::make_unique<GlslDeBoor>(
                 gl::platform_option(options), positive_option(options, "tile", "glsl-deboor"),
-                trim_texture::parse_options(options, "glsl-deboor"));
+                trim_texture::parse_options(options, "glsl-deboor"), draw_option(options));
           }};
 }
 

@@ -11,7 +11,10 @@
 // the device limit. Options (StrategyOptions.extra): "gl" = osmesa | egl (default egl); "tile" =
 // largest texture side to use (default GL_MAX_TEXTURE_SIZE; small values exercise the paging);
 // "trim-resolution", "trim-tolerance": 000 §4's trim texture, as gl-pingpong (strategies/
-// trim_texture), which 002 does not have: glsl-deboor draws the same way, so it trims the same way.
+// trim_texture), which 002 does not have: glsl-deboor draws the same way, so it trims the same way;
+// "deboor-draw" = per-span (default: one draw per span quad, 002's form) | instanced (one
+// instanced draw per pass and degree, the per-span values in instance tables; the same points bit
+// for bit). The record's device details say which ("draw").
 #pragma once
 
 #include "strategies/registry.h"

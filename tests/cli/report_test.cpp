@@ -491,6 +491,48 @@ std::map<std::string, std::vector<std::string>> claims_of(std::vector<Record> re
 const std::string kFig7Large = "Fig 7 The GPU-based evalua";
 const std::string kFig7Small = "Fig 7 the GPU evaluation h";
 
+// Fig 14 with glsl-deboor measured in both draw modes (the records' device detail "draw"): two
+// series, both in the table, and a note with each mode's draws and median from the records.
+TEST(ReportFig14, ShowsBothGlslDeBoorDrawModes) {
+  std::vector<Record> records;
+  for (const auto& [strategy, draw, draws, median] :
+       {std::tuple{"glsl-deboor", "per-span", "506", 0.112},
+        std::tuple{"glsl-deboor", "instanced", "2", 0.056},
+        std::tuple{"gl-pingpong", "", "", 0.02}}) {
+    Record r = synthetic(strategy, 1e6, 1);
+    r.scene = "tan256";
+    r.device = {"llvmpipe", "cpu", {}};
+    if (*draw) r.device.details = {{"draw", draw}, {"draws", draws}};
+    r.evaluate = {median, median, median};
+    records.push_back(r);
+  }
+  ResultSet set;
+  set.directory = "results/synthetic";
+  set.tag = "synthetic";
+  set.results.machine = json{{"cpu_model", "Test CPU"}};
+  set.results.records = records;
+  const Report report = build_report({set});
+  const auto s =
+      std::find_if(report.sections.begin(), report.sections.end(),
+                   [](const ReportSection& x) { return x.id == "fig14_deboor_vs_basis"; });
+  ASSERT_NE(s, report.sections.end());
+  std::set<std::string> labels;
+  for (const json& chart : report.charts["charts"])
+    if (chart["id"] == "fig14_deboor_vs_basis")
+      for (const json& series : chart["series"]) labels.insert(series["label"].get<std::string>());
+  EXPECT_EQ(labels,
+            (std::set<std::string>{"gl-pingpong", "glsl-deboor", "glsl-deboor (instanced)"}));
+  ASSERT_FALSE(s->tables.empty());
+  const auto& header = s->tables.front().header;
+  EXPECT_NE(std::find(header.begin(), header.end(), "glsl-deboor (instanced)"), header.end());
+  EXPECT_NE(std::find(header.begin(), header.end(), "glsl-deboor"), header.end());
+  const std::string md = report_markdown(report);
+  EXPECT_NE(md.find("glsl-deboor (instanced)"), std::string::npos);
+  EXPECT_NE(md.find("tan256: per span 506 draws, 0.112 s; instanced 2 draws, 0.056 s (ratio 2.00)"),
+            std::string::npos)
+      << md;
+}
+
 TEST(ReportClaims, AGpuFiftyTimesFasterHoldsAndIsSlowerOnTheSmallestGrid) {
   std::vector<Record> records =
       fig7_records("cpu-coxdeboor", {"host CPU, 1 thread", "cpu", {}}, 1e-6, 0.5);

@@ -59,11 +59,12 @@ TEST(GlContext, OsmesaAndEglInOneProcessInterleaved) {
   }
 }
 
-// Context::draw_arrays / draw_elements are the only way to draw (Functions has no glDraw*), so
-// the pass counts strategies record are counted. The counter must advance by exactly one per draw
-// -- checked after every draw here, and in total against GL's own count of the triangles it was
-// given (GL_PRIMITIVES_GENERATED; one triangle per draw) -- and a pass is a framebuffer binding
-// drawn into: a binding without a draw is none.
+// Context::draw_arrays / draw_arrays_instanced / draw_elements are the only way to draw (Functions
+// has no glDraw*), so the pass counts strategies record are counted. The counter must advance by
+// exactly one per draw, an instanced draw of 4 instances included -- checked after every draw
+// here, and in total against GL's own count of the triangles it was given
+// (GL_PRIMITIVES_GENERATED; one triangle per draw or instance) -- and a pass is a framebuffer
+// binding drawn into: a binding without a draw is none.
 TEST(GlContext, DrawCountsAreTheDrawsIssued) {
   for (gl::Platform platform : {gl::Platform::osmesa, gl::Platform::egl}) {
     if (!gl::Context::probe(platform).available) continue;
@@ -85,13 +86,16 @@ TEST(GlContext, DrawCountsAreTheDrawsIssued) {
     gl.GenQueries(1, &query);
 
     const gl::DrawCounts start = c->draw_counts();
-    std::uint64_t issued = 0;
-    auto draw = [&](bool elements) {
+    std::uint64_t issued = 0, triangles = 0;
+    auto draw = [&](bool elements, int instances = 0) {
       if (elements)
         c->draw_elements(GL_TRIANGLES, 3, GL_UNSIGNED_INT, nullptr);
+      else if (instances > 0)
+        c->draw_arrays_instanced(GL_TRIANGLES, 0, 3, instances);
       else
         c->draw_arrays(GL_TRIANGLES, 0, 3);
       ++issued;
+      triangles += instances > 0 ? instances : 1;
       EXPECT_EQ((c->draw_counts() - start).draws, issued);
     };
     gl.BeginQuery(GL_PRIMITIVES_GENERATED, query);
@@ -104,7 +108,7 @@ TEST(GlContext, DrawCountsAreTheDrawsIssued) {
     a.bind_target();  // bound, never drawn into: no pass
     b.bind_target();  // pass 3: the same target bound again is another pass
     draw(false);
-    draw(false);
+    draw(false, 4);
     gl.EndQuery(GL_PRIMITIVES_GENERATED);
     c->finish("draw count");
     GLuint64 primitives = 0;
@@ -113,7 +117,8 @@ TEST(GlContext, DrawCountsAreTheDrawsIssued) {
 
     const gl::DrawCounts counted = c->draw_counts() - start;
     EXPECT_EQ(counted.draws, 6u);
-    EXPECT_EQ(counted.draws, primitives);
+    EXPECT_EQ(primitives, triangles);
+    EXPECT_EQ(triangles, 9u);
     EXPECT_EQ(counted.passes, 3u);
     gl.DeleteQueries(1, &query);
     gl.DeleteBuffers(1, &indices);

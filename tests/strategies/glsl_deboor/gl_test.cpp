@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <set>
 #include <stdexcept>
+#include <string>
 #include <tuple>
 
 #include "harness/metrics.h"
@@ -22,10 +24,12 @@ namespace {
 // Float32 ulps of the scene's largest coordinate (harness/metrics.h).
 constexpr double kBudgetUlp = 16.0;
 
-StrategyOptions options_for(const std::string& platform, const std::string& tile = "") {
+StrategyOptions options_for(const std::string& platform, const std::string& tile = "",
+                            const std::string& draw = "") {
   StrategyOptions o;
   o.extra["gl"] = platform;
   if (!tile.empty()) o.extra["tile"] = tile;
+  if (!draw.empty()) o.extra["deboor-draw"] = draw;
   return o;
 }
 
@@ -177,6 +181,65 @@ TEST_P(GlslDeBoorGl, PassesAndQuadsAreTheDrawsOf002) {
       EXPECT_EQ(d.details.at("quads"), std::to_string(quads)) << "evaluate " << run;
     }
   }
+}
+
+// deboor-draw=instanced moves the per-span values from uniforms into instance tables and draws
+// each pass and degree once: every texel is computed from the same values, so the points equal
+// the per-span form's bit for bit -- rational, degree 9, clustered and creased knots, span-grid
+// sampling, many surfaces over 8 pages, surfaces of three degrees in one page -- with the same
+// quads, as one draw per pass and degree.
+TEST_P(GlslDeBoorGl, InstancedDrawEqualsPerSpanInOneDrawPerPass) {
+  const auto platform = gl::parse_platform(GetParam());
+  if (!gl::Context::probe(*platform).available) GTEST_SKIP();
+  Sampling grid;
+  grid.grid_u = 30;
+  grid.grid_v = 17;
+  Sampling span;
+  span.mode = SamplingMode::span_grid;
+  span.span_steps = 3;
+  for (const auto& [name, sampling, tile] :
+       {std::tuple{"sphere", grid, ""}, std::tuple{"degree-9", span, ""},
+        std::tuple{"clustered", span, ""}, std::tuple{"creases", grid, ""},
+        std::tuple{"tan64", grid, ""}, std::tuple{"many-16", grid, "40"},
+        std::tuple{"mixed", grid, ""}}) {
+    SCOPED_TRACE(name);
+    Scene scene;
+    std::set<int> degrees_u, degrees_v;  // of the one page: a draw per pass and degree
+    if (std::string(name) == "mixed") {
+      for (const char* part : {"sphere", "patch144", "degree-9"}) {
+        const Scene one = *make_builtin_scene(part);
+        scene.surfaces.insert(scene.surfaces.end(), one.surfaces.begin(), one.surfaces.end());
+      }
+    } else {
+      scene = *make_builtin_scene(name);
+    }
+    for (const Surface& s : scene.surfaces) {
+      degrees_u.insert(s.degree_u);
+      degrees_v.insert(s.degree_v);
+    }
+    auto per_span = find_strategy("glsl-deboor")->create(options_for(GetParam(), tile));
+    auto instanced =
+        find_strategy("glsl-deboor")->create(options_for(GetParam(), tile, "instanced"));
+    const EvalRequest request{sampling, Precision::f32, false};
+    per_span->prepare(scene, request);
+    instanced->prepare(scene, request);
+    per_span->evaluate();
+    instanced->evaluate();
+    expect_identical(per_span->read_back(), instanced->read_back());
+    const DeviceInfo a = per_span->device(), b = instanced->device();
+    EXPECT_EQ(a.details.at("draw"), "per-span");
+    EXPECT_EQ(b.details.at("draw"), "instanced");
+    EXPECT_EQ(a.details.at("draws"), a.details.at("quads"));
+    EXPECT_EQ(b.details.at("quads"), a.details.at("quads"));
+    EXPECT_EQ(b.details.at("passes"), a.details.at("passes"));
+    if (b.details.at("pages") == "1")
+      EXPECT_EQ(b.details.at("draws"), std::to_string(degrees_u.size() + degrees_v.size()));
+    else  // many-16: bicubic only
+      EXPECT_EQ(b.details.at("draws"), b.details.at("passes"));
+    EXPECT_GT(std::stoul(a.details.at("draws")), std::stoul(a.details.at("passes")));
+  }
+  EXPECT_THROW(find_strategy("glsl-deboor")->create(options_for(GetParam(), "", "batched")),
+               std::invalid_argument);
 }
 
 // 000 §5's deforming surfaces: update_control_points rewrites only the pages' control textures, so
