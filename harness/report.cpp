@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -1010,23 +1011,33 @@ ReportSection trim_texture_section(const std::vector<ResultSet>& sets, json& cha
                             "Krishnamurthy 2007 §4: trim-texture misclassification rate outside "
                             "the band vs trim-texture resolution R",
                             run, sets);
-  const auto rows = rows_where(sets, [](const Record& r) {
+  const auto measured = rows_where(sets, [](const Record& r) {
     return is_measurement(r) && r.trimming == "classified" &&
            r.device.details.contains("trim_resolution") && r.accuracy && r.accuracy->trim &&
            r.accuracy->trim->misclassified_rate;
   });
-  if (!show_rows(s, rows, run, sets)) return s;
-  // The study's sets are folders of one parent; the script regenerates them all and the report.
-  s.command = regenerate_in(run, rows.front().set->directory.parent_path().string());
   auto detail = [](const Row& r, const char* key) {
     const auto it = r.record->device.details.find(key);
     return it == r.record->device.details.end() ? std::string("?") : it->second;
   };
+  auto label_of = [&](const Row& r) {
+    return fmt::format("{} {} tol {}", r.record->strategy, r.record->scene,
+                       detail(r, "trim_tolerance"));
+  };
+  // A curve needs two resolutions: every trimmed run records its trim texture's R, and the
+  // canonical runs at the default R alone are no study (the script's sets are).
+  std::map<std::string, std::set<std::string>> resolutions;
+  for (const Row& r : measured) resolutions[label_of(r)].insert(detail(r, "trim_resolution"));
+  std::vector<Row> rows;
+  for (const Row& r : measured)
+    if (resolutions[label_of(r)].size() >= 2) rows.push_back(r);
+  if (!show_rows(s, rows, run, sets)) return s;
+  // The study's sets are folders of one parent; the script regenerates them all and the report.
+  s.command = regenerate_in(run, rows.front().set->directory.parent_path().string());
   std::vector<Series> rates, drawn, classify_share;
   for (const Row& r : rows) {
     const double resolution = std::stod(detail(r, "trim_resolution"));
-    const std::string label = fmt::format("{} {} tol {}", r.record->strategy, r.record->scene,
-                                          detail(r, "trim_tolerance"));
+    const std::string label = label_of(r);
     const double rate = *r.record->accuracy->trim->misclassified_rate;
     add_point(rates, label, resolution, rate);
     // A log axis cannot show 0: such points are left off the chart (the table has them).
