@@ -323,9 +323,8 @@ TEST_F(CliReport, ShowsLodFullBaselineAndLevelDraws) {
 TEST_F(CliReport, ReadsTheCommittedLodFileWithoutTheNewColumns) {
   const std::string dir = tmp_ / "committed-lod";
   fs::create_directories(dir);
-  fs::copy_file(
-      fs::path(NURBSBENCH_TEST_DATA) / "lod_v1_without_full_baseline.json",
-      fs::path(dir) / "lod.json");
+  fs::copy_file(fs::path(NURBSBENCH_TEST_DATA) / "lod_v1_without_full_baseline.json",
+                fs::path(dir) / "lod.json");
   const std::string out = tmp_ / "committed-lod-report";
   const CliResult r = run_cli({"report", "--results", dir, "--out", out, "--error-images", "0"});
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -294,9 +294,8 @@ TEST(TSplineCli, RunsTheBuiltinScenesAndRefusesBadFiles) {
       "degree_u": 1, "degree_v": 1, "domain": [0, 1, 0, 1], "weights": [1, 1, -2, 1],
       "points": [[0,0,0],[1,0,0],[0,1,0],[1,1,0]],
       "knots_u": [[0,0,1],[0,1,1],[0,0,1],[0,1,1]], "knots_v": [[0,0,1],[0,0,1],[0,1,1],[0,1,1]]}]})";
-  const test::CliResult json = test::run_cli(
-      {"eval", "--scene", bad_json.string(), "--strategy", "cpu-tspline", "--out",
-       (dir / "e.csv").string()});
+  const test::CliResult json = test::run_cli({"eval", "--scene", bad_json.string(), "--strategy",
+                                              "cpu-tspline", "--out", (dir / "e.csv").string()});
   EXPECT_EQ(json.exit_code, 2);
   EXPECT_EQ(json.err, "nurbsbench: error: " + bad_json.string() +
                           ": tspline 't': point 2 weight = -2: weights must be finite and > 0\n");
