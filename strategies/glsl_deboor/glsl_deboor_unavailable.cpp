@@ -24,7 +24,7 @@ StrategyEntry glsl_deboor_entry() {
 
 namespace glsl_deboor {
 
-LodMeasurement measure_lod(const Scene&, int, int, int, int, const StrategyOptions&) {
+LodMeasurement measure_lod(const Scene&, int, int, int, int, const StrategyOptions&, bool) {
   throw std::runtime_error(std::string("unavailable: ") + NURBSBENCH_GL_MISSING);
 }
 

@@ -193,25 +193,9 @@ class VkBezier final : public Strategy {
   }
 
   EvalResult read_back() override {
-    std::vector<float> host(total_ * 3);
-    positions_.read(host.data(), host.size() * sizeof(float));
-    std::vector<float> uv(span_grid() ? total_ * 2 : 0);
-    if (!uv.empty()) sample_params_.read(uv.data(), uv.size() * sizeof(float));
-    EvalResult out;
-    std::size_t base = 0;
-    for (const SurfaceSamples& s : samples_) {
-      SurfaceResult r;
-      r.samples = uv.empty() ? s : vk_ksquad::chosen_samples(s, uv.data() + 2 * base);
-      r.positions = PointArray(Precision::f32, s.count());
-      std::memcpy(r.positions.f32(), host.data() + base * 3, s.count() * 3 * sizeof(float));
-      if (request_.normals) {
-        r.normals = PointArray(Precision::f32, s.count());
-        normals_.read(r.normals.f32(), s.count() * 3 * sizeof(float), base * 3 * sizeof(float));
-      }
-      base += s.count();
-      out.surfaces.push_back(std::move(r));
-    }
-    return out;
+    return {vk_ksquad::read_uniform_capture(samples_, positions_,
+                                            span_grid() ? &sample_params_ : nullptr,
+                                            request_.normals ? &normals_ : nullptr)};
   }
 
   DeviceTimes device_times() const override { return {evaluate_s_}; }

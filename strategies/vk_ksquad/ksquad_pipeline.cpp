@@ -1,8 +1,11 @@
 #include "strategies/vk_ksquad/ksquad_pipeline.h"
 
 #include <array>
+#include <cstring>
 #include <string_view>
 #include <vector>
+
+#include "strategies/vk_ksquad/uniform_mapping.h"
 
 namespace nurbs::embedded {
 extern const std::string_view vk_ksquad_vert;
@@ -256,6 +259,32 @@ RenderedImage RasterTarget::read() const {
   image.rgba.resize(pixels * 4);
   staging.read(image.rgba.data(), pixels * 4);
   return image;
+}
+
+std::vector<SurfaceResult> read_uniform_capture(const std::vector<SurfaceSamples>& samples,
+                                                const vulkan::Buffer& positions,
+                                                const vulkan::Buffer* params,
+                                                const vulkan::Buffer* normals) {
+  const std::size_t total = total_samples(samples);
+  std::vector<float> host(total * 3);
+  positions.read(host.data(), host.size() * sizeof(float));
+  std::vector<float> uv(params ? total * 2 : 0);
+  if (params) params->read(uv.data(), uv.size() * sizeof(float));
+  std::vector<SurfaceResult> out;
+  std::size_t base = 0;
+  for (const SurfaceSamples& s : samples) {
+    SurfaceResult r;
+    r.samples = params ? chosen_samples(s, uv.data() + 2 * base) : s;
+    r.positions = PointArray(Precision::f32, s.count());
+    std::memcpy(r.positions.f32(), host.data() + base * 3, s.count() * 3 * sizeof(float));
+    if (normals) {
+      r.normals = PointArray(Precision::f32, s.count());
+      normals->read(r.normals.f32(), s.count() * 3 * sizeof(float), base * 3 * sizeof(float));
+    }
+    base += s.count();
+    out.push_back(std::move(r));
+  }
+  return out;
 }
 
 }  // namespace nurbs::vk_ksquad

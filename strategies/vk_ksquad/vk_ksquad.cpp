@@ -255,24 +255,9 @@ class VkKsquad final : public Strategy {
 
   EvalResult read_back() override {
     if (settings_.adaptive) return read_back_adaptive();
-    std::vector<float> host(total_ * 3);
-    positions_.read(host.data(), host.size() * sizeof(float));
-    EvalResult out;
-    std::size_t base = 0;
-    std::vector<float> uv(span_grid_samples() ? total_ * 2 : 0);
-    if (!uv.empty()) sample_params_.read(uv.data(), uv.size() * sizeof(float));
-    for (const SurfaceSamples& s : samples_) {
-      SurfaceResult r;
-      r.samples = uv.empty() ? s : vk_ksquad::chosen_samples(s, uv.data() + 2 * base);
-      r.positions = PointArray(Precision::f32, s.count());
-      std::memcpy(r.positions.f32(), host.data() + base * 3, s.count() * 3 * sizeof(float));
-      if (request_.normals) {
-        r.normals = PointArray(Precision::f32, s.count());
-        normals_.read(r.normals.f32(), s.count() * 3 * sizeof(float), base * 3 * sizeof(float));
-      }
-      base += s.count();
-      out.surfaces.push_back(std::move(r));
-    }
+    EvalResult out{vk_ksquad::read_uniform_capture(samples_, positions_,
+                                                   span_grid_samples() ? &sample_params_ : nullptr,
+                                                   request_.normals ? &normals_ : nullptr)};
     if (classified_ && classifier_.trims()) {
       trim_direct::Cost cost;
       auto masks = classifier_.read_masks(cost);
