@@ -1,4 +1,4 @@
-// Small helpers shared by the reference tests: reading tests/data, and recording the worst error
+// Small helpers shared by the tests: samplings, reading tests/data, and recording the worst error
 // a test measured (printed and stored as a GoogleTest property, so a CI log shows the margin).
 #pragma once
 
@@ -12,9 +12,24 @@
 #include <stdexcept>
 #include <string>
 
+#include "reference/sampling.h"
 #include "reference/surface.h"
 
 namespace nurbs::test {
+
+// The samplings tests ask for: an NU x NV grid, T steps per non-empty span.
+inline Sampling grid(int nu, int nv) {
+  Sampling s;
+  s.grid_u = nu;
+  s.grid_v = nv;
+  return s;
+}
+inline Sampling span_grid(int steps) {
+  Sampling s;
+  s.mode = SamplingMode::span_grid;
+  s.span_steps = steps;
+  return s;
+}
 
 inline nlohmann::json load_test_data(const std::string& file) {
   const std::string path = std::string(NURBSBENCH_TEST_DATA) + "/" + file;

@@ -26,6 +26,8 @@
 namespace nurbs {
 namespace {
 
+using test::grid;
+
 using test::Rng;
 
 Scene builtin(std::string_view name) {
@@ -42,13 +44,6 @@ Scene one_tspline(const Surface& nurbs) {
 
 double distance(const Point3& a, const Point3& b) {
   return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
-}
-
-Sampling grid(int nu, int nv) {
-  Sampling s;
-  s.grid_u = nu;
-  s.grid_v = nv;
-  return s;
 }
 
 // tspline-refined is tan21x23's surface on a T-mesh with T-junctions: its reference, and its
@@ -95,9 +90,7 @@ TEST(TSplineScenes, TJunctionSceneMovesOnlyNearItsTJunctions) {
 // The span grid samples a T-spline's cells: for a tensor mesh they are the NURBS spans, so the
 // parameters are the NURBS span grid's exactly; the refined patch adds its three new knot columns.
 TEST(TSplineScenes, SpanGridSamplesTheCells) {
-  Sampling span;
-  span.mode = SamplingMode::span_grid;
-  span.span_steps = 3;
+  const Sampling span = test::span_grid(3);
   const Scene nurbs = builtin("tan21x23");
   const auto expected = sample_parameters(nurbs, span);
   const auto tensor = sample_parameters(one_tspline(nurbs.surfaces[0]), span);

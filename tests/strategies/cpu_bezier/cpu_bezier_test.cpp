@@ -10,9 +10,12 @@
 #include "reference/reference_evaluator.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
+#include "tests/reference/test_support.h"
 
 namespace nurbs {
 namespace {
+
+using test::grid;
 
 EvalResult run(const std::string& name, const Scene& scene, const EvalRequest& request,
                int threads = 0) {
@@ -22,13 +25,6 @@ EvalResult run(const std::string& name, const Scene& scene, const EvalRequest& r
   s->prepare(scene, request);
   s->evaluate();
   return s->read_back();
-}
-
-Sampling grid(int nu, int nv) {
-  Sampling s;
-  s.grid_u = nu;
-  s.grid_v = nv;
-  return s;
 }
 
 TEST(CpuBezier, AgreesWithCoxDeBoorInDoublePrecision) {

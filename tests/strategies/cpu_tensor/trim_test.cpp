@@ -16,10 +16,14 @@
 #include "strategies/cpu_tensor/row_trim.h"
 #include "strategies/registry.h"
 #include "tests/harness/plates.h"
+#include "tests/reference/test_support.h"
 #include "tests/scenes/trimmed_plate_closed_form.h"
 
 namespace nurbs {
 namespace {
+
+using test::grid;
+using test::span_grid;
 
 using test::bilinear_patch;
 using test::expect_mask_is_the_closed_form;
@@ -41,20 +45,6 @@ std::vector<std::vector<std::uint8_t>> masks(const Scene& scene, const EvalReque
   std::vector<std::vector<std::uint8_t>> out;
   for (const SurfaceResult& r : strategy->read_back().surfaces) out.push_back(r.inside);
   return out;
-}
-
-Sampling grid(int nu, int nv) {
-  Sampling s;
-  s.grid_u = nu;
-  s.grid_v = nv;
-  return s;
-}
-
-Sampling span_grid(int steps) {
-  Sampling s;
-  s.mode = SamplingMode::span_grid;
-  s.span_steps = steps;
-  return s;
 }
 
 // cpu-tensor intersects the lines u = const, the reference v = const: a face not symmetric in

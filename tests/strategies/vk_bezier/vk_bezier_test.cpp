@@ -12,23 +12,13 @@
 #include "reference/reference_evaluator.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
+#include "tests/reference/test_support.h"
 
 namespace nurbs {
 namespace {
 
-Sampling span_grid(int steps) {
-  Sampling s;
-  s.mode = SamplingMode::span_grid;
-  s.span_steps = steps;
-  return s;
-}
-
-Sampling grid(int nu, int nv) {
-  Sampling s;
-  s.grid_u = nu;
-  s.grid_v = nv;
-  return s;
-}
+using test::grid;
+using test::span_grid;
 
 std::unique_ptr<Strategy> make(const char* name) {
   return find_strategy(name)->create(StrategyOptions{});

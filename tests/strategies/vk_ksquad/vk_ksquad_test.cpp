@@ -15,23 +15,13 @@
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
 #include "strategies/vk_ksquad/vk_ksquad_strategy.h"
+#include "tests/reference/test_support.h"
 
 namespace nurbs {
 namespace {
 
-Sampling span_grid(int steps) {
-  Sampling s;
-  s.mode = SamplingMode::span_grid;
-  s.span_steps = steps;
-  return s;
-}
-
-Sampling grid(int nu, int nv) {
-  Sampling s;
-  s.grid_u = nu;
-  s.grid_v = nv;
-  return s;
-}
+using test::grid;
+using test::span_grid;
 
 std::unique_ptr<Strategy> adaptive_strategy(const std::string& eye, const std::string& center,
                                             const std::string& mu,
