@@ -18,13 +18,14 @@ MemoryRow memory_row(const Scene& scene) {
   for (const Surface& s : scene.surfaces) {
     if (s.is_tspline()) {
       // Its Bézier extraction (reference/tspline_extraction.h): one patch per cell of the
-      // knot-line grid; the T-spline's own control points stand in the NURBS column.
-      const TSplineInfluence cells(*s.tspline, s.name);
-      const auto cu = static_cast<std::size_t>(cells.cells_u()),
-                 cv = static_cast<std::size_t>(cells.cells_v());
+      // knot-line grid; the T-spline's own control points stand in the NURBS column. The cells
+      // are counted from the knot lines alone (the influence index's lists are not needed).
+      const TSplineSurface& t = *s.tspline;
+      const std::size_t cu = tspline_cell_breaks(t.knots_u, t.u_min, t.u_max).size() - 1,
+                        cv = tspline_cell_breaks(t.knots_v, t.v_min, t.v_max).size() - 1;
       const auto p = static_cast<std::size_t>(s.degree_u), q = static_cast<std::size_t>(s.degree_v);
       row.ksquads += cu * cv;
-      row.nurbs_control_points += s.tspline->count();
+      row.nurbs_control_points += t.count();
       row.bezier_control_points += cu * cv * (p + 1) * (q + 1);
       row.bezier_shared_control_points += (cu * p + 1) * (cv * q + 1);
       continue;
