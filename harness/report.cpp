@@ -39,6 +39,11 @@ const std::vector<ChartCommand>& chart_commands() {
       {"rpns_frame",
        "nurbsbench run --scenes teapot,patch144,many-256 --strategies all --samples 16x16 "
        "--repetitions 1 --deforming 30 --out DIR"},
+      // A script, not a verb: one deforming run of vk-ksquad per mapping under DIR, then its
+      // own report there; canonical.sh also hands those sets to the machine's report.
+      {"rpns_mappings",
+       "scripts/rpns_mappings.sh --modes uniform,adaptive,gs,nonuniform --scenes teapot,patch144 "
+       "--samples 16x16 --span-samples 4 --deforming 30 --repetitions 1 --out DIR"},
       {"fig8_many_surfaces",
        "nurbsbench run --scenes many-1,many-4,many-16,many-64,many-256,many-1024,many-4096 "
        "--strategies all --samples 16x16 --repetitions 3 --out DIR"},
@@ -152,8 +157,9 @@ bool is_frame_measurement(const Record& r) {
 
 // Labels name the strategy; the precision and the results set only where the report holds more
 // than one of them, so a single run's chart reads "cpu-tensor", not "cpu-tensor f32 [latest]".
-// glsl-deboor's instanced draw mode (device detail "draw") is its own series beside the per-span
-// default, so Fig 14 shows both where both were measured.
+// glsl-deboor's instanced draw mode (device detail "draw") and vk-ksquad's mappings other than
+// uniform (detail "vk_mode") are series of their own beside the default, so a chart shows each
+// where several were measured.
 class Labeller {
  public:
   explicit Labeller(const std::vector<ResultSet>& sets) {
@@ -171,6 +177,14 @@ class Labeller {
     const auto draw = row.record->device.details.find("draw");
     if (draw != row.record->device.details.end() && draw->second == "instanced")
       label += " (instanced)";
+    // vk-ksquad's mappings of 003 §4 (uniform, the default, is unlabelled), and where the
+    // adaptive test's corners were evaluated when it is the host.
+    const auto mode = row.record->device.details.find("vk_mode");
+    if (mode != row.record->device.details.end() && mode->second != "uniform") {
+      const auto corners = row.record->device.details.find("vk_corners");
+      const bool host = corners != row.record->device.details.end() && corners->second == "host";
+      label += " (" + mode->second + (host ? ", host corners" : "") + ")";
+    }
     if (by_precision_) label += " " + row.record->precision;
     if (by_set_) label += " [" + row.set->tag + "]";
     return label;
@@ -661,7 +675,8 @@ ReportSection frame_section(const std::vector<ResultSet>& sets, const Labeller& 
   ReportSection s = section(
       "rpns_frame", "RPNS 2014: time per frame with deforming control points (update + evaluate)",
       run, sets);
-  const auto rows = rows_where(sets, is_frame_measurement);
+  // One row per label: the RPNS mappings study repeats vk-ksquad's uniform frames.
+  const auto rows = one_per_measurement(rows_where(sets, is_frame_measurement), label);
   if (!show_rows(s, rows, run, sets)) return s;
   std::vector<std::string> categories;
   for (const Row& r : rows) categories.push_back(r.record->scene + " " + r.record->samples);
@@ -678,6 +693,71 @@ ReportSection frame_section(const std::vector<ResultSet>& sets, const Labeller& 
     add_point(series, label(r), static_cast<double>(c), frame);
     table.rows.push_back({label(r), r.record->scene, r.record->samples, seconds_text(frame),
                           report_number(1 / frame), seconds_text(r.record->evaluate.median_s)});
+  }
+  std::sort(series.begin(), series.end(),
+            [](const Series& a, const Series& b) { return a.label < b.label; });
+  charts["charts"].push_back(
+      bars_chart(s.id, "time per frame, median (s)", categories, series, true));
+  s.has_chart = true;
+  s.tables.push_back(std::move(table));
+  return s;
+}
+
+// 003 §4 maps RPNS onto the pipeline three ways (GS-based, uniform, non-uniform; adaptive is the
+// uniform mapping with eq. 3's levels): vk-ksquad in each, per frame of the deforming surfaces,
+// with what each mapping refused and why (the GS mapping's output limit is the paper's reason for
+// dropping it). The device details a mapping records (its tests' counts) are in the table.
+ReportSection rpns_mappings_section(const std::vector<ResultSet>& sets, json& charts) {
+  const std::string& run = chart_run("rpns_mappings");
+  ReportSection s =
+      section("rpns_mappings",
+              "RPNS 2014 §4: vk-ksquad's mappings onto the pipeline (GS-based, uniform, adaptive, "
+              "non-uniform), time per frame with deforming control points",
+              run, sets);
+  // The study's sets are runs given a vk-mode (scripts/rpns_mappings.sh), one mapping each; the
+  // set names the mapping, as a refused record has no device details to name it.
+  std::map<const ResultSet*, std::string> mapping_of;
+  for (const ResultSet& set : sets)
+    if (set.results.settings.is_object())
+      for (const json& o : set.results.settings.value("strategy_options", json::array()))
+        if (o.is_string() && o.get<std::string>().starts_with("vk-mode="))
+          mapping_of[&set] = "vk-ksquad (" + o.get<std::string>().substr(8) + ")";
+  std::vector<Row> rows;
+  for (const Row& r : rows_where(sets, [](const Record& r) {
+         return r.strategy == "vk-ksquad" &&
+                (r.status != Status::ok || r.extra_phases.contains("frame"));
+       }))
+    if (mapping_of.contains(r.set)) rows.push_back(r);
+  if (!show_rows(s, rows, run, sets)) return s;
+  // The study's sets are folders of one parent; the script regenerates them all and the report.
+  s.command = regenerate_in(run, rows.front().set->directory.parent_path().string());
+  std::vector<std::string> categories;
+  for (const Row& r : rows) categories.push_back(r.record->scene + " " + r.record->samples);
+  categories = sorted_unique(categories);
+  std::vector<Series> series;
+  ReportTable table{"Per-frame time (median) of each mapping, and what it recorded",
+                    {"mapping", "scene", "samples", "frame", "evaluate only", "points",
+                     "max error (ulps)", "status / details"},
+                    {}};
+  for (const Row& r : rows) {
+    const Record& rec = *r.record;
+    const std::string& label = mapping_of.at(r.set);
+    if (rec.status != Status::ok) {
+      table.rows.push_back({label, rec.scene, rec.samples, "", "", "", "",
+                            std::string(to_string(rec.status)) + ": " + rec.reason});
+      continue;
+    }
+    std::string details;
+    for (const auto& [key, value] : rec.device.details)
+      if (key.starts_with("nu_") || key.starts_with("vk_"))
+        details += (details.empty() ? "" : ", ") + key + " " + value;
+    const double frame = rec.extra_phases.at("frame").median_s;
+    const auto c = std::find(categories.begin(), categories.end(), rec.scene + " " + rec.samples) -
+                   categories.begin();
+    add_point(series, label, static_cast<double>(c), frame);
+    table.rows.push_back({label, rec.scene, rec.samples, seconds_text(frame),
+                          seconds_text(rec.evaluate.median_s), std::to_string(rec.points),
+                          rec.accuracy ? report_number(rec.accuracy->max_ulp) : "", details});
   }
   std::sort(series.begin(), series.end(),
             [](const Series& a, const Series& b) { return a.label < b.label; });
@@ -1555,6 +1635,7 @@ Report build_report(const std::vector<ResultSet>& sets) {
   report.sections.push_back(deboor_vs_basis(sets, label, charts));
   report.sections.push_back(lod_section(sets, charts));
   report.sections.push_back(frame_section(sets, label, charts));
+  report.sections.push_back(rpns_mappings_section(sets, charts));
   report.sections.push_back(memory_section(sets));
   report.sections.push_back(many_surfaces(sets, label, charts));
   report.sections.push_back(fig8_trimmed_ducks(sets, label, charts));

@@ -83,6 +83,21 @@ run accuracy "${accuracy[@]}"
 # RPNS per-frame time with deforming control points (30 frames), the Table 1 memory figures and
 # 002 Fig 15; report reads DIR/lod.json and DIR/memory.json beside a results.json.
 run deforming "${deforming[@]}" --deforming 30
+# 003 §4: vk-ksquad in each mapping, deforming, on grids and span grids (its own report beside
+# its sets; the sets go into the machine's report too).
+if [ "$tiny" = 1 ]; then
+  mappings=(--modes uniform,adaptive --scenes patch144 --deforming 2)
+else
+  mappings=(--modes uniform,adaptive,gs,nonuniform --scenes teapot,patch144 --samples 16x16
+            --span-samples 4 --deforming 30 --repetitions 1)
+fi
+echo "canonical: rpns mappings"
+bash scripts/rpns_mappings.sh --nurbsbench "$nb" --out "$out/rpns-mappings" "${mappings[@]}" \
+  >"$out/rpns-mappings.log" 2>&1 ||
+  { echo "canonical: rpns mappings failed, see $out/rpns-mappings.log" >&2; exit 1; }
+for d in "$out"/rpns-mappings/*/; do
+  [ -f "$d/results.json" ] && results+=(--results "${d%/}")
+done
 echo "canonical: lod"
 "$nb" lod "${lod[@]}" --out "$out/fig14-deboor-vs-basis" >"$out/lod.log" 2>&1 ||
   { echo "canonical: lod failed, see $out/lod.log" >&2; exit 1; }

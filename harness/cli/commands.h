@@ -65,7 +65,9 @@ struct RunOptions {
   std::string strategies = "all";
   std::string samples = "64x64,256x256";
   std::string span_samples;
-  bool span_given = false;
+  // Which of --samples / --span-samples were on the command line (an empty value is an error):
+  // both measure the grids, then the span grids; --span-samples alone only the span grids.
+  bool samples_given = false, span_given = false;
   std::string precision = "f32";
   bool normals = false;
   int repetitions = 5;

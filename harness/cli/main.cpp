@@ -110,7 +110,6 @@ int main(int argc, char** argv) {
       run_cmd->add_option("--samples", run.samples, "comma list of grids (default 64x64,256x256)");
   auto* run_span =
       run_cmd->add_option("--span-samples", run.span_samples, "comma list of steps per knot span");
-  run_samples->excludes(run_span);
   run_cmd->add_option("--precision", run.precision, "f32 (default) or f64");
   run_cmd->add_flag("--normals", run.normals, "also evaluate and check normals");
   run_cmd->add_option("--repetitions", run.repetitions, "timed repetitions per phase (default 5)");
@@ -254,6 +253,7 @@ int main(int argc, char** argv) {
   }
 
   eval.span_given = eval_span->count() > 0;
+  run.samples_given = run_samples->count() > 0;
   run.span_given = run_span->count() > 0;
   try {
     if (*list_cmd) return list_command(list);

@@ -88,9 +88,12 @@ int run_command(const RunOptions& options) {
   std::vector<Scene> scenes;
   for (const std::string& name : scene_list(options.scenes)) scenes.push_back(load_scene(name));
   if (scenes.empty()) throw InputError("--scenes: empty list");
-  const std::vector<Sampling> samplings =
-      !options.span_given ? parse_grid_list("--samples", options.samples)
-                          : parse_span_list("--span-samples", options.span_samples);
+  std::vector<Sampling> samplings;
+  if (options.samples_given || !options.span_given)
+    samplings = parse_grid_list("--samples", options.samples);
+  if (options.span_given)
+    for (Sampling& s : parse_span_list("--span-samples", options.span_samples))
+      samplings.push_back(std::move(s));
   const Precision precision = parse_precision(options.precision);
   const ReferencePrecision reference_precision = parse_reference(options.reference);
   const double trim_band = parse_trim_band(options.trim_band);

@@ -419,6 +419,33 @@ TEST(CliRun, StoreLimitRowIsMeasuredInTheSameRun) {
   EXPECT_EQ(results["records"][1]["strategy"], "cpu-coxdeboor");
 }
 
+// Both samplings in one run: the grids, then the span grids (a study compares a strategy's modes
+// on both without a run per sampling).
+TEST(CliRun, GridsAndSpanGridsInOneRun) {
+  TempDir tmp;
+  const std::string out = tmp / "r";
+  const CliResult r =
+      run_cli({"run", "--scenes", "patch144", "--strategies", "cpu-coxdeboor", "--samples", "4x3",
+               "--span-samples", "2", "--repetitions", "1", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json results = json::parse(read_text(fs::path(out) / "results.json"));
+  EXPECT_EQ(results["settings"]["samplings"], json({"4x3", "span2"}));
+  ASSERT_EQ(results["records"].size(), 2u);
+  EXPECT_EQ(results["records"][0]["points"], 12);
+  EXPECT_EQ(results["records"][1]["sampling"], "span_grid");
+  // The same span grid as a run given it alone.
+  const std::string alone = tmp / "alone";
+  ASSERT_EQ(run_cli({"run", "--scenes", "patch144", "--strategies", "cpu-coxdeboor",
+                     "--span-samples", "2", "--repetitions", "1", "--out", alone})
+                .exit_code,
+            0);
+  const json span = json::parse(read_text(fs::path(alone) / "results.json"));
+  ASSERT_EQ(span["records"].size(), 1u);
+  EXPECT_EQ(results["records"][1]["points"], span["records"][0]["points"]);
+  EXPECT_EQ(results["records"][1]["accuracy"]["max_abs"],
+            span["records"][0]["accuracy"]["max_abs"]);
+}
+
 TEST(CliRun, BadArgumentsLeaveNoOutputDirectory) {
   TempDir tmp;
   const std::string out = tmp / "r";

@@ -82,8 +82,9 @@ std::vector<std::string> tiny(const std::string& run, const std::string& dir) {
     if (option == "--scenes") {
       value = split(value, ',').front();
       if (is_scene_alias(value)) value = first_listed_scene();
-    } else if (option == "--resolutions") {
-      // A resolution curve needs two points (the report draws no one-point curve).
+    } else if (option == "--resolutions" || option == "--modes") {
+      // A resolution curve needs two points (the report draws no one-point curve); a comparison
+      // of vk-ksquad's mappings, two mappings.
       const std::vector<std::string> items = split(value, ',');
       value = items.size() > 1 ? items[0] + "," + items[1] : items[0];
     } else if (option.starts_with("--") && option != "--samples" &&
