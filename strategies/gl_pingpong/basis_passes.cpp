@@ -4,12 +4,7 @@
 #include <string>
 #include <string_view>
 
-namespace nurbs::embedded {
-extern const std::string_view gl_fullscreen_triangle_vert;
-extern const std::string_view gl_pingpong_basis_order_frag;
-extern const std::string_view gl_pingpong_accumulate_frag;
-extern const std::string_view gl_pingpong_divide_frag;
-}  // namespace nurbs::embedded
+#include "strategies/gl_pingpong/shaders.h"
 
 namespace nurbs::gl_pingpong {
 namespace {

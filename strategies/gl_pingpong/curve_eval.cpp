@@ -10,14 +10,8 @@
 #include "reference/validation.h"
 #include "strategies/gl_context/gl_context.h"
 #include "strategies/gl_pingpong/basis_passes.h"
+#include "strategies/gl_pingpong/shaders.h"
 #include "strategies/strategy_options.h"
-
-namespace nurbs::embedded {
-extern const std::string_view gl_fullscreen_triangle_vert;
-extern const std::string_view gl_pingpong_multiply_frag;
-extern const std::string_view gl_pingpong_reduce_frag;
-extern const std::string_view gl_pingpong_divide_frag;
-}  // namespace nurbs::embedded
 
 namespace nurbs::gl_pingpong {
 

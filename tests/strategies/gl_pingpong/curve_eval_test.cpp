@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ostream>
 #include <random>
 #include <string>
 #include <vector>
@@ -27,14 +28,19 @@ namespace {
 using gl_pingpong::CurveEvaluator;
 using gl_pingpong::Reduction;
 
-// Measured worst over every case below: 10.6 ulps (degree 15, pairwise and single-pass alike,
-// OSMesa = EGL); about 4x that.
-constexpr double kBudgetUlp = 40.0;
+// Measured worst over every case below: 28.9 ulps (degree 9, u = 0.432006; the same on OSMesa and
+// EGL and for both reductions, so the knots' and basis passes' float rounding dominates, not the
+// summation order); about 4x that.
+constexpr double kBudgetUlp = 120.0;
 
 struct Case {
   std::string platform;
   Reduction reduction;
 };
+
+void PrintTo(const Case& c, std::ostream* os) {
+  *os << c.platform << "/" << to_string(c.reduction);
+}
 
 // Random control points in [-3, 5]^3, weights in [0.25, 4], crease knots (test_support.h).
 Curve random_curve(int degree, unsigned seed) {
@@ -174,31 +180,25 @@ TEST(CurveEvalInput, RejectsBadCurvesAndParameters) {
   if (skip_unless_available("osmesa", reason)) GTEST_SKIP() << "unavailable: " << reason;
   CurveEvaluator gpu(options_for("osmesa"));
   const Curve good = random_curve(3, 7);
+  const auto expect_error = [&](const Curve& curve, const std::vector<double>& u,
+                                const std::string& names) {
+    try {
+      gpu.prepare(curve, u);
+      ADD_FAILURE() << "accepted; expected an error naming " << names;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(names), std::string::npos) << e.what();
+    }
+  };
   Curve bad_knot = good;
-  bad_knot.knots[5] = 2.0;  // 0 0 0 0 x 2 y ...: decreasing after it
-  try {
-    gpu.prepare(bad_knot, {0.5});
-    FAIL() << "decreasing knots accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("knots[6]"), std::string::npos) << e.what();
-  }
+  bad_knot.knots[5] = 2.0;  // the next knot is then smaller
+  expect_error(bad_knot, {0.5}, "knots[6] = ");
   Curve bad_weight = good;
   bad_weight.homogeneous[4][3] = 0.0;
-  try {
-    gpu.prepare(bad_weight, {0.5});
-    FAIL() << "zero weight accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("points[4][3] = 0"), std::string::npos) << e.what();
-  }
+  expect_error(bad_weight, {0.5}, "points[4][3] = 0");
   Curve high = good;
   high.degree = 16;
-  EXPECT_THROW(gpu.prepare(high, {0.5}), InputError);
-  try {
-    gpu.prepare(good, {0.5, NAN});
-    FAIL() << "NaN parameter accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("parameters[1] = nan"), std::string::npos) << e.what();
-  }
+  expect_error(high, {0.5}, "degree = 16");
+  expect_error(good, {0.5, NAN}, "parameters[1] = nan");
 }
 
 }  // namespace
