@@ -41,7 +41,8 @@ class CurveEvaluator {
   // Options (StrategyOptions.extra): "gl" = osmesa | egl (default egl); "tile" = most parameters
   // per chunk (default GL_MAX_TEXTURE_SIZE rows). Throws std::runtime_error "unavailable: ..."
   // where no GL context can be made (and always in a build without OpenGL).
-  CurveEvaluator(const StrategyOptions& options, Reduction reduction = Reduction::pairwise);
+  explicit CurveEvaluator(const StrategyOptions& options,
+                          Reduction reduction = Reduction::pairwise);
   ~CurveEvaluator();
   CurveEvaluator(const CurveEvaluator&) = delete;
   CurveEvaluator& operator=(const CurveEvaluator&) = delete;
