@@ -159,6 +159,22 @@ Vec3<T> surface_point(const SurfaceNet<T>& s, T u, T v) {
   return surface_point_from_basis(s, su, basis_u, sv, basis_v);
 }
 
+// A4.1 CurvePoint on homogeneous control points (w x, w y, w z, w): the p+1 weighted sum of span
+// s, not yet divided by w (a caller in fewer dimensions or wanting the homogeneous point divides).
+template <typename T>
+Vec4<T> curve_point_homogeneous(int degree, int count, const T* knots, const Vec4<T>* homogeneous,
+                                T u) {
+  T basis[kMaxOrder];
+  const int span = find_span(degree, count, knots, u);
+  basis_functions(span, u, degree, knots, basis);
+  Vec4<T> sum{};
+  for (int k = 0; k <= degree; ++k) {
+    const Vec4<T>& p = homogeneous[span - degree + k];
+    for (int c = 0; c < 4; ++c) sum[c] += basis[k] * p[c];
+  }
+  return sum;
+}
+
 // skl[k][l] = d^(k+l) S / du^k dv^l for k + l <= order (order <= 2).
 template <typename T>
 struct SurfaceDerivatives {

@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <vector>
 
 #include "reference/nurbs_math.h"
 #include "reference/surface_checker.h"
@@ -22,21 +23,16 @@ std::string point_text(const Point2& p) {
   return fmt::format("[{}, {}]", format_number(p[0]), format_number(p[1]));
 }
 
-// A4.1 CurvePoint in homogeneous 2D; t in the curve's domain.
+// A4.1 CurvePoint (reference/nurbs_math.h) on the curve lifted to (w u, w v, 0, w); t in the
+// curve's domain.
 Point2 curve_point(const TrimCurve& c, double t) {
-  const int count = static_cast<int>(c.points.size());
-  const int span = find_span(c.degree, count, c.knots.data(), t);
-  double basis[kMaxOrder];
-  basis_functions(span, t, c.degree, c.knots.data(), basis);
-  double u = 0, v = 0, w = 0;
-  for (int k = 0; k <= c.degree; ++k) {
-    const std::size_t i = static_cast<std::size_t>(span - c.degree + k);
-    const double bw = basis[k] * c.weights[i];
-    u += bw * c.points[i][0];
-    v += bw * c.points[i][1];
-    w += bw;
-  }
-  return {u / w, v / w};
+  std::vector<Vec4<double>> homogeneous(c.points.size());
+  for (std::size_t i = 0; i < c.points.size(); ++i)
+    homogeneous[i] = {c.points[i][0] * c.weights[i], c.points[i][1] * c.weights[i], 0.0,
+                      c.weights[i]};
+  const Vec4<double> sum = curve_point_homogeneous(c.degree, static_cast<int>(c.points.size()),
+                                                   c.knots.data(), homogeneous.data(), t);
+  return {sum[0] / sum[3], sum[1] / sum[3]};
 }
 
 // A clamped end (degree+1 equal knots) is exactly its end control point; evaluating would add

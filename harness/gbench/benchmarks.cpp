@@ -7,12 +7,15 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "harness/metrics.h"
 #include "harness/runner.h"
 #include "harness/store_limit.h"
 #include "harness/timing.h"
+#include "reference/curve.h"
 #include "scenes/builtin_scenes.h"
+#include "strategies/gl_pingpong/curve_eval.h"
 #include "strategies/registry.h"
 
 namespace {
@@ -96,6 +99,125 @@ void store_bandwidth(benchmark::State& state) {
   state.SetLabel(fmt::format("{} threads", omp_get_max_threads()));
 }
 
+// 000 §2.2's curve path against (a) A4.1 on the CPU and (b) the surface path (§3.1) on a
+// one-row surface, so "the curve path differs from the surface path on one row" is measured. The
+// curve: 40 control points on a helix, weights 1 and 2 alternating, uniform clamped knots.
+Curve bench_curve(int degree) {
+  Curve c;
+  c.degree = degree;
+  const int count = 40;
+  for (int i = 0; i < count; ++i) {
+    const double t = 0.4 * i, w = i % 2 ? 2.0 : 1.0;
+    c.homogeneous.push_back({w * std::cos(t), w * std::sin(t), w * 0.05 * i, w});
+  }
+  c.knots.assign(static_cast<std::size_t>(degree + 1), 0.0);
+  for (int i = 1; i < count - degree; ++i) c.knots.push_back(double(i) / (count - degree));
+  c.knots.insert(c.knots.end(), static_cast<std::size_t>(degree + 1), 1.0);
+  return c;
+}
+
+// (b)'s surface: the curve along v, two equal rows along u (degree_u = 1 is the least the data
+// model allows, and a grid needs NU >= 2, so the surface path evaluates 2 x N points for N).
+Scene one_row_scene(const Curve& c) {
+  Surface s;
+  s.name = "curve-row";
+  s.degree_u = 1;
+  s.degree_v = c.degree;
+  s.count_u = 2;
+  s.count_v = c.count();
+  s.knots_u = {0, 0, 1, 1};
+  s.knots_v = c.knots;
+  for (int row = 0; row < 2; ++row)
+    for (const Vec4<double>& p : c.homogeneous) {
+      s.points.push_back({p[0] / p[3], p[1] / p[3], p[2] / p[3]});
+      s.weights.push_back(p[3]);
+    }
+  Scene scene;
+  scene.name = "curve-row";
+  scene.surfaces.push_back(std::move(s));
+  return scene;
+}
+
+void curve_gpu_benchmark(benchmark::State& state, int degree, gl_pingpong::Reduction reduction) {
+  const Curve curve = bench_curve(degree);
+  const std::vector<double> u =
+      grid_parameters(curve.start(), curve.end(), static_cast<int>(state.range(0)));
+  std::unique_ptr<gl_pingpong::CurveEvaluator> gpu;
+  try {
+    gpu = std::make_unique<gl_pingpong::CurveEvaluator>(StrategyOptions{}, reduction);
+    gpu->prepare(curve, u);
+    gpu->evaluate();  // warm-up
+  } catch (const std::exception& e) {
+    state.SkipWithError((std::string("failed: ") + e.what()).c_str());
+    return;
+  }
+  for (auto _ : state) gpu->evaluate();
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(u.size()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["passes"] = static_cast<double>(gpu->passes().total());
+  const std::vector<Vec3<float>> got = gpu->read_back();
+  double err = 0;
+  for (std::size_t q = 0; q < u.size(); ++q) {
+    const Vec3<double> want = curve_point(curve, double(float(u[q])));
+    for (int i = 0; i < 3; ++i) err = std::max(err, std::abs(double(got[q][i]) - want[i]));
+  }
+  state.counters["max_err"] = err;
+}
+
+void curve_cpu_benchmark(benchmark::State& state, int degree) {
+  const Curve curve = bench_curve(degree);
+  const std::vector<double> u =
+      grid_parameters(curve.start(), curve.end(), static_cast<int>(state.range(0)));
+  std::vector<Vec3<double>> out(u.size());
+  for (auto _ : state) {
+    for (std::size_t q = 0; q < u.size(); ++q) out[q] = curve_point(curve, u[q]);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(u.size()),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+  state.SetLabel("A4.1, double, one thread");
+}
+
+void curve_surface_row_benchmark(benchmark::State& state, int degree) {
+  const Scene scene = one_row_scene(bench_curve(degree));
+  Sampling sampling;
+  sampling.grid_u = 2;
+  sampling.grid_v = static_cast<int>(state.range(0));
+  const StrategyEntry* entry = find_strategy("gl-pingpong");
+  if (!entry || !entry->probe().available) {
+    state.SkipWithError("gl-pingpong unavailable");
+    return;
+  }
+  const std::unique_ptr<Strategy> strategy =
+      prepared_strategy(state, *entry, scene, EvalRequest{sampling, Precision::f32, false});
+  if (!strategy) return;
+  for (auto _ : state) strategy->evaluate();
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(sampling.grid_v),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["passes"] = std::stod(strategy->device().details.at("passes"));
+  state.SetLabel("2 x N grid, the least a surface allows; points/s counts one row");
+}
+
+void register_curve_benchmarks() {
+  for (int degree : {3, 9}) {
+    const auto sizes = [](benchmark::internal::Benchmark* b) {
+      for (int n = 64; n <= 65536; n *= 4) b->Arg(n);
+      b->Unit(benchmark::kMillisecond)->UseRealTime();
+    };
+    for (auto reduction : {gl_pingpong::Reduction::pairwise, gl_pingpong::Reduction::single_pass})
+      benchmark::RegisterBenchmark(
+          fmt::format("curve/deg{}/gl-pingpong-curve-{}", degree, to_string(reduction)).c_str(),
+          curve_gpu_benchmark, degree, reduction)
+          ->Apply(sizes);
+    benchmark::RegisterBenchmark(fmt::format("curve/deg{}/cpu-reference", degree).c_str(),
+                                 curve_cpu_benchmark, degree)
+        ->Apply(sizes);
+    benchmark::RegisterBenchmark(fmt::format("curve/deg{}/gl-pingpong-surface-row", degree).c_str(),
+                                 curve_surface_row_benchmark, degree)
+        ->Apply(sizes);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -122,6 +244,7 @@ int main(int argc, char** argv) {
               ->UseRealTime();
         }
   }
+  register_curve_benchmarks();
   static const Scene hammer = *make_builtin_scene("hammer");
   for (const char* name : {"cpu-tensor"})
     for (Precision precision : {Precision::f32, Precision::f64}) {

@@ -1,14 +1,10 @@
 #include "strategies/gl_pingpong/basis_passes.h"
 
+#include <algorithm>
 #include <string>
 #include <string_view>
 
-namespace nurbs::embedded {
-extern const std::string_view gl_fullscreen_triangle_vert;
-extern const std::string_view gl_pingpong_basis_order_frag;
-extern const std::string_view gl_pingpong_accumulate_frag;
-extern const std::string_view gl_pingpong_divide_frag;
-}  // namespace nurbs::embedded
+#include "strategies/gl_pingpong/shaders.h"
 
 namespace nurbs::gl_pingpong {
 namespace {
@@ -19,25 +15,38 @@ std::string defines(bool packed) {
 
 }  // namespace
 
+BasisProgram::BasisProgram(gl::Context& context_, bool packed)
+    : context(context_),
+      program(context_, embedded::gl_fullscreen_triangle_vert,
+              embedded::gl_pingpong_basis_order_frag, defines(packed),
+              "gl-pingpong basis_order.frag"),
+      degree(program.uniform("degree")),
+      order(program.uniform("order")),
+      triangle_(context_) {
+  const gl::Functions& gl = context.gl();
+  // Sampler units never change: set them once.
+  gl.UseProgram(program.id());
+  gl.Uniform1i(program.uniform("knot_array"), 0);
+  gl.Uniform1i(program.uniform("previous"), 1);
+  gl.UseProgram(0);
+  context.check("gl-pingpong basis program");
+}
+
+void BasisProgram::draw() const {
+  triangle_.draw();
+}
+
 Programs::Programs(gl::Context& context_, bool packed)
     : context(context_),
-      basis(context_, embedded::gl_fullscreen_triangle_vert, embedded::gl_pingpong_basis_order_frag,
-            defines(packed), "gl-pingpong basis_order.frag"),
+      basis(context_, packed),
       accumulate(context_, embedded::gl_fullscreen_triangle_vert,
                  embedded::gl_pingpong_accumulate_frag, defines(packed),
                  "gl-pingpong accumulate.frag"),
       divide(context_, embedded::gl_fullscreen_triangle_vert, embedded::gl_pingpong_divide_frag,
              defines(packed), "gl-pingpong divide.frag"),
-      basis_degree(basis.uniform("degree")),
-      basis_order(basis.uniform("order")),
       accumulate_a(accumulate.uniform("a")),
-      accumulate_b(accumulate.uniform("b")),
-      triangle_(context_) {
+      accumulate_b(accumulate.uniform("b")) {
   const gl::Functions& gl = context.gl();
-  // Sampler units never change: set them once per program.
-  gl.UseProgram(basis.id());
-  gl.Uniform1i(basis.uniform("knot_array"), 0);
-  gl.Uniform1i(basis.uniform("previous"), 1);
   gl.UseProgram(accumulate.id());
   gl.Uniform1i(accumulate.uniform("previous"), 0);
   gl.Uniform1i(accumulate.uniform("control"), 1);
@@ -51,10 +60,6 @@ Programs::Programs(gl::Context& context_, bool packed)
   context.check("gl-pingpong programs");
 }
 
-void Programs::draw() const {
-  triangle_.draw();
-}
-
 BasisChunk::BasisChunk(gl::Context& context, const ChunkInputs& in)
     : context_(&context),
       count_(in.count),
@@ -62,7 +67,8 @@ BasisChunk::BasisChunk(gl::Context& context, const ChunkInputs& in)
       degree_(in.degree),
       knot_array_(context, in.packed ? GL_RGBA32F : GL_R32F, in.knot_array_width(), in.rows, false),
       order1_(context, GL_RGBA32F, in.basis_width(), in.rows, false),
-      first_index_(context, GL_R32I, 1, in.count, false) {
+      first_index_(context, GL_R32I, 1, in.count, false),
+      first_indices_(in.first_index) {
   const GLenum format = in.packed ? GL_RGBA : GL_RED;
   const std::size_t texel = sizeof(float) * static_cast<std::size_t>(in.channels);
   bytes_uploaded_ += knot_array_.upload(format, GL_FLOAT, in.knot_array.data(), texel);
@@ -75,18 +81,18 @@ BasisChunk::BasisChunk(gl::Context& context, const ChunkInputs& in)
   context.check("gl-pingpong basis upload");
 }
 
-void BasisChunk::raise(const Programs& programs, int passes) {
+void BasisChunk::raise(const BasisProgram& program, int passes) {
   const gl::Functions& gl = context_->gl();
-  gl.UseProgram(programs.basis.id());
-  gl.Uniform1i(programs.basis_order, degree_ + 1);
+  gl.UseProgram(program.program.id());
+  gl.Uniform1i(program.order, degree_ + 1);
   knot_array_.bind_to_unit(0);
   const gl::Texture* source = &order1_;
   for (int pass = 0; pass < passes; ++pass) {
     const gl::Texture& target = ping_[pass % 2];
     target.bind_target();
     source->bind_to_unit(1);
-    gl.Uniform1i(programs.basis_degree, pass + 1);
-    programs.draw();
+    gl.Uniform1i(program.degree, pass + 1);
+    program.draw();
     source = &target;
   }
   result_ = source;
@@ -105,6 +111,22 @@ std::vector<float> BasisChunk::read_result() const {
   gl.ReadPixels(0, 0, result_->width(), rows_, GL_RGBA, GL_FLOAT, out.data());
   context_->check("gl-pingpong basis read-back");
   return out;
+}
+
+std::vector<BasisChunk> upload_chunks(gl::Context& context, const std::vector<double>& parameters,
+                                      int degree, int count, const std::vector<float>& knots,
+                                      bool packed, int tile, std::vector<std::size_t>& begins,
+                                      std::size_t& bytes) {
+  std::vector<BasisChunk> chunks;
+  const std::size_t step = static_cast<std::size_t>(tile);
+  for (std::size_t begin = 0; begin < parameters.size(); begin += step) {
+    const std::size_t end = std::min(parameters.size(), begin + step);
+    chunks.emplace_back(context,
+                        make_chunk_inputs(parameters, begin, end, degree, count, knots, packed));
+    bytes += chunks.back().bytes_uploaded();
+    begins.push_back(begin);
+  }
+  return chunks;
 }
 
 }  // namespace nurbs::gl_pingpong

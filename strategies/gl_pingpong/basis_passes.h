@@ -3,6 +3,8 @@
 // ping-ponging between two RGBA32F render targets.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "strategies/gl_context/gl_program.h"
@@ -10,22 +12,38 @@
 
 namespace nurbs::gl_pingpong {
 
-// The three fragment programs (basis order, accumulation, divide) for one packing, and the
-// full-viewport triangle they are drawn with.
+// 000 §2.1's order-raising program (basis_order.frag) for one packing, and the full-viewport
+// triangle its passes are drawn with. Shared by the surface path (Programs) and the curve path
+// (curve_eval.h).
+class BasisProgram {
+ public:
+  BasisProgram(gl::Context& context, bool packed);
+  BasisProgram(const BasisProgram&) = delete;
+  BasisProgram& operator=(const BasisProgram&) = delete;
+
+  void draw() const;  // one full-viewport triangle into the bound target
+
+  gl::Context& context;
+  gl::Program program;
+  GLint degree, order;  // uniform locations
+
+ private:
+  gl::FullscreenTriangle triangle_;
+};
+
+// The surface path's programs (000 §3.1): the basis passes, the accumulation, the divide.
 class Programs {
  public:
   Programs(gl::Context& context, bool packed);
   Programs(const Programs&) = delete;
   Programs& operator=(const Programs&) = delete;
 
-  void draw() const;  // one full-viewport triangle into the bound target
+  void draw() const { basis.draw(); }
 
   gl::Context& context;
-  gl::Program basis, accumulate, divide;
-  GLint basis_degree, basis_order, accumulate_a, accumulate_b;  // uniform locations
-
- private:
-  gl::FullscreenTriangle triangle_;
+  BasisProgram basis;
+  gl::Program accumulate, divide;
+  GLint accumulate_a, accumulate_b;  // uniform locations
 };
 
 class BasisChunk {
@@ -36,10 +54,12 @@ class BasisChunk {
   // give the intermediate orders). The order-1 texture is never written, so evaluate() can run
   // again without a re-upload; pass 1 reads it and the passes alternate between ping_[0] and
   // ping_[1] as Tex1/Tex2 do in the paper.
-  void raise(const Programs& programs, int passes);
+  void raise(const BasisProgram& program, int passes);
 
   const gl::Texture& result() const { return *result_; }
   const gl::Texture& first_index() const { return first_index_; }
+  // The same s - p per parameter, kept on the host for a CPU gather (000 §2.2's control array).
+  const std::vector<std::int32_t>& first_indices() const { return first_indices_; }
   std::size_t bytes_uploaded() const { return bytes_uploaded_; }
   int count() const { return count_; }
   int degree() const { return degree_; }
@@ -50,9 +70,17 @@ class BasisChunk {
   gl::Context* context_;
   int count_, rows_, degree_;
   gl::Texture knot_array_, order1_, first_index_;
+  std::vector<std::int32_t> first_indices_;
   gl::Texture ping_[2];
   const gl::Texture* result_ = nullptr;
   std::size_t bytes_uploaded_ = 0;
 };
+
+// One direction's parameters cut into chunks of at most `tile` (a texture's rows), each
+// uploaded as a BasisChunk; begins[c] is chunk c's first parameter, `bytes` grows by what was sent.
+std::vector<BasisChunk> upload_chunks(gl::Context& context, const std::vector<double>& parameters,
+                                      int degree, int count, const std::vector<float>& knots,
+                                      bool packed, int tile, std::vector<std::size_t>& begins,
+                                      std::size_t& bytes);
 
 }  // namespace nurbs::gl_pingpong

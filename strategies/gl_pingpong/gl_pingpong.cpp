@@ -251,21 +251,6 @@ class GlPingPong final : public Strategy {
     return *renderer_;
   }
 
-  std::vector<BasisChunk> upload_chunks(const std::vector<double>& parameters, int degree,
-                                        int count, const std::vector<float>& knots,
-                                        std::vector<std::size_t>& begins) {
-    std::vector<BasisChunk> chunks;
-    for (std::size_t begin = 0; begin < parameters.size();
-         begin += static_cast<std::size_t>(tile_)) {
-      const std::size_t end = std::min(parameters.size(), begin + static_cast<std::size_t>(tile_));
-      chunks.emplace_back(*context_, gl_pingpong::make_chunk_inputs(parameters, begin, end, degree,
-                                                                    count, knots, packed_));
-      bytes_uploaded_ += chunks.back().bytes_uploaded();
-      begins.push_back(begin);
-    }
-    return chunks;
-  }
-
   // 000 §3.1's control-point texture: texel (j, i) = (w x, w y, w z, w) of P_ij.
   std::size_t upload_control(const SurfaceNet<float>& net, const gl::Texture& control) {
     return control.upload(GL_RGBA, GL_FLOAT, net.homogeneous.data(), sizeof(float) * 4);
@@ -287,8 +272,12 @@ class GlPingPong final : public Strategy {
     s.count_v = surface.count_v;
     s.control = gl::Texture(*context_, GL_RGBA32F, surface.count_v, surface.count_u, false);
     bytes_uploaded_ += upload_control(net, s.control);
-    s.u_chunks = upload_chunks(samples.u, net.degree_u, net.count_u, net.knots_u, s.u_begin);
-    s.v_chunks = upload_chunks(samples.v, net.degree_v, net.count_v, net.knots_v, s.v_begin);
+    s.u_chunks =
+        gl_pingpong::upload_chunks(*context_, samples.u, net.degree_u, net.count_u, net.knots_u,
+                                   packed_, tile_, s.u_begin, bytes_uploaded_);
+    s.v_chunks =
+        gl_pingpong::upload_chunks(*context_, samples.v, net.degree_v, net.count_v, net.knots_v,
+                                   packed_, tile_, s.v_begin, bytes_uploaded_);
     for (std::size_t cu = 0; cu < s.u_chunks.size(); ++cu)
       for (std::size_t cv = 0; cv < s.v_chunks.size(); ++cv) {
         Tile t;
@@ -307,8 +296,8 @@ class GlPingPong final : public Strategy {
     const gl::Functions& gl = context_->gl();
     // 000 §3.1 step 2: k-1 passes per direction (and per chunk of a tiled direction).
     const gl::DrawCounts before = context_->draw_counts();
-    for (BasisChunk& c : s.u_chunks) c.raise(*programs_, s.degree_u);
-    for (BasisChunk& c : s.v_chunks) c.raise(*programs_, s.degree_v);
+    for (BasisChunk& c : s.u_chunks) c.raise(programs_->basis, s.degree_u);
+    for (BasisChunk& c : s.v_chunks) c.raise(programs_->basis, s.degree_v);
     basis_passes_ += (context_->draw_counts() - before).passes;
     // Step 3: k_u x k_v accumulation passes per tile, then the divide.
     for (Tile& t : s.tiles) {

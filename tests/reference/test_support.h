@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "reference/sampling.h"
 #include "reference/surface.h"
@@ -65,6 +66,26 @@ class Worst {
   double value_ = 0;
   std::string where_;
 };
+
+// Clamped knots on [0, 1] for `count` control points of `degree`, interior knots non-uniform and
+// one of them repeated `degree` times (a crease: empty spans and 0/0 terms inside the recursion).
+inline std::vector<double> knots_with_crease(int degree, int count) {
+  std::vector<double> k(static_cast<std::size_t>(degree + 1), 0.0);
+  const int interior = count - degree - 1;
+  for (int i = 1; i <= interior; ++i) {
+    const double t = static_cast<double>(i) / (interior + 1);
+    k.push_back(t * t * (3 - 2 * t));
+  }
+  // repeat the middle interior knot up to `degree` times in total
+  if (interior >= degree) {
+    const std::size_t mid = static_cast<std::size_t>(degree + interior / 2);
+    for (int r = 1; r < degree && mid + static_cast<std::size_t>(r) < k.size(); ++r)
+      k[mid + static_cast<std::size_t>(r)] = k[mid];
+  }
+  k.resize(static_cast<std::size_t>(count + 1), 1.0);
+  k.insert(k.end(), static_cast<std::size_t>(degree), 1.0);
+  return k;
+}
 
 inline double distance(const Point3& a, const Point3& b) {
   return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);

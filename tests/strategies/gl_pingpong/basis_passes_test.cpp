@@ -14,6 +14,7 @@
 #include "reference/nurbs_math.h"
 #include "reference/sampling.h"
 #include "strategies/gl_context/gl_context.h"
+#include "tests/reference/test_support.h"
 
 namespace nurbs {
 namespace {
@@ -22,26 +23,6 @@ struct Case {
   gl::Platform platform;
   bool packed;
 };
-
-// Clamped knots on [0, 1] for `count` control points of `degree`, interior knots non-uniform and
-// one of them repeated `degree` times (a crease: empty spans and 0/0 terms inside the recursion).
-std::vector<double> knots_with_crease(int degree, int count) {
-  std::vector<double> k(static_cast<std::size_t>(degree + 1), 0.0);
-  const int interior = count - degree - 1;
-  for (int i = 1; i <= interior; ++i) {
-    const double t = static_cast<double>(i) / (interior + 1);
-    k.push_back(t * t * (3 - 2 * t));
-  }
-  // repeat the middle interior knot up to `degree` times in total
-  if (interior >= degree) {
-    const std::size_t mid = static_cast<std::size_t>(degree + interior / 2);
-    for (int r = 1; r < degree && mid + static_cast<std::size_t>(r) < k.size(); ++r)
-      k[mid + static_cast<std::size_t>(r)] = k[mid];
-  }
-  k.resize(static_cast<std::size_t>(count + 1), 1.0);
-  k.insert(k.end(), static_cast<std::size_t>(degree), 1.0);
-  return k;
-}
 
 void PrintTo(const Case& c, std::ostream* os) {
   *os << gl::to_string(c.platform) << (c.packed ? "/packed" : "/unpacked");
@@ -57,7 +38,7 @@ TEST_P(BasisPasses, EveryIntermediateOrderEqualsTheReferenceBasis) {
   gl_pingpong::Programs programs(*context, c.packed);
   for (int degree : {1, 2, 3, 4, 5, 6, 7, 8, 9, 15}) {
     const int count = 3 * degree + 4;
-    const std::vector<double> knots_d = knots_with_crease(degree, count);
+    const std::vector<double> knots_d = test::knots_with_crease(degree, count);
     ASSERT_EQ(knots_d.size(), static_cast<std::size_t>(count + degree + 1));
     const std::vector<float> knots(knots_d.begin(), knots_d.end());
     // Every knot, the ends and 61 parameters in between (61: a packed last row is partial).
@@ -68,7 +49,7 @@ TEST_P(BasisPasses, EveryIntermediateOrderEqualsTheReferenceBasis) {
     gl_pingpong::BasisChunk chunk(*context, in);
     const int order = degree + 1, width = in.basis_width();
     for (int passes = 1; passes <= degree; ++passes) {
-      chunk.raise(programs, passes);
+      chunk.raise(programs.basis, passes);
       const std::vector<float> texels = chunk.read_result();
       ASSERT_EQ(texels.size(), static_cast<std::size_t>(width) * in.rows * 4);
       const int d = passes;  // this order's degree
