@@ -562,6 +562,40 @@ ReportSection deboor_vs_basis(const std::vector<ResultSet>& sets, const Labeller
   return s;
 }
 
+// The machines, devices and commits of the side files (lod.json, camera_path.json) a section
+// reads, for its context line.
+struct SideFileContext {
+  std::set<std::string> machines, devices, commits;
+
+  void add_file(const json& document) {
+    const json& machine = document.value("machine", json::object());
+    machines.insert(machine.is_object() ? machine.value("cpu_model", "unknown CPU")
+                                        : "unknown CPU");
+    commits.insert(machine.is_object() ? machine.value("git_commit", "unknown") : "unknown");
+  }
+  // A row's "device" ({name, kind}), recorded.
+  DeviceInfo add_device(const json& row) {
+    DeviceInfo device;
+    if (row.contains("device") && row["device"].is_object()) {
+      device.name = text_field(row["device"], "name");
+      device.kind = text_field(row["device"], "kind");
+    }
+    devices.insert(device_text(device));
+    return device;
+  }
+  // The section's context, or (nothing read) what to run instead. False: nothing to show.
+  bool finish(ReportSection& s, bool any, const std::vector<ResultSet>& sets) const {
+    if (!any) {
+      set_no_data(s, s.command);
+      s.context = context_of({}, sets);
+      return false;
+    }
+    s.context = fmt::format("Machine: {}. Devices: {}. Commit {}.", fmt::join(machines, "; "),
+                            fmt::join(devices, "; "), fmt::join(commits, ", "));
+    return true;
+  }
+};
+
 ReportSection lod_section(const std::vector<ResultSet>& sets, json& charts) {
   const std::string& run = chart_run("fig15_lod");
   ReportSection s =
@@ -585,21 +619,13 @@ ReportSection lod_section(const std::vector<ResultSet>& sets, json& charts) {
       {}};
   std::vector<std::string> categories;
   std::vector<Series> series;
-  std::set<std::string> machines, devices, commits;
+  SideFileContext context;
   for (const ResultSet& set : sets) {
     if (!set.lod) continue;
     s.command = regenerate_in(run, set.directory.string());  // where lod.json is
-    const json& machine = (*set.lod).value("machine", json::object());
-    machines.insert(machine.is_object() ? machine.value("cpu_model", "unknown CPU")
-                                        : "unknown CPU");
-    commits.insert(machine.is_object() ? machine.value("git_commit", "unknown") : "unknown");
+    context.add_file(*set.lod);
     for (const json& row : (*set.lod)["rows"]) {
-      DeviceInfo device;
-      if (row.contains("device") && row["device"].is_object()) {
-        device.name = text_field(row["device"], "name");
-        device.kind = text_field(row["device"], "kind");
-      }
-      devices.insert(device_text(device));
+      const DeviceInfo device = context.add_device(row);
       const double ch = number_field(row, "coarser_by_haar_s"),
                    cr = number_field(row, "coarser_by_reevaluation_s"),
                    cf = number_field(row, "coarser_by_full_reevaluation_s"),
@@ -644,13 +670,7 @@ ReportSection lod_section(const std::vector<ResultSet>& sets, json& charts) {
         }
     }
   }
-  if (times.rows.empty()) {
-    set_no_data(s, s.command);
-    s.context = context_of({}, sets);
-    return s;
-  }
-  s.context = fmt::format("Machine: {}. Devices: {}. Commit {}.", fmt::join(machines, "; "),
-                          fmt::join(devices, "; "), fmt::join(commits, ", "));
+  if (!context.finish(s, !times.rows.empty(), sets)) return s;
   charts["charts"].push_back(bars_chart(s.id, "median time (s)", categories, series, true));
   s.has_chart = true;
   s.tables.push_back(std::move(times));
@@ -672,24 +692,16 @@ ReportSection camera_path_section(const std::vector<ResultSet>& sets, json& char
                        "host read-backs (LOD, fixed)", "device copies (LOD, fixed)"},
                       {}};
   std::vector<Series> series;
-  std::set<std::string> machines, devices, commits;
+  SideFileContext context;
   for (const ResultSet& set : sets) {
     if (!set.camera_path) continue;
     s.command = regenerate_in(run, set.directory.string());  // where camera_path.json is
     const json& document = *set.camera_path;
-    const json& machine = document.value("machine", json::object());
-    machines.insert(machine.is_object() ? machine.value("cpu_model", "unknown CPU")
-                                        : "unknown CPU");
-    commits.insert(machine.is_object() ? machine.value("git_commit", "unknown") : "unknown");
+    context.add_file(document);
     const json& settings = document.value("settings", json::object());
     const std::string fixed_grid = text_field(settings, "fixed_samples");
     for (const json& row : document["rows"]) {
-      DeviceInfo device;
-      if (row.contains("device") && row["device"].is_object()) {
-        device.name = text_field(row["device"], "name");
-        device.kind = text_field(row["device"], "kind");
-      }
-      devices.insert(device_text(device));
+      const DeviceInfo device = context.add_device(row);
       const std::string scene = text_field(row, "scene");
       const std::string suffix = sets.size() > 1 ? fmt::format(" [{}]", set.tag) : "";
       const std::string where = fmt::format(" ({}){}", scene, suffix);
@@ -723,13 +735,7 @@ ReportSection camera_path_section(const std::vector<ResultSet>& sets, json& char
                        text_field(fixed_counts, "device_copies"))});
     }
   }
-  if (summary.rows.empty()) {
-    set_no_data(s, s.command);
-    s.context = context_of({}, sets);
-    return s;
-  }
-  s.context = fmt::format("Machine: {}. Devices: {}. Commit {}.", fmt::join(machines, "; "),
-                          fmt::join(devices, "; "), fmt::join(commits, ", "));
+  if (!context.finish(s, !summary.rows.empty(), sets)) return s;
   json chart = lines_chart(s.id, "frame (far → near)", "frame time (ms)", series, false, true);
   // Triangles on the right-hand axis: another unit along the same frames.
   chart["y2label"] = "triangles per frame";
