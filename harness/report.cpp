@@ -36,6 +36,9 @@ const std::vector<ChartCommand>& chart_commands() {
        "nurbsbench run --scenes tan16,tan64,tan256 --strategies all --samples 256x256 "
        "--repetitions 5 --out DIR"},
       {"fig15_lod", "nurbsbench lod --samples 128x128,512x512,1024x1024 --out DIR"},
+      {"camera_path",
+       "nurbsbench camera-path --scenes teapot --frames 60 --viewport 640x480 "
+       "--pixels-per-sample 4 --fixed-samples 64x64 --out DIR"},
       {"rpns_frame",
        "nurbsbench run --scenes teapot,patch144,many-256 --strategies all --samples 16x16 "
        "--repetitions 1 --deforming 30 --out DIR"},
@@ -573,6 +576,40 @@ ReportSection deboor_vs_basis(const std::vector<ResultSet>& sets, const Labeller
   return s;
 }
 
+// The machines, devices and commits of the side files (lod.json, camera_path.json) a section
+// reads, for its context line.
+struct SideFileContext {
+  std::set<std::string> machines, devices, commits;
+
+  void add_file(const json& document) {
+    const json& machine = document.value("machine", json::object());
+    machines.insert(machine.is_object() ? machine.value("cpu_model", "unknown CPU")
+                                        : "unknown CPU");
+    commits.insert(machine.is_object() ? machine.value("git_commit", "unknown") : "unknown");
+  }
+  // A row's "device" ({name, kind}), recorded.
+  DeviceInfo add_device(const json& row) {
+    DeviceInfo device;
+    if (row.contains("device") && row["device"].is_object()) {
+      device.name = text_field(row["device"], "name");
+      device.kind = text_field(row["device"], "kind");
+    }
+    devices.insert(device_text(device));
+    return device;
+  }
+  // The section's context, or (nothing read) what to run instead. False: nothing to show.
+  bool finish(ReportSection& s, bool any, const std::vector<ResultSet>& sets) const {
+    if (!any) {
+      set_no_data(s, s.command);
+      s.context = context_of({}, sets);
+      return false;
+    }
+    s.context = fmt::format("Machine: {}. Devices: {}. Commit {}.", fmt::join(machines, "; "),
+                            fmt::join(devices, "; "), fmt::join(commits, ", "));
+    return true;
+  }
+};
+
 ReportSection lod_section(const std::vector<ResultSet>& sets, json& charts) {
   const std::string& run = chart_run("fig15_lod");
   ReportSection s =
@@ -596,21 +633,13 @@ ReportSection lod_section(const std::vector<ResultSet>& sets, json& charts) {
       {}};
   std::vector<std::string> categories;
   std::vector<Series> series;
-  std::set<std::string> machines, devices, commits;
+  SideFileContext context;
   for (const ResultSet& set : sets) {
     if (!set.lod) continue;
     s.command = regenerate_in(run, set.directory.string());  // where lod.json is
-    const json& machine = (*set.lod).value("machine", json::object());
-    machines.insert(machine.is_object() ? machine.value("cpu_model", "unknown CPU")
-                                        : "unknown CPU");
-    commits.insert(machine.is_object() ? machine.value("git_commit", "unknown") : "unknown");
+    context.add_file(*set.lod);
     for (const json& row : (*set.lod)["rows"]) {
-      DeviceInfo device;
-      if (row.contains("device") && row["device"].is_object()) {
-        device.name = text_field(row["device"], "name");
-        device.kind = text_field(row["device"], "kind");
-      }
-      devices.insert(device_text(device));
+      const DeviceInfo device = context.add_device(row);
       const double ch = number_field(row, "coarser_by_haar_s"),
                    cr = number_field(row, "coarser_by_reevaluation_s"),
                    cf = number_field(row, "coarser_by_full_reevaluation_s"),
@@ -655,17 +684,81 @@ ReportSection lod_section(const std::vector<ResultSet>& sets, json& charts) {
         }
     }
   }
-  if (times.rows.empty()) {
-    set_no_data(s, s.command);
-    s.context = context_of({}, sets);
-    return s;
-  }
-  s.context = fmt::format("Machine: {}. Devices: {}. Commit {}.", fmt::join(machines, "; "),
-                          fmt::join(devices, "; "), fmt::join(commits, ", "));
+  if (!context.finish(s, !times.rows.empty(), sets)) return s;
   charts["charts"].push_back(bars_chart(s.id, "median time (s)", categories, series, true));
   s.has_chart = true;
   s.tables.push_back(std::move(times));
   if (!levels.rows.empty()) s.tables.push_back(std::move(levels));
+  return s;
+}
+
+// 000 §3.2 from camera_path.json: frame time and triangles per frame along the fly-in, the LOD
+// path (grids from the size on screen) beside a fixed grid re-evaluated every frame.
+ReportSection camera_path_section(const std::vector<ResultSet>& sets, json& charts) {
+  const std::string& run = chart_run("camera_path");
+  ReportSection s = section("camera_path",
+                            "Krishnamurthy 2007 §3.2: continuous LOD along a camera fly-in "
+                            "(gl-pingpong, drawn from a device copy) vs a fixed grid",
+                            run, sets);
+  ReportTable summary{"Per scene (from camera_path.json): medians over the frames",
+                      {"scene", "surfaces", "device", "frames", "LOD frame", "fixed frame",
+                       "fixed / LOD", "LOD triangles (first → last)", "fixed triangles",
+                       "host read-backs (LOD, fixed)", "device copies (LOD, fixed)"},
+                      {}};
+  std::vector<Series> series;
+  SideFileContext context;
+  for (const ResultSet& set : sets) {
+    if (!set.camera_path) continue;
+    s.command = regenerate_in(run, set.directory.string());  // where camera_path.json is
+    const json& document = *set.camera_path;
+    context.add_file(document);
+    const json& settings = document.value("settings", json::object());
+    const std::string fixed_grid = text_field(settings, "fixed_samples");
+    for (const json& row : document["rows"]) {
+      const DeviceInfo device = context.add_device(row);
+      const std::string scene = text_field(row, "scene");
+      const std::string suffix = sets.size() > 1 ? fmt::format(" [{}]", set.tag) : "";
+      const std::string where = fmt::format(" ({}){}", scene, suffix);
+      std::string first_triangles = "n/a", last_triangles = "n/a", fixed_triangles = "n/a";
+      const json frames = row.value("frames", json::array());
+      for (const json& frame : frames) {
+        const double f = number_field(frame, "frame");
+        add_point(series, "frame time: LOD" + where, f, number_field(frame, "lod_frame_s") * 1e3);
+        add_point(series, fmt::format("frame time: fixed {}{}", fixed_grid, where), f,
+                  number_field(frame, "fixed_frame_s") * 1e3);
+        add_point(series, "triangles: LOD" + where, f, number_field(frame, "lod_triangles"));
+        add_point(series, fmt::format("triangles: fixed {}{}", fixed_grid, where), f,
+                  number_field(frame, "fixed_triangles"));
+      }
+      if (frames.is_array() && !frames.empty()) {
+        first_triangles = text_field(frames.front(), "lod_triangles");
+        last_triangles = text_field(frames.back(), "lod_triangles");
+        fixed_triangles = text_field(frames.front(), "fixed_triangles");
+      }
+      const double lod = number_field(row, "median_lod_frame_s"),
+                   fixed = number_field(row, "median_fixed_frame_s");
+      const json lod_counts = row.value("lod_counts", json::object()),
+                 fixed_counts = row.value("fixed_counts", json::object());
+      summary.rows.push_back(
+          {scene, text_field(row, "surfaces"), device_text(device), std::to_string(frames.size()),
+           seconds_text(lod), seconds_text(fixed), report_number(fixed / lod),
+           fmt::format("{} → {}", first_triangles, last_triangles), fixed_triangles,
+           fmt::format("{}, {}", text_field(lod_counts, "host_read_backs"),
+                       text_field(fixed_counts, "host_read_backs")),
+           fmt::format("{}, {}", text_field(lod_counts, "device_copies"),
+                       text_field(fixed_counts, "device_copies"))});
+    }
+  }
+  if (!context.finish(s, !summary.rows.empty(), sets)) return s;
+  json chart = lines_chart(s.id, "frame (far → near)", "frame time (ms)", series, false, true);
+  // Triangles on the right-hand axis: another unit along the same frames.
+  chart["y2label"] = "triangles per frame";
+  chart["y2log"] = true;
+  for (json& line : chart["series"])
+    if (line["label"].get<std::string>().starts_with("triangles")) line["axis"] = "y2";
+  charts["charts"].push_back(std::move(chart));
+  s.has_chart = true;
+  s.tables.push_back(std::move(summary));
   return s;
 }
 
@@ -1610,16 +1703,19 @@ ResultSet load_result_set(const fs::path& directory) {
   ResultSet set;
   set.directory = directory;
   const fs::path dir = fs::is_directory(directory) ? directory : directory.parent_path();
-  // `nurbsbench lod` writes lod.json alone, so its regenerate command (lod, then report on the
-  // same directory) must read a directory without results.json: a set with no records.
-  const bool lod_alone = fs::is_directory(directory) && !fs::exists(dir / "results.json") &&
-                         fs::exists(dir / "lod.json");
-  if (!lod_alone) set.results = read_results(directory);
+  // `nurbsbench lod` and `nurbsbench camera-path` write their file alone, so their regenerate
+  // commands (the verb, then report on the same directory) must read a directory without
+  // results.json: a set with no records.
+  const bool side_alone = fs::is_directory(directory) && !fs::exists(dir / "results.json") &&
+                          (fs::exists(dir / "lod.json") || fs::exists(dir / "camera_path.json"));
+  if (!side_alone) set.results = read_results(directory);
   fs::path name = fs::weakly_canonical(dir).filename();
   set.tag = name.empty() ? dir.string() : name.string();
   set.lod = read_side_file(dir / "lod.json", "nurbsbench-lod/1");
   set.memory = read_side_file(dir / "memory.json", "nurbsbench-memory/1");
-  if (lod_alone) set.results.machine = set.lod->value("machine", json::object());
+  set.camera_path = read_side_file(dir / "camera_path.json", "nurbsbench-camera-path/1");
+  if (side_alone)
+    set.results.machine = (set.lod ? *set.lod : *set.camera_path).value("machine", json::object());
   return set;
 }
 
@@ -1634,6 +1730,7 @@ Report build_report(const std::vector<ResultSet>& sets) {
   report.sections.push_back(tspline_time_vs_points(sets, label, charts));
   report.sections.push_back(deboor_vs_basis(sets, label, charts));
   report.sections.push_back(lod_section(sets, charts));
+  report.sections.push_back(camera_path_section(sets, charts));
   report.sections.push_back(frame_section(sets, label, charts));
   report.sections.push_back(rpns_mappings_section(sets, charts));
   report.sections.push_back(memory_section(sets));

@@ -23,10 +23,12 @@ struct ResultSet {
   ResultsFile results;
   std::optional<nlohmann::json> lod;     // DIR/lod.json (nurbsbench-lod/1), when present
   std::optional<nlohmann::json> memory;  // DIR/memory.json (nurbsbench-memory/1), when present
+  // DIR/camera_path.json (nurbsbench-camera-path/1, `nurbsbench camera-path`), when present
+  std::optional<nlohmann::json> camera_path;
 };
 
-// Reads DIR/results.json and, when present, DIR/lod.json and DIR/memory.json. Throws InputError
-// naming the file and field for anything malformed.
+// Reads DIR/results.json and, when present, DIR/lod.json, DIR/memory.json and DIR/camera_path.json.
+// Throws InputError naming the file and field for anything malformed.
 ResultSet load_result_set(const std::filesystem::path& directory);
 
 struct ReportTable {

@@ -90,16 +90,27 @@ def style(k):
 
 
 def lines(ax, chart):
+    """Series with "axis": "y2" go on a second y axis at the right (y2label, y2log): two
+    quantities of one x, e.g. frame time and triangles per frame along a camera path."""
     xlog, ylog = chart.get("xlog", False), chart.get("ylog", False)
+    right = None
     for k, s in enumerate(chart["series"]):
+        on_right = s.get("axis") == "y2"
+        if on_right and right is None:
+            right = ax.twinx()
+            right.set_ylabel(chart.get("y2label", ""))
+            if chart.get("y2log", False):
+                right.set_yscale("log")
+        target = right if on_right else ax
+        logy = chart.get("y2log", False) if on_right else ylog
         pts = [
             (x, y)
             for x, y in zip(s["x"], s["y"])
-            if finite(x) and finite(y) and (not xlog or x > 0) and (not ylog or y > 0)
+            if finite(x) and finite(y) and (not xlog or x > 0) and (not logy or y > 0)
         ]
         if pts:
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], label=s["label"], markersize=5,
-                    **style(k))
+            target.plot([p[0] for p in pts], [p[1] for p in pts], label=s["label"], markersize=5,
+                        **style(k))
     if xlog:
         ax.set_xscale("log", base=2)
     if ylog:
@@ -107,7 +118,11 @@ def lines(ax, chart):
     ax.set_xlabel(chart.get("xlabel", ""))
     ax.set_ylabel(chart.get("ylabel", ""))
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
+    handles, labels = ax.get_legend_handles_labels()
+    if right is not None:
+        more_handles, more_labels = right.get_legend_handles_labels()
+        handles, labels = handles + more_handles, labels + more_labels
+    ax.legend(handles, labels, fontsize=7, ncol=2)
 
 
 def bars(ax, chart):

@@ -96,6 +96,21 @@ struct LodOptions {
 };
 int lod_command(const LodOptions& options);
 
+// 000 §3.2 along a fly-in (harness/cli/camera_path.cpp).
+struct CameraPathOptions {
+  std::string scenes = "teapot";
+  int frames = 60;
+  std::string viewport = "640x480";
+  double pixels_per_sample = 4;
+  int min_samples = 4, max_samples = 256;
+  std::string fixed_samples = "64x64";  // the baseline: 000 §5's Fig 1 grid, every surface
+  std::string out = "results/latest";
+  int threads = 0;
+  std::string gl;
+  std::string images;  // --images DIR (empty: no pictures)
+};
+int camera_path_command(const CameraPathOptions& options);
+
 struct CheckOptions {
   std::string gates;
   std::string results = "results/latest";

@@ -154,6 +154,34 @@ int main(int argc, char** argv) {
                    "write DIR/lod__<scene>__<samples>__L<level>.png: each level as drawn (PNG)")
       ->type_name("DIR");
 
+  CameraPathOptions camera;
+  auto* camera_cmd = app.add_subcommand(
+      "camera-path",
+      "000 §3.2: continuous LOD along a fly-in (gl-pingpong, drawn from a device copy) vs a fixed "
+      "grid re-evaluated every frame");
+  camera_cmd->add_option("--scenes", camera.scenes,
+                         "comma list of scenes (default teapot: 32 surfaces)");
+  camera_cmd->add_option("--frames", camera.frames, "frames of the fly-in (default 60)");
+  camera_cmd->add_option("--viewport", camera.viewport, "image size WxH (default 640x480)");
+  camera_cmd->add_option("--pixels-per-sample", camera.pixels_per_sample,
+                         "projected pixels per evaluated sample (default 4)");
+  camera_cmd->add_option("--min-samples", camera.min_samples,
+                         "fewest samples per side of a surface (default 4)");
+  camera_cmd->add_option("--max-samples", camera.max_samples,
+                         "most samples per side of a surface (default 256)");
+  camera_cmd->add_option("--fixed-samples", camera.fixed_samples,
+                         "the baseline's grid for every surface, WxH (default 64x64)");
+  camera_cmd->add_option("--threads", camera.threads, "threads for llvmpipe (0: every core)");
+  camera_cmd->add_option("--gl", camera.gl, "OpenGL platform: egl (default) or osmesa")
+      ->check(CLI::IsMember({"osmesa", "egl"}));
+  camera_cmd->add_option("--out", camera.out,
+                         "output directory for camera_path.json (default results/latest)");
+  camera_cmd
+      ->add_option("--images", camera.images,
+                   "write DIR/camera_path__<scene>__<lod|fixed>__f<frame>.png: the first and last "
+                   "frames as drawn (PNG)")
+      ->type_name("DIR");
+
   MemoryOptions memory;
   auto* memory_cmd = app.add_subcommand(
       "memory",
@@ -262,6 +290,7 @@ int main(int argc, char** argv) {
     if (*eval_cmd) return eval_command(eval);
     if (*run_cmd) return run_command(run);
     if (*lod_cmd) return lod_command(lod);
+    if (*camera_cmd) return camera_path_command(camera);
     if (*check_cmd) return check_command(check);
     if (*memory_cmd) return memory_command(memory);
     if (*report_cmd) return report_command(report);

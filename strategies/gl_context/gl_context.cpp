@@ -178,6 +178,27 @@ void Context::draw_elements(GLenum mode, GLsizei count, GLenum type, const void*
   count_draw();
 }
 
+void Context::read_pixels(GLint x, GLint y, GLsizei width, GLsizei height, GLenum format,
+                          GLenum type, void* pixels) {
+  counted_.ReadPixels(x, y, width, height, format, type, pixels);
+  ++draw_counts_.host_read_backs;
+}
+
+void Context::copy_pixels_to_buffer(GLuint pack_buffer, GLint x, GLint y, GLsizei width,
+                                    GLsizei height, GLenum format, GLenum type) {
+  gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, pack_buffer);
+  counted_.ReadPixels(x, y, width, height, format, type, nullptr);
+  gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  ++draw_counts_.device_copies;
+}
+
+void Context::read_buffer(GLuint buffer, GLintptr offset, GLsizeiptr bytes, void* data) {
+  gl_.BindBuffer(GL_COPY_READ_BUFFER, buffer);
+  counted_.GetBufferSubData(GL_COPY_READ_BUFFER, offset, bytes, data);
+  gl_.BindBuffer(GL_COPY_READ_BUFFER, 0);
+  ++draw_counts_.host_read_backs;
+}
+
 void Context::count_draw() {
   ++draw_counts_.draws;
   if (!bound_target_drawn_) ++draw_counts_.passes;

@@ -55,11 +55,17 @@ class Backend {
 // Draws issued through one Context. A pass is a framebuffer binding drawn into: the draws between
 // two bind_framebuffer() calls render into one target, as the papers' passes do (000's ping-pong
 // binds a new target for every draw; 002 draws every span quad of a direction into one target).
+// Reads of device memory are counted beside them: a host read-back (glReadPixels into host
+// memory, glGetBufferSubData) or a device copy (glReadPixels into a pixel-pack buffer, which stays
+// on the device: 000 §3.2's output drawn as a vertex buffer without reading it back).
 struct DrawCounts {
   std::uint64_t draws = 0;
   std::uint64_t passes = 0;
+  std::uint64_t host_read_backs = 0;
+  std::uint64_t device_copies = 0;
   DrawCounts operator-(const DrawCounts& earlier) const {
-    return {draws - earlier.draws, passes - earlier.passes};
+    return {draws - earlier.draws, passes - earlier.passes,
+            host_read_backs - earlier.host_read_backs, device_copies - earlier.device_copies};
   }
 };
 
@@ -91,6 +97,16 @@ class Context {
   // One draw however many instances: what a draw costs the driver is paid once.
   void draw_arrays_instanced(GLenum mode, GLint first, GLsizei count, GLsizei instances);
   void draw_elements(GLenum mode, GLsizei count, GLenum type, const void* indices);
+  // glReadPixels of the bound read framebuffer into host memory: a host read-back.
+  void read_pixels(GLint x, GLint y, GLsizei width, GLsizei height, GLenum format, GLenum type,
+                   void* pixels);
+  // glReadPixels into `pack_buffer` (GL_PIXEL_PACK_BUFFER, from offset 0): a device copy, no
+  // host memory involved. The buffer must hold the pixels; the pack binding is restored to 0.
+  void copy_pixels_to_buffer(GLuint pack_buffer, GLint x, GLint y, GLsizei width, GLsizei height,
+                             GLenum format, GLenum type);
+  // glGetBufferSubData of `buffer` (bound to GL_COPY_READ_BUFFER) into host memory: a host
+  // read-back.
+  void read_buffer(GLuint buffer, GLintptr offset, GLsizeiptr bytes, void* data);
   // Since the context was created; a strategy records the difference over its evaluate().
   DrawCounts draw_counts() const { return draw_counts_; }
 

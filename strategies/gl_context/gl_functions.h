@@ -28,7 +28,6 @@ namespace nurbs::gl {
   X(PFNGLCLEARCOLORPROC, ClearColor)                             \
   X(PFNGLCLEARPROC, Clear)                                       \
   X(PFNGLPIXELSTOREIPROC, PixelStorei)                           \
-  X(PFNGLREADPIXELSPROC, ReadPixels)                             \
   X(PFNGLREADBUFFERPROC, ReadBuffer)                             \
   X(PFNGLGENTEXTURESPROC, GenTextures)                           \
   X(PFNGLDELETETEXTURESPROC, DeleteTextures)                     \
@@ -84,15 +83,18 @@ namespace nurbs::gl {
   X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)           \
   X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)
 
-// The draws and the framebuffer bindings are not in Functions: they are reachable only through
-// Context::draw_arrays / draw_arrays_instanced / draw_elements / bind_framebuffer, which count
-// them, so the pass counts a strategy records are the draws it issued and no draw can bypass the
-// count.
+// The draws, the framebuffer bindings and the reads of device memory are not in Functions: they
+// are reachable only through Context::draw_arrays / draw_arrays_instanced / draw_elements /
+// bind_framebuffer / read_pixels / copy_pixels_to_buffer / read_buffer, which count them, so the
+// pass counts a strategy records are the draws it issued, and a path said to read nothing back to
+// the host is checked by a count no read can bypass.
 #define NURBSBENCH_GL_COUNTED_FUNCTIONS(X)             \
   X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)         \
   X(PFNGLDRAWARRAYSPROC, DrawArrays)                   \
   X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced) \
-  X(PFNGLDRAWELEMENTSPROC, DrawElements)
+  X(PFNGLDRAWELEMENTSPROC, DrawElements)               \
+  X(PFNGLREADPIXELSPROC, ReadPixels)                   \
+  X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)
 
 #define NURBSBENCH_GL_DECLARE(type, name) type name = nullptr;
 struct Functions {

@@ -238,7 +238,7 @@ std::vector<float> RenderTargets::read_rgba(int i) const {
   context_->bind_framebuffer(framebuffer_);
   gl.ReadBuffer(static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + i));
   gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-  gl.ReadPixels(0, 0, t.width(), t.height(), GL_RGBA, GL_FLOAT, texels.data());
+  context_->read_pixels(0, 0, t.width(), t.height(), GL_RGBA, GL_FLOAT, texels.data());
   return texels;
 }
 

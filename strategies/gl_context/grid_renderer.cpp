@@ -187,6 +187,23 @@ void GridRenderer::draw(const float* xyz, int nu, int nv, const float mvp[16],
   context_.draw_elements(GL_TRIANGLES, index_buffer(nu, nv), GL_UNSIGNED_INT, nullptr);
 }
 
+std::uint64_t GridRenderer::draw_device_points(GLuint vertex_buffer, int nu, int nv,
+                                               const float mvp[16]) {
+  if (nu < 2 || nv < 2) return 0;
+  const Functions& gl = context_.gl();
+  // `nu` of the shader only indexes the trim table, which an untrimmed draw does not read.
+  set_common(traditional_, mvp, nv, nullptr);
+  gl.BindVertexArray(vertex_array_);
+  gl.BindBuffer(GL_ARRAY_BUFFER, vertex_buffer);
+  gl.EnableVertexAttribArray(0);
+  gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
+  // Vertex k = a * nv + b: the index buffer of the transposed grid (its "a" runs along v) names
+  // the same cells.
+  const GLsizei elements = index_buffer(nv, nu);
+  context_.draw_elements(GL_TRIANGLES, elements, GL_UNSIGNED_INT, nullptr);
+  return static_cast<std::uint64_t>(elements) / 3;
+}
+
 void GridRenderer::end_frame(std::string_view where) {
   context_.gl().Disable(GL_DEPTH_TEST);
   context_.check(where);
@@ -198,7 +215,7 @@ std::vector<unsigned char> GridRenderer::image() {
   context_.bind_framebuffer(framebuffer_);
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
   gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-  gl.ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+  context_.read_pixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
   context_.check("grid render image");
   return pixels;
 }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -56,6 +57,11 @@ class GridRenderer {
   // 002 §4.1: positions read back to the host, in SurfaceSamples order (sample (a, b) at
   // xyz[(a * nv + b) * 3]), re-uploaded as a vertex buffer.
   void draw(const float* xyz, int nu, int nv, const float mvp[16], const GridTrim* trim);
+  // 000 §3.2: the evaluated points copied on the device into `vertex_buffer` (RGBA32F texels, the
+  // grid's sample (a, b) at texel a * nv + b: a u x v output texture read row by row into a
+  // pixel-pack buffer), drawn as a vertex buffer without passing through the host. Returns the
+  // triangles drawn.
+  std::uint64_t draw_device_points(GLuint vertex_buffer, int nu, int nv, const float mvp[16]);
   void end_frame(std::string_view where);
 
   // The steps of a draw from host points that Krishnamurthy's LOD repeats at every change of

@@ -108,7 +108,7 @@ std::vector<float> BasisChunk::read_result() const {
   result_->bind_target();
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
   gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-  gl.ReadPixels(0, 0, result_->width(), rows_, GL_RGBA, GL_FLOAT, out.data());
+  context_->read_pixels(0, 0, result_->width(), rows_, GL_RGBA, GL_FLOAT, out.data());
   context_->check("gl-pingpong basis read-back");
   return out;
 }

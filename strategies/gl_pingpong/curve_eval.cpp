@@ -208,7 +208,7 @@ std::vector<Vec3<float>> CurveEvaluator::read_back() {
     points.bind_target();
     gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl.ReadPixels(0, 0, 1, points.height(), GL_RGBA, GL_FLOAT, texels.data());
+    m.context->read_pixels(0, 0, 1, points.height(), GL_RGBA, GL_FLOAT, texels.data());
     for (int q = 0; q < points.height(); ++q)
       out[m.begins[i] + static_cast<std::size_t>(q)] = {
           texels[static_cast<std::size_t>(q) * 4], texels[static_cast<std::size_t>(q) * 4 + 1],

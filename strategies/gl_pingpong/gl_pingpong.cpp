@@ -12,6 +12,7 @@
 #include "strategies/gl_context/gl_context.h"
 #include "strategies/gl_context/grid_renderer.h"
 #include "strategies/gl_pingpong/basis_passes.h"
+#include "strategies/gl_pingpong/lod_renderer.h"
 #include "strategies/strategy_options.h"
 #include "strategies/trim_texture/trim_texture.h"
 
@@ -54,7 +55,8 @@ struct Tile {
 
 struct SurfaceOnGpu {
   int degree_u = 0, degree_v = 0, count_u = 0, count_v = 0;
-  gl::Texture control;  // count_v x count_u homogeneous control points (000 §3.1)
+  gl::Texture control;                  // count_v x count_u homogeneous control points (000 §3.1)
+  std::vector<float> knots_u, knots_v;  // kept for a new grid (000 §3.2's LOD)
   std::vector<BasisChunk> u_chunks, v_chunks;
   std::vector<std::size_t> u_begin, v_begin;  // first parameter of each chunk
   std::vector<Tile> tiles;
@@ -80,6 +82,7 @@ class GlPingPong final : public Strategy {
 
   ~GlPingPong() override {
     context_->make_current();
+    for (const DeviceCopy& c : copies_) context_->gl().DeleteBuffers(1, &c.buffer);
     renderer_.reset();
     trims_.reset();
     surfaces_.clear();
@@ -108,6 +111,8 @@ class GlPingPong final : public Strategy {
     samples_ = sample_parameters(scene, request.sampling);
     view_ = gl::orthographic_view(scene);
     context_->make_current();
+    for (const DeviceCopy& c : copies_) context_->gl().DeleteBuffers(1, &c.buffer);
+    copies_.clear();
     surfaces_.clear();
     bytes_uploaded_ = bytes_updated_ = 0;
     passes_ = basis_passes_ = 0;
@@ -206,6 +211,84 @@ class GlPingPong final : public Strategy {
     return out;
   }
 
+  // 000 §3.2: surface i evaluated at new samples from the next evaluate on; only what depends on
+  // the samples is made again (parameters, first-span indices, basis and sum targets). Trims are
+  // not re-sampled: the LOD path takes untrimmed scenes (make_lod_renderer).
+  void resample(std::size_t i, const SurfaceSamples& samples) {
+    context_->make_current();
+    samples_[i] = samples;
+    tile_count_ -= surfaces_[i].tiles.size();
+    make_grid(surfaces_[i], samples);
+    context_->check("gl-pingpong resample");
+  }
+
+  // 000 §3.2's rendering: every surface evaluated, its output copied on the device into a vertex
+  // buffer of its own (glReadPixels into a pixel-pack buffer: the output texture's row a is the
+  // samples (a, 0..nv-1), so the buffer is in SurfaceSamples order), which is then drawn as the
+  // array buffer into a width x height image. Nothing is read back to the host. Grids must fit
+  // one tile (the caller's limit). Returns the triangles drawn.
+  std::uint64_t draw_from_device_copies(const std::array<float, 16>& mvp) {
+    context_->make_current();
+    const gl::Functions& gl = context_->gl();
+    for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
+    copies_.resize(surfaces_.size());
+    for (std::size_t i = 0; i < surfaces_.size(); ++i) {
+      const Tile& t = surfaces_[i].tiles.front();
+      const gl::Texture& result = t.sum[t.result];
+      DeviceCopy& c = copies_[i];
+      const GLsizeiptr bytes = GLsizeiptr{result.width()} * result.height() * 4 * sizeof(float);
+      if (!c.buffer) gl.GenBuffers(1, &c.buffer);
+      if (c.bytes != bytes) {
+        gl.BindBuffer(GL_PIXEL_PACK_BUFFER, c.buffer);
+        // Written and read by GL only.
+        gl.BufferData(GL_PIXEL_PACK_BUFFER, bytes, nullptr, GL_STREAM_COPY);
+        gl.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+        c.bytes = bytes;
+      }
+      result.bind_target();
+      gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+      gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+      context_->copy_pixels_to_buffer(c.buffer, 0, 0, result.width(), result.height(), GL_RGBA,
+                                      GL_FLOAT);
+      c.nu = result.height();
+      c.nv = result.width();
+    }
+    std::uint64_t triangles = 0;
+    renderer().begin_frame();
+    for (const DeviceCopy& c : copies_)
+      triangles += renderer().draw_device_points(c.buffer, c.nu, c.nv, mvp.data());
+    renderer().end_frame("gl-pingpong LOD frame");
+    context_->finish("gl-pingpong LOD frame");
+    return triangles;
+  }
+
+  // Tests only: the vertex buffers as the last frame drew them, read back.
+  std::vector<SurfaceResult> read_device_copies() {
+    context_->make_current();
+    std::vector<SurfaceResult> out(copies_.size());
+    std::vector<float> texels;
+    for (std::size_t i = 0; i < copies_.size(); ++i) {
+      const DeviceCopy& c = copies_[i];
+      texels.resize(static_cast<std::size_t>(c.bytes) / sizeof(float));
+      context_->read_buffer(c.buffer, 0, c.bytes, texels.data());
+      out[i].samples = samples_[i];
+      out[i].positions = PointArray(Precision::f32, texels.size() / 4);
+      float* xyz = out[i].positions.f32();
+      for (std::size_t k = 0; k < texels.size() / 4; ++k)
+        for (std::size_t d = 0; d < 3; ++d) xyz[k * 3 + d] = texels[k * 4 + d];
+    }
+    context_->check("gl-pingpong vertex buffer read-back");
+    return out;
+  }
+
+  // The size of the image render() and draw_from_device_copies() draw; before the first draw.
+  void set_render_size(int width, int height) {
+    render_width_ = width;
+    render_height_ = height;
+  }
+  int tile() const { return tile_; }
+  gl::Context& context() { return *context_; }
+
  private:
   // The positions only: what the traditional render path (002 §4.1) reads back.
   EvalResult read_positions() {
@@ -227,7 +310,8 @@ class GlPingPong final : public Strategy {
         result.bind_target();
         gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
         gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-        gl.ReadPixels(0, 0, result.width(), result.height(), GL_RGBA, GL_FLOAT, texels.data());
+        context_->read_pixels(0, 0, result.width(), result.height(), GL_RGBA, GL_FLOAT,
+                              texels.data());
         const std::size_t u0 = surfaces_[i].u_begin[static_cast<std::size_t>(t.cu)];
         const std::size_t v0 = surfaces_[i].v_begin[static_cast<std::size_t>(t.cv)];
         for (int a = 0; a < result.height(); ++a)
@@ -247,7 +331,7 @@ class GlPingPong final : public Strategy {
   // Created at the first draw: a run that never renders allocates no framebuffer.
   gl::GridRenderer& renderer() {
     if (!renderer_)
-      renderer_ = std::make_unique<gl::GridRenderer>(*context_, kRenderSize, kRenderSize);
+      renderer_ = std::make_unique<gl::GridRenderer>(*context_, render_width_, render_height_);
     return *renderer_;
   }
 
@@ -272,12 +356,21 @@ class GlPingPong final : public Strategy {
     s.count_v = surface.count_v;
     s.control = gl::Texture(*context_, GL_RGBA32F, surface.count_v, surface.count_u, false);
     bytes_uploaded_ += upload_control(net, s.control);
-    s.u_chunks =
-        gl_pingpong::upload_chunks(*context_, samples.u, net.degree_u, net.count_u, net.knots_u,
-                                   packed_, tile_, s.u_begin, bytes_uploaded_);
-    s.v_chunks =
-        gl_pingpong::upload_chunks(*context_, samples.v, net.degree_v, net.count_v, net.knots_v,
-                                   packed_, tile_, s.v_begin, bytes_uploaded_);
+    s.knots_u = net.knots_u;
+    s.knots_v = net.knots_v;
+    make_grid(s, samples);
+    return s;
+  }
+
+  // The sample-dependent part of a surface on the device: parameter chunks and the tiles' targets.
+  void make_grid(SurfaceOnGpu& s, const SurfaceSamples& samples) {
+    s.u_begin.clear();
+    s.v_begin.clear();
+    s.tiles.clear();
+    s.u_chunks = gl_pingpong::upload_chunks(*context_, samples.u, s.degree_u, s.count_u, s.knots_u,
+                                            packed_, tile_, s.u_begin, bytes_uploaded_);
+    s.v_chunks = gl_pingpong::upload_chunks(*context_, samples.v, s.degree_v, s.count_v, s.knots_v,
+                                            packed_, tile_, s.v_begin, bytes_uploaded_);
     for (std::size_t cu = 0; cu < s.u_chunks.size(); ++cu)
       for (std::size_t cv = 0; cv < s.v_chunks.size(); ++cv) {
         Tile t;
@@ -289,7 +382,6 @@ class GlPingPong final : public Strategy {
         s.tiles.push_back(std::move(t));
       }
     tile_count_ += s.tiles.size();
-    return s;
   }
 
   void evaluate_surface(SurfaceOnGpu& s) {
@@ -336,6 +428,14 @@ class GlPingPong final : public Strategy {
   std::unique_ptr<Programs> programs_;
   std::unique_ptr<trim_texture::TrimTextures> trims_;
   std::unique_ptr<gl::GridRenderer> renderer_;
+  int render_width_ = kRenderSize, render_height_ = kRenderSize;
+  // 000 §3.2: each surface's output copied on the device, drawn as a vertex buffer.
+  struct DeviceCopy {
+    GLuint buffer = 0;
+    GLsizeiptr bytes = 0;
+    int nu = 0, nv = 0;
+  };
+  std::vector<DeviceCopy> copies_;
   std::array<float, 16> view_{};
   int tile_ = 0;
   std::vector<SurfaceSamples> samples_;
@@ -343,6 +443,67 @@ class GlPingPong final : public Strategy {
   double device_evaluate_s_ = 0;
   std::size_t bytes_uploaded_ = 0, bytes_updated_ = 0, tile_count_ = 0;
   std::uint64_t passes_ = 0, basis_passes_ = 0;  // of the last evaluate()
+};
+
+// 000 §3.2 on the strategy itself: the same passes, targets and counted context as `run` times.
+class PingPongLodRenderer final : public gl_pingpong::LodRenderer {
+ public:
+  PingPongLodRenderer(const Scene& scene, int width, int height, const StrategyOptions& options)
+      : scene_(scene),
+        strategy_(gl::platform_option(options), false, 0,
+                  trim_texture::parse_options(options, "gl-pingpong")) {
+    for (const Surface& s : scene.surfaces)
+      if (s.trim)
+        throw RefusedError(fmt::format(
+            "surface '{}' is trimmed; the LOD path draws whole surfaces (no trim texture)",
+            s.name));
+    strategy_.set_render_size(width, height);
+    EvalRequest request;
+    request.sampling.grid_u = request.sampling.grid_v = 2;
+    strategy_.prepare(scene, request);
+    grids_.assign(scene.surfaces.size(), {2, 2});
+  }
+
+  DeviceInfo device() const override { return strategy_.device(); }
+
+  void set_grid(std::size_t surface, int nu, int nv) override {
+    if (grids_.at(surface) == std::pair{nu, nv}) return;
+    if (nu < 2 || nv < 2 || std::max(nu, nv) > strategy_.tile())
+      throw RefusedError(fmt::format(
+          "surface {}: {}x{} samples; the LOD path draws one output texture per surface, 2 to {} "
+          "samples per side",
+          surface, nu, nv, strategy_.tile()));
+    const Surface& s = scene_.surfaces[surface];
+    SurfaceSamples samples;
+    samples.u = grid_parameters(s.u_min(), s.u_max(), nu);
+    samples.v = grid_parameters(s.v_min(), s.v_max(), nv);
+    strategy_.resample(surface, samples);
+    grids_[surface] = {nu, nv};
+  }
+
+  std::uint64_t draw_frame(const std::array<float, 16>& mvp) override {
+    return strategy_.draw_from_device_copies(mvp);
+  }
+
+  gl_pingpong::LodCounts counts() const override {
+    const gl::DrawCounts c = strategy_.context().draw_counts();
+    return {c.draws, c.passes, c.host_read_backs, c.device_copies};
+  }
+
+  std::vector<SurfaceResult> read_vertex_buffers() override {
+    return strategy_.read_device_copies();
+  }
+
+  RenderedImage picture() override {
+    std::optional<RenderedImage> p = strategy_.last_render();
+    if (!p) throw std::logic_error("gl-pingpong LOD: picture() before the first frame");
+    return std::move(*p);
+  }
+
+ private:
+  Scene scene_;
+  mutable GlPingPong strategy_;
+  std::vector<std::pair<int, int>> grids_;
 };
 
 StrategyEntry entry(std::string name, bool packed_entry) {
@@ -362,6 +523,11 @@ StrategyEntry entry(std::string name, bool packed_entry) {
 }
 
 }  // namespace
+
+std::unique_ptr<gl_pingpong::LodRenderer> gl_pingpong::make_lod_renderer(
+    const Scene& scene, int width, int height, const StrategyOptions& options) {
+  return std::make_unique<PingPongLodRenderer>(scene, width, height, options);
+}
 
 StrategyEntry gl_pingpong_entry() {
   return entry("gl-pingpong", false);

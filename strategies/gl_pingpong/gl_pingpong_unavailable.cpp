@@ -1,8 +1,11 @@
 // gl-pingpong when the build has no OpenGL (no OSMesa/EGL development packages, or
 // NURBSBENCH_CPU_ONLY): still registered, so `list` and results say why it did not run.
+#include <fmt/format.h>
+
 #include "reference/validation.h"
 #include "strategies/gl_pingpong/curve_eval.h"
 #include "strategies/gl_pingpong/gl_pingpong.h"
+#include "strategies/gl_pingpong/lod_renderer.h"
 
 namespace nurbs {
 namespace {
@@ -22,6 +25,11 @@ StrategyEntry unavailable_entry(std::string name) {
 }
 
 }  // namespace
+
+std::unique_ptr<gl_pingpong::LodRenderer> gl_pingpong::make_lod_renderer(const Scene&, int, int,
+                                                                         const StrategyOptions&) {
+  throw std::runtime_error(fmt::format("unavailable: {}", NURBSBENCH_GL_MISSING));
+}
 
 StrategyEntry gl_pingpong_entry() {
   return unavailable_entry("gl-pingpong");

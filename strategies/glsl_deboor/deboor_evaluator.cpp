@@ -359,7 +359,7 @@ std::vector<std::vector<float>> Evaluator::read_back() {
     t.bind_target();
     gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl.ReadPixels(0, 0, t.width(), t.height(), GL_RGBA, GL_FLOAT, texels.data());
+    context_.read_pixels(0, 0, t.width(), t.height(), GL_RGBA, GL_FLOAT, texels.data());
     for (const SurfaceSlot& s : page.slots) {
       std::vector<float>& xyz = out[s.surface];
       xyz.resize(static_cast<std::size_t>(s.nu) * s.nv * 3);

@@ -135,7 +135,7 @@ std::vector<float> HaarLod::read(int k) const {
   l.points.bind_target();
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
   gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-  gl.ReadPixels(0, 0, l.width, l.height, GL_RGBA, GL_FLOAT, texels.data());
+  context_.read_pixels(0, 0, l.width, l.height, GL_RGBA, GL_FLOAT, texels.data());
   std::vector<float> xyz(static_cast<std::size_t>(l.width) * l.height * 3);
   for (int a = 0; a < l.width; ++a)
     for (int b = 0; b < l.height; ++b)

@@ -181,7 +181,7 @@ std::vector<std::uint8_t> TrimTextures::read_mask(std::size_t surface) {
   s->mask.bind_target();
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
   gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
-  gl.ReadPixels(0, 0, s->nv, s->nu, GL_RED, GL_UNSIGNED_BYTE, mask.data());
+  context_.read_pixels(0, 0, s->nv, s->nu, GL_RED, GL_UNSIGNED_BYTE, mask.data());
   context_.check(fmt::format("{} trim mask read-back", strategy_));
   for (std::uint8_t& m : mask) m = m >= 128 ? 1 : 0;
   return mask;

@@ -127,6 +127,7 @@ TEST(CliHelp, EveryVerbHasHelpAndExitsZero) {
                                              {"eval", "--help"},
                                              {"run", "--help"},
                                              {"lod", "--help"},
+                                             {"camera-path", "--help"},
                                              {"check", "--help"},
                                              {"memory", "--help"}}) {
     SCOPED_TRACE(args.front());
@@ -487,12 +488,26 @@ TEST(CliRun, BadArgumentsLeaveNoOutputDirectory) {
 
 // ----------------------------------------------------------------------------------------- lod
 
+using RefusedCases = std::vector<std::pair<std::vector<std::string>, std::vector<std::string>>>;
+
+// `verb --out out ARGS` for each case: a usage error naming the case's words, nothing written.
+void expect_each_refused(const std::string& verb, const std::string& out,
+                         const RefusedCases& cases) {
+  for (const auto& [args, expect] : cases) {
+    SCOPED_TRACE(expect.front());
+    std::vector<std::string> argv = {verb, "--out", out};
+    argv.insert(argv.end(), args.begin(), args.end());
+    expect_usage_error(run_cli(argv), expect);
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
 // Checked before any GL work or output: these hold in every build (the measurement itself is
 // tested with glsl-deboor's GL tests).
 TEST(CliLod, BadArgumentsLeaveNoOutputDirectory) {
   TempDir tmp;
   const std::string out = tmp / "lod";
-  const std::vector<std::pair<std::vector<std::string>, std::vector<std::string>>> cases = {
+  const RefusedCases cases = {
       {{"--scene", "many-4"}, {"--scene", "'many-4'", "4 surfaces"}},
       {{"--scene", "nosuch"}, {"'nosuch'", "neither a file nor a built-in scene"}},
       {{"--samples", "100x100"}, {"--samples", "100x100", "halve 3 times", "multiples of 8"}},
@@ -504,13 +519,33 @@ TEST(CliLod, BadArgumentsLeaveNoOutputDirectory) {
       {{"--images", tmp / "a-file"}, {"--images", "a-file"}},
   };
   write_text(fs::path(tmp / "a-file"), "not a directory");
-  for (const auto& [args, expect] : cases) {
-    SCOPED_TRACE(expect.front());
-    std::vector<std::string> argv = {"lod", "--out", out};
-    argv.insert(argv.end(), args.begin(), args.end());
-    expect_usage_error(run_cli(argv), expect);
-    EXPECT_FALSE(fs::exists(out));
-  }
+  expect_each_refused("lod", out, cases);
+}
+
+// ------------------------------------------------------------------------------- camera-path
+
+// Checked before any GL work or output, so these hold in every build (the fly-in itself is
+// tested in camera_path_test.cpp).
+TEST(CliCameraPath, BadArgumentsLeaveNoOutputDirectory) {
+  TempDir tmp;
+  const std::string out = tmp / "camera";
+  const RefusedCases cases = {
+      {{"--frames", "1"}, {"--frames", "1", "2..10000"}},
+      {{"--frames", "abc"}, {"--frames"}},
+      {{"--viewport", "8x8"}, {"--viewport", "'8x8'", "16..8192"}},
+      {{"--viewport", "64x64,32x32"}, {"--viewport", "one WxH"}},
+      {{"--viewport", "wide"}, {"--viewport", "'wide'"}},
+      {{"--pixels-per-sample", "0"}, {"--pixels-per-sample", "0.25..1024"}},
+      {{"--pixels-per-sample", "nan"}, {"--pixels-per-sample"}},
+      {{"--min-samples", "9", "--max-samples", "8"}, {"--min-samples = 9", "--max-samples = 8"}},
+      {{"--fixed-samples", "1x4"}, {"--fixed-samples", "'1x4'"}},
+      {{"--scenes", "nosuch"}, {"'nosuch'", "neither a file nor a built-in scene"}},
+      {{"--scenes", "tspline-tjunction"}, {"tspline-tjunction", "T-spline"}},
+      {{"--scenes", "trimmed-plate"}, {"trimmed-plate", "trimmed"}},
+      {{"--images", tmp / "a-file"}, {"--images", "a-file"}},
+  };
+  write_text(fs::path(tmp / "a-file"), "not a directory");
+  expect_each_refused("camera-path", out, cases);
 }
 
 TEST(CliRun, DeformingRecordsFrameTimesAndLastFrameAccuracy) {

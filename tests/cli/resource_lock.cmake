@@ -1,4 +1,7 @@
-# Read by ctest after gtest_discover_tests' include file has defined isolation_gpu_test_TESTS.
-if(isolation_gpu_test_TESTS)
-  set_tests_properties(${isolation_gpu_test_TESTS} PROPERTIES RESOURCE_LOCK gpu)
-endif()
+# Read by ctest after gtest_discover_tests' include files have defined isolation_gpu_test_TESTS
+# and camera_path_test_TESTS: tests that own the (software) GPU run one at a time.
+foreach(tests IN ITEMS isolation_gpu_test_TESTS camera_path_test_TESTS)
+  if(${tests})
+    set_tests_properties(${${tests}} PROPERTIES RESOURCE_LOCK gpu)
+  endif()
+endforeach()

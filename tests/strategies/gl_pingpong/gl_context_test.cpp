@@ -52,7 +52,7 @@ TEST(GlContext, OsmesaAndEglInOneProcessInterleaved) {
     c->gl().ClearColor(0.25f, 0.5f, 0.75f, 1.0f);
     c->gl().Clear(GL_COLOR_BUFFER_BIT);
     float texels[3 * 2 * 4] = {};
-    c->gl().ReadPixels(0, 0, 3, 2, GL_RGBA, GL_FLOAT, texels);
+    c->read_pixels(0, 0, 3, 2, GL_RGBA, GL_FLOAT, texels);
     c->check("clear and read back");
     EXPECT_EQ(texels[0], 0.25f);
     EXPECT_EQ(texels[23], 1.0f);

@@ -120,7 +120,7 @@ TEST(DeBoorSource, GlslBuildEqualsCppBuildBitForBit) {
     std::vector<float> got(static_cast<std::size_t>(rows) * 4);
     gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl.ReadPixels(0, 0, 1, rows, GL_RGBA, GL_FLOAT, got.data());
+    context->read_pixels(0, 0, 1, rows, GL_RGBA, GL_FLOAT, got.data());
     context->check("de_boor_source_test");
     for (int y = 0; y < rows; ++y) {
       const Case& c = all[y];
