@@ -34,6 +34,10 @@
 //    is capped and counted (KsquadStatistics::capped_edges).
 //  * GS mode (003 §4's first mapping, vk-mode=gs): no tessellator; the geometry stage evaluates
 //    or emits each KSQuad's span-grid lattice (ksquad.geom), T <= 8 by its output limit.
+//  * Nonuniform mode (003 §4's third mapping, vk-mode=nonuniform): adaptive mode's corners and
+//    eq. 3 at vk-mu x 2^kNuDepth (the control stage's lower level, one regular lattice per
+//    KSQuad), then the geometry stage's eq. 4 / eq. 5 subdivision and EVS culling per KSDie
+//    (ksquad_nonuniform.geom), the friend surfaces found once in prepare (nonuniform_mapping.h).
 #include "strategies/vk_ksquad/vk_ksquad.h"
 
 #include <fmt/format.h>
@@ -60,6 +64,7 @@
 #include "strategies/vk_ksquad/ksquad_layout.h"
 #include "strategies/vk_ksquad/ksquad_pipeline.h"
 #include "strategies/vk_ksquad/ksquad_settings.h"
+#include "strategies/vk_ksquad/nonuniform_mapping.h"
 #include "strategies/vk_ksquad/patches.h"
 #include "strategies/vk_ksquad/uniform_mapping.h"
 #include "strategies/vk_ksquad/vk_ksquad_strategy.h"
@@ -75,6 +80,10 @@ namespace {
 
 using vk_ksquad::Draw;
 using vk_ksquad::kCornerInts;
+using vk_ksquad::kNuDepth;
+using vk_ksquad::kNuKsdieInts;
+using vk_ksquad::kNuLattice;
+using vk_ksquad::kNuVertexFloats;
 using vk_ksquad::kPatchInts;
 using vk_ksquad::kPatchLevelU;
 using vk_ksquad::kPatchLevelV;
@@ -88,9 +97,10 @@ using vulkan::memory_barrier;
 constexpr int kConstantFloats = kStairConstantReals;
 static_assert(sizeof(StairConstants<float>) == kConstantFloats * sizeof(float),
               "stair_basis.h reads StairConstants<float> as packed floats");
-constexpr int kBuffers = 14;
+constexpr int kBuffers = 15;
 // Bindings 9..11 are the fragment stage's trim test (ksquad.frag): the classifier's tables and
-// one row of kTrimSurfaceInts per surface; 12 is the span grid's sample parameters.
+// one row of kTrimSurfaceInts per surface; 12 is the span grid's sample parameters; 14 the
+// nonuniform mapping's KSDie records (ksquad_nonuniform.glsl).
 constexpr int kFirstTrimBinding = 9, kTrimBindings = 3;
 constexpr int kTrimSurfaceInts = 5;
 
@@ -104,6 +114,9 @@ constexpr std::uint32_t kCornerGroup = 64;  // ksquad_corners.comp: local_size_x
 constexpr std::uint32_t kGsMaxVertices = 144;
 constexpr int kGsMaxSteps = 8;
 static_assert(kGsMaxSteps * 2 * (kGsMaxSteps + 1) == kGsMaxVertices);
+// ksquad_nonuniform.geom: max_vertices, 2^kNuDepth strips of 2 (2^kNuDepth + 1)
+constexpr std::uint32_t kNuMaxVertices = (1u << kNuDepth) * 2 * ((1u << kNuDepth) + 1);
+static_assert(kNuMaxVertices == 40);
 constexpr VkQueryPipelineStatisticFlags kStatistics =
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_CONTROL_SHADER_PATCHES_BIT |
     VK_QUERY_PIPELINE_STATISTIC_TESSELLATION_EVALUATION_SHADER_INVOCATIONS_BIT;
@@ -138,7 +151,7 @@ Capabilities ksquad_capabilities() {
 class VkKsquad final : public Strategy {
  public:
   VkKsquad(int device_index, const KsquadSettings& settings, const trim_direct::Settings& trim)
-      : device_(device_index, ksquad_requirements(settings.gs)),
+      : device_(device_index, ksquad_requirements(settings.gs || settings.nonuniform)),
         queries_(device_, kStatistics),
         classifier_(device_),
         trim_settings_(trim),
@@ -157,10 +170,21 @@ class VkKsquad final : public Strategy {
       throw vulkan::MissingFeature(
           fmt::format("vk-mode=gs needs {} geometry output vertices of 7 components (ksquad.geom)",
                       kGsMaxVertices));
+    if (settings_.nonuniform && (limits.maxGeometryOutputVertices < kNuMaxVertices ||
+                                 limits.maxGeometryTotalOutputComponents < kNuMaxVertices * 7))
+      throw vulkan::MissingFeature(
+          fmt::format("vk-mode=nonuniform needs {} geometry output vertices of 7 components "
+                      "(ksquad_nonuniform.geom)",
+                      kNuMaxVertices));
     if (settings_.gs) record_.details["vk_mode"] = "gs";
     if (settings_.adaptive) {
-      record_.details["vk_mode"] = "adaptive";
+      record_.details["vk_mode"] = settings_.nonuniform ? "nonuniform" : "adaptive";
       record_.details["vk_corners"] = settings_.device_corners ? "device" : "host";
+    }
+    if (settings_.nonuniform) {
+      record_.details["vk_epsilon"] = fmt::format("{}", settings_.epsilon);
+      record_.details["vk_eta"] = fmt::format("{}", settings_.eta);
+      record_.details["vk_max_level"] = std::to_string(settings_.max_level);
     }
     create_pipeline();
   }
@@ -229,11 +253,12 @@ class VkKsquad final : public Strategy {
   void evaluate() override {
     device_.submit_and_wait([&](VkCommandBuffer cb) {
       if (settings_.adaptive) {
-        // Unwritten capture slots read back as NaN (a quiet NaN's bits in every word).
+        // Unwritten capture slots read back as NaN (a quiet NaN's bits in every word); nonuniform:
+        // KSDice the tessellator did not start keep status 0.
         vkCmdFillBuffer(cb, positions_.handle(), 0, VK_WHOLE_SIZE, 0x7fc00000u);
+        if (settings_.nonuniform) vkCmdFillBuffer(cb, ksdice_.handle(), 0, VK_WHOLE_SIZE, 0u);
         memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT,
-                       VK_ACCESS_SHADER_WRITE_BIT);
+                       writing_stages(), VK_ACCESS_SHADER_WRITE_BIT);
       }
       queries_.reset(cb);
       queries_.begin(cb);
@@ -242,8 +267,7 @@ class VkKsquad final : public Strategy {
       record_draws(cb, capture_pipelines_, draws_);
       vkCmdEndRenderPass(cb);
       queries_.end(cb);
-      memory_barrier(cb, VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT,
-                     VK_ACCESS_SHADER_WRITE_BIT,
+      memory_barrier(cb, writing_stages(), VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                      VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
     });
@@ -254,6 +278,7 @@ class VkKsquad final : public Strategy {
   }
 
   EvalResult read_back() override {
+    if (settings_.nonuniform) return read_back_nonuniform();
     if (settings_.adaptive) return read_back_adaptive();
     EvalResult out{vk_ksquad::read_uniform_capture(samples_, positions_,
                                                    span_grid_samples() ? &sample_params_ : nullptr,
@@ -329,8 +354,17 @@ class VkKsquad final : public Strategy {
   // Adaptive mode: the levels the control stage chose, read back from its storage buffer.
   KsquadStatistics statistics() const {
     if (!settings_.adaptive || patch_count_ == 0) return stats_;
-    return vk_ksquad::adaptive_statistics(stats_, tables_, read_levels(),
-                                          settings_.max_level * settings_.pieces);
+    const KsquadStatistics st = vk_ksquad::adaptive_statistics(
+        stats_, tables_, read_levels(), settings_.max_level * settings_.pieces);
+    return settings_.nonuniform ? vk_ksquad::nonuniform_statistics(st, ksdice()) : st;
+  }
+
+  std::vector<KsdieRecord> ksdice() const {
+    if (!settings_.nonuniform || patch_count_ == 0) return {};
+    std::vector<int> records(patch_count_ * vk_ksquad::ksdie_slots(settings_.max_level) *
+                             kNuKsdieInts);
+    ksdice_.read(records.data(), records.size() * sizeof(int));
+    return vk_ksquad::nonuniform_records(tables_, read_levels(), records, settings_.max_level);
   }
 
   std::vector<float> read_levels() const {
@@ -345,7 +379,7 @@ class VkKsquad final : public Strategy {
   }
 
   std::vector<CapturedEdge> captured_edges() const {
-    if (!settings_.adaptive) return {};
+    if (!settings_.adaptive || settings_.nonuniform) return {};
     return vk_ksquad::adaptive_edges(tables_, read_slots(), region_, settings_.max_level);
   }
 
@@ -383,6 +417,24 @@ class VkKsquad final : public Strategy {
     return slots;
   }
 
+  // The geometry stage's emitted vertices; its counters go into the record's details (the runner
+  // reads device() after read_back()).
+  EvalResult read_back_nonuniform() {
+    const KsquadStatistics st = statistics();
+    record_.details["nu_ksdice"] = std::to_string(st.ksdice);
+    record_.details["nu_subdivided_linear"] = std::to_string(st.subdivided_linear);
+    record_.details["nu_subdivided_boundary"] = std::to_string(st.subdivided_boundary);
+    record_.details["nu_culled_frustum"] = std::to_string(st.culled_frustum);
+    record_.details["nu_culled_back"] = std::to_string(st.culled_back);
+    record_.details["nu_triangles"] = std::to_string(st.triangles);
+    record_.details["nu_capped_edges"] = std::to_string(st.capped_edges);
+    std::vector<float> slots(patch_count_ * vk_ksquad::ksdie_slots(settings_.max_level) *
+                             kNuLattice * kNuLattice * kNuVertexFloats);
+    positions_.read(slots.data(), slots.size() * sizeof(float));
+    return vk_ksquad::nonuniform_result(tables_, slots, request_.normals, settings_.max_level,
+                                        surface_count_);
+  }
+
   EvalResult read_back_adaptive() {
     std::vector<float> slot_normals(request_.normals ? patch_count_ * region_ * 3 : 0);
     if (!slot_normals.empty())
@@ -399,7 +451,12 @@ class VkKsquad final : public Strategy {
     mode_.region = static_cast<std::int32_t>(region_);
     mode_.normals = request_.normals ? 1 : 0;
     mode_.span_grid = span_grid_samples() ? 1 : 0;
-    mode_.mu = static_cast<float>(settings_.mu);
+    // nonuniform: the control stage's lower level (ksquad.tesc)
+    mode_.mu =
+        static_cast<float>(settings_.nonuniform ? settings_.mu * (1 << kNuDepth) : settings_.mu);
+    mode_.nonuniform = settings_.nonuniform ? 1 : 0;
+    mode_.epsilon = static_cast<float>(settings_.epsilon);
+    mode_.eta = static_cast<float>(settings_.eta);
     mode_.viewport[0] = static_cast<float>(settings_.viewport[0]);
     mode_.viewport[1] = static_cast<float>(settings_.viewport[1]);
     const auto m = vk_ksquad::scene_camera(scene, settings_);
@@ -410,6 +467,11 @@ class VkKsquad final : public Strategy {
   void build_tables(const Scene& scene) {
     vk_ksquad::SurfaceTable table = vk_ksquad::surface_table(scene, samples_);
     tables_.surfaces = std::move(table.surfaces);
+    if (settings_.nonuniform) {
+      const std::vector<int> friendless = vk_ksquad::friendless_sides(scene);
+      for (std::size_t i = 0; i < friendless.size(); ++i)
+        tables_.surfaces[i * kSurfaceInts + vk_ksquad::kSurfaceFriendless] = friendless[i];
+    }
     tables_.patches.clear();
     tables_.constants.clear();
     params_ = std::move(table.params);
@@ -540,8 +602,14 @@ class VkKsquad final : public Strategy {
                   ? static_cast<std::size_t>(4 * (level + 1) + (level - 1) * (level - 1))
                   : 0;
     set_mode(scene);
+    const std::size_t ksdie_slots =
+        settings_.nonuniform ? patch_count_ * vk_ksquad::ksdie_slots(settings_.max_level) : 0;
     const std::size_t output_floats =
-        settings_.adaptive ? patch_count_ * region_ * kSlotFloats : total_ * 3;
+        settings_.nonuniform
+            ? ksdie_slots * kNuLattice * kNuLattice * kNuVertexFloats
+            : (settings_.adaptive ? patch_count_ * region_ * kSlotFloats : total_ * 3);
+    ksdice_ = vulkan::Buffer(device_, ksdie_slots * kNuKsdieInts * sizeof(int),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "KSDie records");
     corners_buf_ = storage(corners_, "KSQuad corners");
     corner_jobs_buf_ = storage(corner_jobs_, "KSQuad corner jobs");
     levels_ = vulkan::Buffer(device_, 8 * patch_count_ * sizeof(float),
@@ -553,14 +621,17 @@ class VkKsquad final : public Strategy {
     params_buf_ = storage(params_, "parameters");
     positions_ = vulkan::Buffer(device_, output_floats * sizeof(float),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output positions");
-    const std::size_t normal_slots = settings_.adaptive ? patch_count_ * region_ : total_;
+    // nonuniform: the normals are in the vertex slots
+    const std::size_t normal_slots =
+        settings_.nonuniform ? 0 : (settings_.adaptive ? patch_count_ * region_ : total_);
     normals_ = vulkan::Buffer(device_, (request_.normals ? normal_slots * 3 : 0) * sizeof(float),
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output normals");
     sample_params_ = vulkan::Buffer(device_, (span_grid_samples() ? total_ * 2 : 0) * sizeof(float),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output sample parameters");
     set_->write({&surfaces_buf_, &patches_buf_, &constants_buf_, &points_, &params_buf_,
                  &positions_, &corners_buf_, &levels_, &normals_, &classifier_.reals(),
-                 &classifier_.ints(), &trim_surfaces_buf_, &sample_params_, &corner_jobs_buf_});
+                 &classifier_.ints(), &trim_surfaces_buf_, &sample_params_, &corner_jobs_buf_,
+                 &ksdice_});
   }
 
   // Once per strategy (STYLE.md: compiled shaders are created once, never in evaluate()).
@@ -582,9 +653,13 @@ class VkKsquad final : public Strategy {
   VkPipeline pipeline_for(Pipelines& pipelines, bool raster, const Draw& draw) {
     auto& pipeline = pipelines[{draw.du, draw.dv}];
     if (!pipeline)
-      pipeline = vk_ksquad::make_pipeline(device_, vk_ksquad::ksquad_shaders(), layout_, raster,
-                                          settings_.gs, raster ? raster_->pass() : capture_->pass(),
-                                          draw.du, draw.dv, image_width(), image_height());
+      pipeline = vk_ksquad::make_pipeline(
+          device_, vk_ksquad::ksquad_shaders(settings_.nonuniform), layout_, raster,
+          settings_.gs ? vk_ksquad::Stages::geometry
+                       : (settings_.nonuniform ? vk_ksquad::Stages::tessellation_geometry
+                                               : vk_ksquad::Stages::tessellation),
+          raster ? raster_->pass() : capture_->pass(), draw.du, draw.dv, image_width(),
+          image_height());
     return pipeline;
   }
 
@@ -608,7 +683,12 @@ class VkKsquad final : public Strategy {
   }
 
   VkShaderStageFlags draw_stages() const {
-    return kModeStages | (settings_.gs ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
+    return kModeStages | (settings_.gs || settings_.nonuniform ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
+  }
+  // The stages that write the capture buffers.
+  VkPipelineStageFlags writing_stages() const {
+    return VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT |
+           (settings_.gs || settings_.nonuniform ? VK_PIPELINE_STAGE_GEOMETRY_SHADER_BIT : 0);
   }
   std::uint32_t image_width() const { return static_cast<std::uint32_t>(settings_.viewport[0]); }
   std::uint32_t image_height() const { return static_cast<std::uint32_t>(settings_.viewport[1]); }
@@ -635,6 +715,7 @@ class VkKsquad final : public Strategy {
   vulkan::Buffer trim_surfaces_buf_;
   vulkan::Buffer surfaces_buf_, patches_buf_, constants_buf_, points_, params_buf_, positions_,
       corners_buf_, levels_, normals_, sample_params_, corner_jobs_buf_;
+  vulkan::Buffer ksdice_;         // nonuniform: the geometry stage's KSDie records
   std::vector<int> corner_jobs_;  // kCornerInts per corner (ksquad_corners.comp)
   std::unique_ptr<vulkan::ComputePipeline> corner_pass_;  // ksquad_corners.comp
   std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
@@ -670,6 +751,10 @@ KsquadStatistics ksquad_statistics(const Strategy& strategy) {
 
 std::vector<CapturedEdge> ksquad_captured_edges(const Strategy& strategy) {
   return as_vk_ksquad(strategy).captured_edges();
+}
+
+std::vector<KsdieRecord> ksquad_ksdice(const Strategy& strategy) {
+  return as_vk_ksquad(strategy).ksdice();
 }
 
 std::vector<PatchLevels> ksquad_patch_levels(const Strategy& strategy) {
