@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <utility>
 
 #include "reference/nurbs_math.h"
 
@@ -135,37 +136,45 @@ std::vector<CapturedEdge> adaptive_edges(const HostTables& tables, const std::ve
   return edges;
 }
 
+CapturedSamples::CapturedSamples(std::size_t surface_count, bool normals)
+    : normals_(normals), xyz_(surface_count), normal_(surface_count) {
+  out_.surfaces.resize(surface_count);
+  for (SurfaceResult& r : out_.surfaces) r.samples.tensor = false;
+}
+
+void CapturedSamples::add(int surface, const float* uvxyz, const float* normal) {
+  out_.surfaces[surface].samples.u.push_back(uvxyz[0]);
+  out_.surfaces[surface].samples.v.push_back(uvxyz[1]);
+  xyz_[surface].insert(xyz_[surface].end(), uvxyz + 2, uvxyz + 5);
+  if (normals_) normal_[surface].insert(normal_[surface].end(), normal, normal + 3);
+}
+
+EvalResult CapturedSamples::result() {
+  for (std::size_t i = 0; i < out_.surfaces.size(); ++i) {
+    SurfaceResult& r = out_.surfaces[i];
+    r.positions = PointArray(Precision::f32, r.samples.count());
+    std::memcpy(r.positions.f32(), xyz_[i].data(), xyz_[i].size() * sizeof(float));
+    if (normals_) {
+      r.normals = PointArray(Precision::f32, r.samples.count());
+      std::memcpy(r.normals.f32(), normal_[i].data(), normal_[i].size() * sizeof(float));
+    }
+  }
+  return std::move(out_);
+}
+
 EvalResult adaptive_result(const HostTables& tables, const std::vector<float>& slots,
                            const std::vector<float>& slot_normals, std::size_t region,
                            std::size_t surface_count) {
-  EvalResult out;
-  out.surfaces.resize(surface_count);
-  for (SurfaceResult& r : out.surfaces) r.samples.tensor = false;
-  std::vector<std::vector<float>> xyz(surface_count), normal(surface_count);
+  CapturedSamples out(surface_count, !slot_normals.empty());
   for (std::size_t k = 0; k < tables.patch_count(); ++k) {
     const int surface = tables.patches[kPatchInts * k];
     for (std::size_t j = 0; j < region; ++j) {
       const float* slot = &slots[kSlotFloats * (k * region + j)];
       if (std::isnan(slot[0])) continue;
-      out.surfaces[surface].samples.u.push_back(slot[0]);
-      out.surfaces[surface].samples.v.push_back(slot[1]);
-      xyz[surface].insert(xyz[surface].end(), slot + 2, slot + 5);
-      if (!slot_normals.empty()) {
-        const float* n = &slot_normals[3 * (k * region + j)];
-        normal[surface].insert(normal[surface].end(), n, n + 3);
-      }
+      out.add(surface, slot, slot_normals.empty() ? nullptr : &slot_normals[3 * (k * region + j)]);
     }
   }
-  for (std::size_t i = 0; i < surface_count; ++i) {
-    SurfaceResult& r = out.surfaces[i];
-    r.positions = PointArray(Precision::f32, r.samples.count());
-    std::memcpy(r.positions.f32(), xyz[i].data(), xyz[i].size() * sizeof(float));
-    if (!slot_normals.empty()) {
-      r.normals = PointArray(Precision::f32, r.samples.count());
-      std::memcpy(r.normals.f32(), normal[i].data(), normal[i].size() * sizeof(float));
-    }
-  }
-  return out;
+  return out.result();
 }
 
 }  // namespace nurbs::vk_ksquad

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 
 #include "reference/nurbs_math.h"
+#include "strategies/vk_ksquad/adaptive_mapping.h"
 
 namespace nurbs::vk_ksquad {
 
@@ -41,14 +41,7 @@ double distance(const Vec3<double>& a, const Vec3<double>& b) {
 }  // namespace
 
 std::vector<int> friendless_sides(const Scene& scene) {
-  std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  for (const Surface& s : scene.surfaces)
-    for (const auto& p : s.points)
-      for (int c = 0; c < 3; ++c) {
-        lo[c] = std::min(lo[c], p[c]);
-        hi[c] = std::max(hi[c], p[c]);
-      }
-  const double tolerance = kFriendDistance * distance({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]});
+  const double tolerance = kFriendDistance * scene.bounding_box_diagonal();
   const double sin_angle = std::sin(kFriendAngleDeg * M_PI / 180);
   std::vector<std::array<Side, 4>> sides(scene.surfaces.size());
   for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
@@ -112,32 +105,16 @@ KsquadStatistics nonuniform_statistics(KsquadStatistics st,
 
 EvalResult nonuniform_result(const HostTables& tables, const std::vector<float>& slots,
                              bool normals, int max_level, std::size_t surface_count) {
-  EvalResult out;
-  out.surfaces.resize(surface_count);
-  for (SurfaceResult& r : out.surfaces) r.samples.tensor = false;
-  std::vector<std::vector<float>> xyz(surface_count), normal(surface_count);
+  CapturedSamples out(surface_count, normals);
   const std::size_t per_patch = ksdie_slots(max_level) * kNuLattice * kNuLattice;
   for (std::size_t k = 0; k < tables.patch_count(); ++k) {
     const int surface = tables.patches[kPatchInts * k];
     for (std::size_t j = 0; j < per_patch; ++j) {
       const float* slot = &slots[kNuVertexFloats * (k * per_patch + j)];
-      if (std::isnan(slot[0])) continue;
-      out.surfaces[surface].samples.u.push_back(slot[0]);
-      out.surfaces[surface].samples.v.push_back(slot[1]);
-      xyz[surface].insert(xyz[surface].end(), slot + 2, slot + 5);
-      if (normals) normal[surface].insert(normal[surface].end(), slot + 5, slot + 8);
+      if (!std::isnan(slot[0])) out.add(surface, slot, normals ? slot + 5 : nullptr);
     }
   }
-  for (std::size_t i = 0; i < surface_count; ++i) {
-    SurfaceResult& r = out.surfaces[i];
-    r.positions = PointArray(Precision::f32, r.samples.count());
-    std::memcpy(r.positions.f32(), xyz[i].data(), xyz[i].size() * sizeof(float));
-    if (normals) {
-      r.normals = PointArray(Precision::f32, r.samples.count());
-      std::memcpy(r.normals.f32(), normal[i].data(), normal[i].size() * sizeof(float));
-    }
-  }
-  return out;
+  return out.result();
 }
 
 }  // namespace nurbs::vk_ksquad

@@ -176,7 +176,8 @@ class VkKsquad final : public Strategy {
           fmt::format("vk-mode=nonuniform needs {} geometry output vertices of 7 components "
                       "(ksquad_nonuniform.geom)",
                       kNuMaxVertices));
-    if (settings_.gs) record_.details["vk_mode"] = "gs";
+    // the report labels vk-ksquad's series by the mapping
+    record_.details["vk_mode"] = settings_.gs ? "gs" : "uniform";
     if (settings_.adaptive) {
       record_.details["vk_mode"] = settings_.nonuniform ? "nonuniform" : "adaptive";
       record_.details["vk_corners"] = settings_.device_corners ? "device" : "host";

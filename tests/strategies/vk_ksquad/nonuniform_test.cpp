@@ -13,6 +13,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -135,6 +136,16 @@ struct Case {
   std::map<std::string, std::string> options;
 };
 
+// The case's strategy after prepare() and evaluate().
+std::unique_ptr<Strategy> evaluated(const Case& c, bool normals) {
+  StrategyOptions options;
+  options.extra = c.options;
+  auto strategy = make_vk_ksquad(options);
+  strategy->prepare(c.scene, EvalRequest{Sampling{}, Precision::f32, normals});
+  strategy->evaluate();
+  return strategy;
+}
+
 std::vector<Case> cases() {
   std::vector<Case> out;
   out.push_back({"patch144", *make_builtin_scene("patch144"), {{"vk-epsilon", "0.25"}}});
@@ -151,28 +162,22 @@ TEST(vk_ksquad_nonuniform, DecisionsAreTheEquations) {
   std::size_t crease_flagged = 0, g1_flagged = 0, all_linear = 0, all_culled = 0;
   for (const Case& c : cases()) {
     SCOPED_TRACE(c.label);
-    StrategyOptions options;
-    options.extra = c.options;
-    auto strategy = make_vk_ksquad(options);
-    strategy->prepare(c.scene, EvalRequest{Sampling{}, Precision::f32, false});
-    strategy->evaluate();
+    const auto strategy = evaluated(c, false);
     const std::vector<PatchLevels> levels = ksquad_patch_levels(*strategy);
     const std::vector<KsdieRecord> records = ksquad_ksdice(*strategy);
     const KsquadStatistics st = ksquad_statistics(*strategy);
     strategy->read_back();
     const auto details = strategy->device().details;
 
+    StrategyOptions options;
+    options.extra = c.options;
     const vk_ksquad::KsquadSettings settings = vk_ksquad::ksquad_settings(options);
     const std::array<float, 16> camera = vk_ksquad::scene_camera(c.scene, settings);
     const double width = settings.viewport[0], height = settings.viewport[1];
     const double mu = settings.mu * 4, cap = settings.max_level;
     const double epsilon = settings.epsilon, eta = settings.eta;
-    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-    for (const Surface& s : c.scene.surfaces)
-      for (const auto& p : s.points)
-        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
     const std::vector<int> friendless =
-        non_friend_sides(c.scene, 1e-6 * dist({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}));
+        non_friend_sides(c.scene, 1e-6 * c.scene.bounding_box_diagonal());
 
     std::map<std::tuple<int, int, int>, std::vector<const KsdieRecord*>> by_quad;
     for (const KsdieRecord& r : records) by_quad[{r.surface, r.span_u, r.span_v}].push_back(&r);
@@ -400,11 +405,7 @@ TEST(vk_ksquad_nonuniform, EmittedVerticesLieOnTheSurface) {
   if (!a.available) GTEST_SKIP() << "unavailable: " << a.reason;
   for (const Case& c : cases()) {
     SCOPED_TRACE(c.label);
-    StrategyOptions options;
-    options.extra = c.options;
-    auto strategy = make_vk_ksquad(options);
-    strategy->prepare(c.scene, EvalRequest{Sampling{}, Precision::f32, true});
-    strategy->evaluate();
+    const auto strategy = evaluated(c, true);
     const EvalResult result = strategy->read_back();
     std::size_t expected_vertices = 0;
     for (const KsdieRecord& r : ksquad_ksdice(*strategy))
