@@ -7,6 +7,8 @@
 #include <utility>
 
 #include "reference/nurbs_math.h"
+#include "strategies/vk_ksquad/nonuniform_mapping.h"
+#include "strategies/vk_ksquad/vk_ksquad_class.h"
 
 namespace nurbs::vk_ksquad {
 
@@ -175,6 +177,63 @@ EvalResult adaptive_result(const HostTables& tables, const std::vector<float>& s
     }
   }
   return out.result();
+}
+
+constexpr std::uint32_t kCornerGroup = 64;  // ksquad_corners.comp: local_size_x
+
+// VkKsquad's adaptive mapping (003 §3.1 eq. 3 in the control stage), also the first half of the
+// nonuniform one: the corner pass and what the control stage chose.
+
+// Adaptive mode: the levels the control stage chose, read back from its storage buffer.
+KsquadStatistics VkKsquad::statistics() const {
+  if (!settings_.adaptive || patch_count_ == 0) return stats_;
+  const KsquadStatistics st = vk_ksquad::adaptive_statistics(
+      stats_, tables_, read_levels(), settings_.max_level * settings_.pieces);
+  return settings_.nonuniform ? vk_ksquad::nonuniform_statistics(st, ksdice()) : st;
+}
+
+std::vector<float> VkKsquad::read_levels() const {
+  std::vector<float> levels(8 * patch_count_);
+  levels_.read(levels.data(), levels.size() * sizeof(float));
+  return levels;
+}
+
+std::vector<PatchLevels> VkKsquad::patch_levels() const {
+  if (!settings_.adaptive || patch_count_ == 0) return {};
+  return vk_ksquad::adaptive_patch_levels(tables_, read_levels());
+}
+
+std::vector<CapturedEdge> VkKsquad::captured_edges() const {
+  if (!settings_.adaptive || settings_.nonuniform) return {};
+  return vk_ksquad::adaptive_edges(tables_, read_slots(), region_, settings_.max_level);
+}
+
+std::vector<float> VkKsquad::read_slots() const {
+  std::vector<float> slots(patch_count_ * region_ * kSlotFloats);
+  positions_.read(slots.data(), slots.size() * sizeof(float));
+  return slots;
+}
+
+EvalResult VkKsquad::read_back_adaptive() {
+  std::vector<float> slot_normals(request_.normals ? patch_count_ * region_ * 3 : 0);
+  if (!slot_normals.empty())
+    normals_.read(slot_normals.data(), slot_normals.size() * sizeof(float));
+  return vk_ksquad::adaptive_result(tables_, read_slots(), slot_normals, region_, surface_count_);
+}
+
+// vk-corners=device: the corner pass, then a barrier so the control stage reads its corners.
+void VkKsquad::record_corners(VkCommandBuffer cb) const {
+  if (!settings_.adaptive || !settings_.device_corners || corner_jobs_.empty()) return;
+  const auto count = static_cast<std::uint32_t>(corner_jobs_.size() / kCornerInts);
+  corner_pass_->bind(cb, *set_);
+  ModeConstants mode = mode_;
+  mode.patch_base = static_cast<std::int32_t>(count);
+  vkCmdPushConstants(cb, corner_pass_->layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof mode,
+                     &mode);
+  vkCmdDispatch(cb, (count + kCornerGroup - 1) / kCornerGroup, 1, 1);
+  vulkan::memory_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                         VK_PIPELINE_STAGE_TESSELLATION_CONTROL_SHADER_BIT,
+                         VK_ACCESS_SHADER_READ_BIT);
 }
 
 }  // namespace nurbs::vk_ksquad

@@ -1,11 +1,15 @@
 #include "strategies/vk_ksquad/nonuniform_mapping.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 
 #include "reference/nurbs_math.h"
 #include "strategies/vk_ksquad/adaptive_mapping.h"
+#include "strategies/vk_ksquad/vk_ksquad_class.h"
 
 namespace nurbs::vk_ksquad {
 
@@ -115,6 +119,48 @@ EvalResult nonuniform_result(const HostTables& tables, const std::vector<float>&
     }
   }
   return out.result();
+}
+
+// VkKsquad's nonuniform mapping: the geometry stage's output limit, records and emitted vertices.
+
+// ksquad_nonuniform.geom: max_vertices, 2^kNuDepth strips of 2 (2^kNuDepth + 1)
+constexpr std::uint32_t kNuMaxVertices = (1u << kNuDepth) * 2 * ((1u << kNuDepth) + 1);
+static_assert(kNuMaxVertices == 40);
+
+void VkKsquad::check_nonuniform_limits() const {
+  const VkPhysicalDeviceLimits& limits = device_.limits();
+  if (limits.maxGeometryOutputVertices < kNuMaxVertices ||
+      limits.maxGeometryTotalOutputComponents < kNuMaxVertices * 7)
+    throw vulkan::MissingFeature(
+        fmt::format("vk-mode=nonuniform needs {} geometry output vertices of 7 components "
+                    "(ksquad_nonuniform.geom)",
+                    kNuMaxVertices));
+}
+
+std::vector<KsdieRecord> VkKsquad::ksdice() const {
+  if (!settings_.nonuniform || patch_count_ == 0) return {};
+  std::vector<int> records(patch_count_ * vk_ksquad::ksdie_slots(settings_.max_level) *
+                           kNuKsdieInts);
+  ksdice_.read(records.data(), records.size() * sizeof(int));
+  return vk_ksquad::nonuniform_records(tables_, read_levels(), records, settings_.max_level);
+}
+
+// The geometry stage's emitted vertices; its counters go into the record's details (the runner
+// reads device() after read_back()).
+EvalResult VkKsquad::read_back_nonuniform() {
+  const KsquadStatistics st = statistics();
+  record_.details["nu_ksdice"] = std::to_string(st.ksdice);
+  record_.details["nu_subdivided_linear"] = std::to_string(st.subdivided_linear);
+  record_.details["nu_subdivided_boundary"] = std::to_string(st.subdivided_boundary);
+  record_.details["nu_culled_frustum"] = std::to_string(st.culled_frustum);
+  record_.details["nu_culled_back"] = std::to_string(st.culled_back);
+  record_.details["nu_triangles"] = std::to_string(st.triangles);
+  record_.details["nu_capped_edges"] = std::to_string(st.capped_edges);
+  std::vector<float> slots(patch_count_ * vk_ksquad::ksdie_slots(settings_.max_level) * kNuLattice *
+                           kNuLattice * kNuVertexFloats);
+  positions_.read(slots.data(), slots.size() * sizeof(float));
+  return vk_ksquad::nonuniform_result(tables_, slots, request_.normals, settings_.max_level,
+                                      surface_count_);
 }
 
 }  // namespace nurbs::vk_ksquad
