@@ -143,8 +143,9 @@ class VkBezier final : public Strategy {
       if (!pipeline) {
         vk_ksquad::PipelineShaders shaders = vk_ksquad::ksquad_shaders();
         shaders.tese = embedded::vk_bezier_tese;
-        pipeline = vk_ksquad::make_pipeline(device_, shaders, layout_, false, false,
-                                            capture_->pass(), draw.du, draw.dv, 1, 1);
+        pipeline = vk_ksquad::make_pipeline(device_, shaders, layout_, false,
+                                            vk_ksquad::Stages::tessellation, capture_->pass(),
+                                            draw.du, draw.dv, 1, 1);
       }
     }
   }

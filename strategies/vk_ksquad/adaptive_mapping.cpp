@@ -4,8 +4,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <utility>
 
 #include "reference/nurbs_math.h"
+#include "strategies/vk_ksquad/nonuniform_mapping.h"
+#include "strategies/vk_ksquad/vk_ksquad_class.h"
 
 namespace nurbs::vk_ksquad {
 
@@ -135,37 +138,102 @@ std::vector<CapturedEdge> adaptive_edges(const HostTables& tables, const std::ve
   return edges;
 }
 
+CapturedSamples::CapturedSamples(std::size_t surface_count, bool normals)
+    : normals_(normals), xyz_(surface_count), normal_(surface_count) {
+  out_.surfaces.resize(surface_count);
+  for (SurfaceResult& r : out_.surfaces) r.samples.tensor = false;
+}
+
+void CapturedSamples::add(int surface, const float* uvxyz, const float* normal) {
+  out_.surfaces[surface].samples.u.push_back(uvxyz[0]);
+  out_.surfaces[surface].samples.v.push_back(uvxyz[1]);
+  xyz_[surface].insert(xyz_[surface].end(), uvxyz + 2, uvxyz + 5);
+  if (normals_) normal_[surface].insert(normal_[surface].end(), normal, normal + 3);
+}
+
+EvalResult CapturedSamples::result() {
+  for (std::size_t i = 0; i < out_.surfaces.size(); ++i) {
+    SurfaceResult& r = out_.surfaces[i];
+    r.positions = PointArray(Precision::f32, r.samples.count());
+    std::memcpy(r.positions.f32(), xyz_[i].data(), xyz_[i].size() * sizeof(float));
+    if (normals_) {
+      r.normals = PointArray(Precision::f32, r.samples.count());
+      std::memcpy(r.normals.f32(), normal_[i].data(), normal_[i].size() * sizeof(float));
+    }
+  }
+  return std::move(out_);
+}
+
 EvalResult adaptive_result(const HostTables& tables, const std::vector<float>& slots,
                            const std::vector<float>& slot_normals, std::size_t region,
                            std::size_t surface_count) {
-  EvalResult out;
-  out.surfaces.resize(surface_count);
-  for (SurfaceResult& r : out.surfaces) r.samples.tensor = false;
-  std::vector<std::vector<float>> xyz(surface_count), normal(surface_count);
+  CapturedSamples out(surface_count, !slot_normals.empty());
   for (std::size_t k = 0; k < tables.patch_count(); ++k) {
     const int surface = tables.patches[kPatchInts * k];
     for (std::size_t j = 0; j < region; ++j) {
       const float* slot = &slots[kSlotFloats * (k * region + j)];
       if (std::isnan(slot[0])) continue;
-      out.surfaces[surface].samples.u.push_back(slot[0]);
-      out.surfaces[surface].samples.v.push_back(slot[1]);
-      xyz[surface].insert(xyz[surface].end(), slot + 2, slot + 5);
-      if (!slot_normals.empty()) {
-        const float* n = &slot_normals[3 * (k * region + j)];
-        normal[surface].insert(normal[surface].end(), n, n + 3);
-      }
+      out.add(surface, slot, slot_normals.empty() ? nullptr : &slot_normals[3 * (k * region + j)]);
     }
   }
-  for (std::size_t i = 0; i < surface_count; ++i) {
-    SurfaceResult& r = out.surfaces[i];
-    r.positions = PointArray(Precision::f32, r.samples.count());
-    std::memcpy(r.positions.f32(), xyz[i].data(), xyz[i].size() * sizeof(float));
-    if (!slot_normals.empty()) {
-      r.normals = PointArray(Precision::f32, r.samples.count());
-      std::memcpy(r.normals.f32(), normal[i].data(), normal[i].size() * sizeof(float));
-    }
-  }
-  return out;
+  return out.result();
+}
+
+constexpr std::uint32_t kCornerGroup = 64;  // ksquad_corners.comp: local_size_x
+
+// VkKsquad's adaptive mapping (003 §3.1 eq. 3 in the control stage), also the first half of the
+// nonuniform one: the corner pass and what the control stage chose.
+
+// Adaptive mode: the levels the control stage chose, read back from its storage buffer.
+KsquadStatistics VkKsquad::statistics() const {
+  if (!settings_.adaptive || patch_count_ == 0) return stats_;
+  const KsquadStatistics st = vk_ksquad::adaptive_statistics(
+      stats_, tables_, read_levels(), settings_.max_level * settings_.pieces);
+  return settings_.nonuniform ? vk_ksquad::nonuniform_statistics(st, ksdice()) : st;
+}
+
+std::vector<float> VkKsquad::read_levels() const {
+  std::vector<float> levels(8 * patch_count_);
+  levels_.read(levels.data(), levels.size() * sizeof(float));
+  return levels;
+}
+
+std::vector<PatchLevels> VkKsquad::patch_levels() const {
+  if (!settings_.adaptive || patch_count_ == 0) return {};
+  return vk_ksquad::adaptive_patch_levels(tables_, read_levels());
+}
+
+std::vector<CapturedEdge> VkKsquad::captured_edges() const {
+  if (!settings_.adaptive || settings_.nonuniform) return {};
+  return vk_ksquad::adaptive_edges(tables_, read_slots(), region_, settings_.max_level);
+}
+
+std::vector<float> VkKsquad::read_slots() const {
+  std::vector<float> slots(patch_count_ * region_ * kSlotFloats);
+  positions_.read(slots.data(), slots.size() * sizeof(float));
+  return slots;
+}
+
+EvalResult VkKsquad::read_back_adaptive() {
+  std::vector<float> slot_normals(request_.normals ? patch_count_ * region_ * 3 : 0);
+  if (!slot_normals.empty())
+    normals_.read(slot_normals.data(), slot_normals.size() * sizeof(float));
+  return vk_ksquad::adaptive_result(tables_, read_slots(), slot_normals, region_, surface_count_);
+}
+
+// vk-corners=device: the corner pass, then a barrier so the control stage reads its corners.
+void VkKsquad::record_corners(VkCommandBuffer cb) const {
+  if (!settings_.adaptive || !settings_.device_corners || corner_jobs_.empty()) return;
+  const auto count = static_cast<std::uint32_t>(corner_jobs_.size() / kCornerInts);
+  corner_pass_->bind(cb, *set_);
+  ModeConstants mode = mode_;
+  mode.patch_base = static_cast<std::int32_t>(count);
+  vkCmdPushConstants(cb, corner_pass_->layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof mode,
+                     &mode);
+  vkCmdDispatch(cb, (count + kCornerGroup - 1) / kCornerGroup, 1, 1);
+  vulkan::memory_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                         VK_PIPELINE_STAGE_TESSELLATION_CONTROL_SHADER_BIT,
+                         VK_ACCESS_SHADER_READ_BIT);
 }
 
 }  // namespace nurbs::vk_ksquad

@@ -36,6 +36,20 @@ std::vector<PatchLevels> adaptive_patch_levels(const HostTables& tables,
 // Every captured vertex on each KSQuad's four edges (`region` slots per patch).
 std::vector<CapturedEdge> adaptive_edges(const HostTables& tables, const std::vector<float>& slots,
                                          std::size_t region, int max_level);
+// Captured vertices gathered per surface (adaptive and nonuniform read-backs): add() a slot's (u,
+// v, x, y, z) and, when normals were asked for, its normal; result() the EvalResult.
+class CapturedSamples {
+ public:
+  CapturedSamples(std::size_t surface_count, bool normals);
+  void add(int surface, const float* uvxyz, const float* normal);
+  EvalResult result();
+
+ private:
+  EvalResult out_;
+  bool normals_;
+  std::vector<std::vector<float>> xyz_, normal_;
+};
+
 // The samples the tessellator chose, per surface, with normals where `slot_normals` is given.
 EvalResult adaptive_result(const HostTables& tables, const std::vector<float>& slots,
                            const std::vector<float>& slot_normals, std::size_t region,

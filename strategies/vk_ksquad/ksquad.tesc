@@ -77,6 +77,26 @@ void main() {
     outer = float[4](level_v, level_u, level_v, level_u);
     gl_TessLevelInner[0] = level_u;
     gl_TessLevelInner[1] = level_v;
+  } else if (mode.nonuniform != 0) {
+    // Nonuniform (003 §4's third mapping): the "fewer KSDice" level of the control stage is eq. 3
+    // per edge as above with mode.mu = vk-mu x 2^kNonuniformDepth (the host scales it), so the
+    // geometry stage's deepest subdivision of a KSDie gives back vk-mu pixels. A KSDie is a
+    // rectangle (003 §3.1: one δx, one δy), so the KSQuad's lattice is regular: each direction takes
+    // the larger of its two edges' levels, capped at vk-max-level (the host counts what was cut).
+    const int c00 = patches[row + 12], c10 = patches[row + 13], c01 = patches[row + 14],
+              c11 = patches[row + 15];
+    const float wanted[4] = float[4](wanted_level(c00, c01), wanted_level(c00, c10),
+                                     wanted_level(c10, c11), wanted_level(c01, c11));
+    const float cap = float(mode.max_level);
+    const float level_u = min(max(wanted[1], wanted[3]), cap);
+    const float level_v = min(max(wanted[0], wanted[2]), cap);
+    outer = float[4](level_v, level_u, level_v, level_u);
+    gl_TessLevelInner[0] = level_u;
+    gl_TessLevelInner[1] = level_v;
+    for (int e = 0; e < 4; ++e) {
+      levels[8 * PATCH + e] = outer[e];
+      levels[8 * PATCH + 4 + e] = wanted[e];
+    }
   } else {
     const int c00 = patches[row + 12], c10 = patches[row + 13], c01 = patches[row + 14],
               c11 = patches[row + 15];

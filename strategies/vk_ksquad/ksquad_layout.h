@@ -22,8 +22,23 @@ struct ModeConstants {
   float viewport[2];
   float mu;
   std::int32_t adaptive, max_level, region, normals, patch_base, span_grid, pieces;
+  float epsilon, eta;
+  std::int32_t nonuniform;
 };
-static_assert(sizeof(ModeConstants) == 104);
+static_assert(sizeof(ModeConstants) == 116);
+
+// ksquad_nonuniform.glsl: the nonuniform mapping's geometry stage subdivides a KSDie at most
+// kNuDepth times (a kNuLattice^2 lattice), writes kNuKsdieInts per KSDie and kNuVertexFloats per
+// emitted vertex slot.
+inline constexpr int kNuDepth = 2;
+inline constexpr int kNuLattice = (1 << kNuDepth) + 1;
+inline constexpr int kNuKsdieInts = 4;
+inline constexpr int kNuVertexFloats = 8;
+// status of a KSDie record
+inline constexpr int kKsdieEmitted = 1, kKsdieFrustumCulled = 2, kKsdieBackCulled = 3;
+// the surface table's row: the mask of the domain sides shared with a surface that is not a
+// friend (003 §3.1's boundary-region test), the row's first pad int
+inline constexpr int kSurfaceFriendless = 9;
 
 // Host copies of the surface table, the Info-KSQuad table and the stair constants.
 struct HostTables {

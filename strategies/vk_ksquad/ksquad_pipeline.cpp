@@ -13,18 +13,24 @@ extern const std::string_view vk_ksquad_tesc;
 extern const std::string_view vk_ksquad_tese;
 extern const std::string_view vk_ksquad_geom;
 extern const std::string_view vk_ksquad_frag;
+extern const std::string_view vk_ksquad_nonuniform_tese;
+extern const std::string_view vk_ksquad_nonuniform_geom;
 }  // namespace nurbs::embedded
 
 namespace nurbs::vk_ksquad {
 
-PipelineShaders ksquad_shaders() {
+PipelineShaders ksquad_shaders(bool nonuniform) {
+  if (nonuniform)
+    return {embedded::vk_ksquad_vert, embedded::vk_ksquad_tesc, embedded::vk_ksquad_nonuniform_tese,
+            embedded::vk_ksquad_nonuniform_geom, embedded::vk_ksquad_frag};
   return {embedded::vk_ksquad_vert, embedded::vk_ksquad_tesc, embedded::vk_ksquad_tese,
           embedded::vk_ksquad_geom, embedded::vk_ksquad_frag};
 }
 
 VkPipeline make_pipeline(const vulkan::Device& device, const PipelineShaders& shaders,
-                         VkPipelineLayout layout, bool raster, bool geometry, VkRenderPass pass,
+                         VkPipelineLayout layout, bool raster, Stages which, VkRenderPass pass,
                          int du, int dv, std::uint32_t width, std::uint32_t height) {
+  const bool geometry = which == Stages::geometry;
   const VkDevice d = device.handle();
   struct Modules {
     VkDevice d;
@@ -39,12 +45,11 @@ VkPipeline make_pipeline(const vulkan::Device& device, const PipelineShaders& sh
     stage_bits.push_back(bit);
   };
   add(VK_SHADER_STAGE_VERTEX_BIT, shaders.vert);
-  if (geometry) {
-    add(VK_SHADER_STAGE_GEOMETRY_BIT, shaders.geom);
-  } else {
+  if (!geometry) {
     add(VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT, shaders.tesc);
     add(VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, shaders.tese);
   }
+  if (which != Stages::tessellation) add(VK_SHADER_STAGE_GEOMETRY_BIT, shaders.geom);
   if (raster) add(VK_SHADER_STAGE_FRAGMENT_BIT, shaders.frag);
   // ksquad.tese, ksquad.geom: kRaster, kDegreeU, kDegreeV; ksquad.tesc: kRaster
   const std::int32_t constants[3] = {raster ? 1 : 0, du, dv};

@@ -26,16 +26,20 @@ inline constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
 struct PipelineShaders {
   std::string_view vert, tesc, tese, geom, frag;
 };
-// vk-ksquad's (ksquad.vert, .tesc, .tese, .geom, .frag). vk-bezier draws with its vertex and
-// control stages and its own evaluation stage.
-PipelineShaders ksquad_shaders();
+// vk-ksquad's (ksquad.vert, .tesc, .tese, .geom, .frag); `nonuniform`: the nonuniform mapping's
+// evaluation and geometry stages (ksquad_nonuniform.tese, .geom) instead. vk-bezier draws with its
+// vertex and control stages and its own evaluation stage.
+PipelineShaders ksquad_shaders(bool nonuniform = false);
+
+// The stages between the vertex and fragment stages: the tessellator's (uniform, adaptive), the
+// GS mapping's geometry stage alone (ksquad.geom), or both (nonuniform).
+enum class Stages { tessellation, geometry, tessellation_geometry };
 
 // Capture (rasterization discarded) or raster (the evaluation stage's kRaster = 1, a fragment
 // stage, depth test, a width x height viewport); the degrees are the evaluation stage's
-// specialization constants (0: read from the surface table). `geometry`: the GS mapping's
-// vertex + geometry stages (ksquad.geom) instead of the tessellation stages.
+// specialization constants (0: read from the surface table).
 VkPipeline make_pipeline(const vulkan::Device& device, const PipelineShaders& shaders,
-                         VkPipelineLayout layout, bool raster, bool geometry, VkRenderPass pass,
+                         VkPipelineLayout layout, bool raster, Stages stages, VkRenderPass pass,
                          int du, int dv, std::uint32_t width, std::uint32_t height);
 
 // The pipeline layout: `set` and ModeConstants as push constants to `push_stages`.

@@ -26,10 +26,10 @@ vec3 ksquad_point(int s, int span_u, int span_v, int cu, int cv, float u, float 
 }
 
 // Unit normal from the derivatives of the same stair basis (stair_derivative), through
-// write_normal_from_sums (ksquad_tables.glsl). `span_u`, `cu` (and v) are the span whose
+// normal_from_sums (ksquad_tables.glsl). `span_u`, `cu` (and v) are the span whose
 // basis is used: at a span's end knot the caller passes the next span, as A2.1 assigns the knot
 // to it -- on a crease the two one-sided normals differ, and the reference takes that one.
-void write_normal(int slot, int s, int span_u, int span_v, int cu, int cv, float u, float v) {
+vec3 ksquad_normal(int s, int span_u, int span_v, int cu, int cv, float u, float v) {
   const int pu = DEGREE_U(s), pv = DEGREE_V(s), count_v = surfaces[s + 3];
   float bu[SB_MAX_ORDER], bv[SB_MAX_ORDER], du[SB_MAX_ORDER], dv[SB_MAX_ORDER];
   stair_basis(cu, pu, u, bu, pu);
@@ -50,5 +50,9 @@ void write_normal(int slot, int s, int span_u, int span_v, int cu, int cv, float
     av += bu[i] * row_v;
     auv += du[i] * row_v;
   }
-  write_normal_from_sums(slot, s, a, au, av, auv, u, v);
+  return normal_from_sums(s, a, au, av, auv, u, v);
+}
+
+void write_normal(int slot, int s, int span_u, int span_v, int cu, int cv, float u, float v) {
+  store_normal(slot, ksquad_normal(s, span_u, span_v, cu, cv, u, v));
 }

@@ -89,10 +89,12 @@ std::array<float, 16> view_projection(const std::array<double, 3>& eye,
 KsquadSettings ksquad_settings(const StrategyOptions& options) {
   KsquadSettings a;
   if (auto it = options.extra.find("vk-mode"); it != options.extra.end() && !it->second.empty()) {
-    if (it->second != "uniform" && it->second != "adaptive" && it->second != "gs")
+    if (it->second != "uniform" && it->second != "adaptive" && it->second != "gs" &&
+        it->second != "nonuniform")
       throw std::invalid_argument("vk-ksquad option vk-mode = '" + it->second +
-                                  "': must be uniform, adaptive or gs");
-    a.adaptive = it->second == "adaptive";
+                                  "': must be uniform, adaptive, gs or nonuniform");
+    a.nonuniform = it->second == "nonuniform";
+    a.adaptive = it->second == "adaptive" || a.nonuniform;
     a.gs = it->second == "gs";
   }
   if (auto it = options.extra.find("vk-corners");
@@ -110,9 +112,20 @@ KsquadSettings ksquad_settings(const StrategyOptions& options) {
   if (auto mu = option_numbers(options, "vk-mu", 1, ','); !mu.empty()) a.mu = mu[0];
   if (a.mu <= 0 || a.fov <= 0 || a.fov >= 180 || a.viewport[0] < 1 || a.viewport[1] < 1)
     throw std::invalid_argument("vk-ksquad: vk-mu, vk-fov and vk-viewport must be positive");
+  if (auto e = option_numbers(options, "vk-epsilon", 1, ','); !e.empty()) a.epsilon = e[0];
+  if (auto e = option_numbers(options, "vk-eta", 1, ','); !e.empty()) a.eta = e[0];
+  if (!(a.epsilon > 0) || !(a.eta > 0))
+    throw std::invalid_argument("vk-ksquad: vk-epsilon and vk-eta must be positive");
   a.max_level = positive_option(options, "vk-max-level", "vk-ksquad");
   if (const int pieces = positive_option(options, "vk-pieces", "vk-ksquad"); pieces > 0)
     a.pieces = pieces;
+  if (a.nonuniform) {
+    // one patch per KSQuad: its lattice is capped, not cut (ksquad.tesc's nonuniform branch)
+    if (options.extra.count("vk-pieces"))
+      throw std::invalid_argument("vk-ksquad: vk-pieces does not apply to vk-mode=nonuniform");
+    a.pieces = 1;
+    if (a.max_level == 0) a.max_level = kNonuniformMaxLevel;
+  }
   a.vertices_per_draw = vertices_per_draw_option(options, "vk-ksquad");
   return a;
 }

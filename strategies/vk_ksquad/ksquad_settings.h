@@ -14,16 +14,24 @@ namespace nurbs::vk_ksquad {
 
 // Patches per vkCmdDraw, bounded by the vertices the tessellator makes for them (see the .cpp).
 inline constexpr std::uint64_t kDefaultVerticesPerDraw = 16384;
+// Nonuniform mode's default vk-max-level: its KSDie records and vertex slots are stored per patch
+// for the largest lattice, kNonuniformMaxLevel^2 KSDice of 25 slots.
+inline constexpr int kNonuniformMaxLevel = 16;
 
-// Settings (StrategyOptions.extra). vk-mode = uniform|adaptive|gs. Adaptive mode: vk-eye and
-// vk-center = "x,y,z" (default: the scene's bounding sphere seen from (1, 0.8, 0.6) at 2.5
+// Settings (StrategyOptions.extra). vk-mode = uniform|adaptive|gs|nonuniform. Adaptive mode: vk-eye
+// and vk-center = "x,y,z" (default: the scene's bounding sphere seen from (1, 0.8, 0.6) at 2.5
 // radii), vk-fov = degrees (45), vk-viewport = "WxH" (1024x768), vk-mu = pixels (4),
 // vk-corners = device|host (where the KSQuad corners of eq. 3 are evaluated; device),
 // vk-max-level = N (the device's maxTessellationGenerationLevel), vk-pieces = N (2: a KSQuad's
 // edge is cut into up to N patches, so levels up to N x vk-max-level). Both modes:
 // vk-vertices-per-draw = N (kDefaultVerticesPerDraw; 0 = one draw per degree pair).
+// Nonuniform mode (vk-mode=nonuniform; adaptive's control stage and corner table, then a geometry
+// stage): vk-epsilon = pixels (eq. 4's ε, 0.5), vk-eta = pixels (eq. 5's η, 4), vk-max-level
+// (default 16: a KSQuad's lattice, KSDice stored per patch = its square), vk-pieces is 1.
 struct KsquadSettings {
-  bool adaptive = false;
+  bool adaptive = false;  // also true in nonuniform mode, which shares its control stage
+  bool nonuniform = false;
+  double epsilon = 0.5, eta = 4;
   bool gs = false;  // vk-mode = gs: 003 §4's GS-based mapping (ksquad.geom), span grid T <= 8
   std::vector<double> eye, center, viewport;
   double fov = 45, mu = 4;

@@ -37,6 +37,9 @@ layout(push_constant) uniform Mode {
   int patch_base;        // row of this draw's first patch (one draw per degree pair)
   int span_grid;         // uniform: 1 when the parameters come from gl_TessCoord (span grid)
   int pieces;            // adaptive: patches per KSQuad and direction (vk-pieces)
+  float epsilon;         // nonuniform: the linear-approximation threshold, pixels (003 eq. 4)
+  float eta;             // nonuniform: the boundary-region threshold, pixels (003 eq. 5)
+  int nonuniform;        // 1: the nonuniform mapping (ksquad_nonuniform.tese, .geom)
 } mode;
 // The patch's row in the Info-KSQuad table.
 #define PATCH (mode.patch_base + gl_PrimitiveID)
@@ -86,11 +89,11 @@ bool normalize_if_resolved(vec3 n, vec3 a, vec3 b, out vec3 unit) {
 
 // The unit normal at (u, v) of surface row s from the homogeneous sums A = sum B P and its
 // derivatives A_u, A_v, A_uv (whatever basis made them: vk-ksquad's stair basis, vk-bezier's
-// Bernstein), written to normals[slot]: the quotient rule for S = A / w (A3.6 / A4.4 to first
-// order in each direction), Su x Sv, or where a tangent vanishes the limit along the surface
-// (reference/nurbs_math.h surface_normal's first two stages, line by line; its third, a nudged
-// neighbour sample, may leave the patch and is not done here: the zero vector is written instead).
-void write_normal_from_sums(int slot, int s, vec4 a, vec4 au, vec4 av, vec4 auv, float u, float v) {
+// Bernstein): the quotient rule for S = A / w (A3.6 / A4.4 to first order in each direction),
+// Su x Sv, or where a tangent vanishes the limit along the surface (reference/nurbs_math.h
+// surface_normal's first two stages, line by line; its third, a nudged neighbour sample, may leave
+// the patch and is not done here: the zero vector is returned instead).
+vec3 normal_from_sums(int s, vec4 a, vec4 au, vec4 av, vec4 auv, float u, float v) {
   const vec3 point = a.xyz / a.w;
   const vec3 su = (au.xyz - au.w * point) / a.w;
   const vec3 sv = (av.xyz - av.w * point) / a.w;
@@ -108,7 +111,16 @@ void write_normal_from_sums(int slot, int s, vec4 a, vec4 au, vec4 av, vec4 auv,
       if (!normalize_if_resolved(side * cross(su, suv), su, suv, n)) n = vec3(0.0);
     }
   }
+  return n;
+}
+
+void store_normal(int slot, vec3 n) {
   normals[3 * slot] = n.x;
   normals[3 * slot + 1] = n.y;
   normals[3 * slot + 2] = n.z;
+}
+
+// normal_from_sums written to normals[slot].
+void write_normal_from_sums(int slot, int s, vec4 a, vec4 au, vec4 av, vec4 auv, float u, float v) {
+  store_normal(slot, normal_from_sums(s, a, au, av, auv, u, v));
 }

@@ -1,9 +1,12 @@
 #include "strategies/vk_ksquad/uniform_mapping.h"
 
 #include <bit>
+#include <cstdint>
+#include <utility>
 
 #include "strategies/vk_ksquad/ksquad_layout.h"
 #include "strategies/vk_ksquad/patches.h"
+#include "strategies/vk_ksquad/vk_ksquad_class.h"
 
 namespace nurbs::vk_ksquad {
 
@@ -79,6 +82,67 @@ SurfaceSamples chosen_samples(const SurfaceSamples& requested, const float* uv) 
       break;
     }
   return out;
+}
+
+// ksquad.frag's per-surface trim row (VkKsquad::trim_surface_rows)
+constexpr int kTrimSurfaceInts = 5;
+
+// VkKsquad's uniform mapping (003 §4's uniform: levels from the runs; direct trimming).
+
+// Direct trimming (uniform mode): one compute dispatch per trimmed surface; the masks stay on
+// the device until read_back(). On a span grid the samples are the tessellator's (16.16 fixed
+// point: up to ~T/2 * 2^-17 of a span off the requested lattice), and those are what the
+// positions and the scoring use, so they are what is classified: read once after the first
+// evaluate() of a prepare (the tessellator is deterministic), sample by sample where they are
+// no longer a tensor grid.
+bool VkKsquad::classify() {
+  if (classifier_.trims() && span_grid_samples() && !classifying_chosen_samples_) {
+    std::vector<float> uv(total_ * 2);
+    sample_params_.read(uv.data(), uv.size() * sizeof(float));
+    std::vector<SurfaceSamples> chosen;
+    std::size_t base = 0;
+    for (const SurfaceSamples& s : samples_) {
+      chosen.push_back(vk_ksquad::chosen_samples(s, uv.data() + 2 * base));
+      base += s.count();
+    }
+    classifier_.set_samples(chosen);
+    classifying_chosen_samples_ = true;
+  }
+  if (classifier_.trims())
+    device_.submit_and_wait([&](VkCommandBuffer cb) { classifier_.record(cb); });
+  classified_ = true;
+  return true;
+}
+
+EvalResult VkKsquad::read_back_uniform() {
+  EvalResult out{vk_ksquad::read_uniform_capture(samples_, positions_,
+                                                 span_grid_samples() ? &sample_params_ : nullptr,
+                                                 request_.normals ? &normals_ : nullptr)};
+  if (classified_ && classifier_.trims()) {
+    trim_direct::Cost cost;
+    auto masks = classifier_.read_masks(cost);
+    trim_direct::record_cost(cost, record_);
+    for (std::size_t i = 0; i < out.surfaces.size(); ++i)
+      out.surfaces[i].inside = std::move(masks[i]);
+  }
+  return out;
+}
+
+// ksquad.frag's per-surface trim row: tables base (-1: untrimmed), the local frame's origin and
+// ε as float bits, the iteration limit.
+std::vector<std::int32_t> VkKsquad::trim_surface_rows() const {
+  std::vector<std::int32_t> rows;
+  for (const auto& st : classifier_.tables().surfaces)
+    rows.insert(rows.end(), {st.base, std::bit_cast<std::int32_t>(static_cast<float>(st.origin_u)),
+                             std::bit_cast<std::int32_t>(static_cast<float>(st.origin_v)),
+                             std::bit_cast<std::int32_t>(st.epsilon), trim_settings_.iterations});
+  static_assert(kTrimSurfaceInts == 5);
+  return rows;
+}
+
+// Uniform span grid: the tessellator chooses the parameters (ksquad.tese span_parameter).
+bool VkKsquad::span_grid_samples() const {
+  return !settings_.adaptive && request_.sampling.mode == SamplingMode::span_grid;
 }
 
 }  // namespace nurbs::vk_ksquad

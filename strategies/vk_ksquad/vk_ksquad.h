@@ -5,8 +5,10 @@
 // position to a storage buffer. Info-KSQuad table, surface table, per-span stair constants,
 // control points and parameters live in storage buffers (003 Fig 8's two-level indirection), so
 // the degree is not bounded by maxTessellationPatchSize. f32 positions and normals; grid and span
-// grid. Files: vk_ksquad.cpp (the strategy: tables, draws, read-back), uniform_mapping.* and
-// adaptive_mapping.* (each mapping's host pieces), ksquad_pipeline.* (pipelines, render target),
+// grid. Files: vk_ksquad_class.h + vk_ksquad.cpp (the strategy class and what every mapping
+// shares: tables, draws, capture, render), uniform_mapping.*, adaptive_mapping.*, gs_mapping.cpp
+// and nonuniform_mapping.* (each mapping's own members and host pieces; nonuniform: the friend
+// surfaces and the geometry stage's KSDie records), ksquad_pipeline.* (pipelines, render target),
 // ksquad_settings.* (options, camera), patches.h (cutting runs), ksquad_layout.h (table layouts).
 //
 // Trims (Capabilities::trims, uniform mode): classify() is direct trimming (Schollmeyer &

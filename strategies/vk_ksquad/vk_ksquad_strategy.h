@@ -21,6 +21,20 @@ struct KsquadStatistics {
   int max_level = 0;                         // largest level set
   int level_cap = 0;  // per patch. uniform: maxTessellationGenerationLevel; adaptive: vk-max-level
   std::uint64_t capped_edges = 0;  // adaptive: KSQuad edges past vk-pieces x level_cap
+  // Nonuniform mode (the geometry stage's records): KSDice the tessellator started, those
+  // subdivided by the linear-approximation test (003 eq. 4) and by the boundary-region test (eq.
+  // 5), those culled (Exact Visible Set: view frustum, back face), triangles emitted.
+  std::uint64_t ksdice = 0, subdivided_linear = 0, subdivided_boundary = 0, culled_frustum = 0,
+                culled_back = 0, triangles = 0;
+};
+
+// Nonuniform mode, after evaluate(): one geometry-stage record per KSDie (i, j) of a KSQuad's
+// level_u x level_v lattice. status: 1 emitted, 2 culled by the view frustum, 3 culled as a back
+// face; the depths of eq. 4 and eq. 5 (-1 when culled), the f tag (bit e: side e -- u = lo, v = lo,
+// u = hi, v = hi -- on a surface boundary shared with a surface that is not a friend).
+struct KsdieRecord {
+  int surface = 0, span_u = 0, span_v = 0, i = 0, j = 0, level_u = 0, level_v = 0;
+  int status = 0, depth_linear = 0, depth_boundary = 0, f = 0;
 };
 
 // Adaptive mode: the captured vertices (u, v, x, y, z) of one outer edge of one KSQuad, keyed by
@@ -46,6 +60,8 @@ KsquadStatistics ksquad_statistics(const Strategy& strategy);
 std::vector<CapturedEdge> ksquad_captured_edges(const Strategy& strategy);
 // After evaluate() in adaptive mode (empty in uniform mode).
 std::vector<PatchLevels> ksquad_patch_levels(const Strategy& strategy);
+// After evaluate() in nonuniform mode (empty otherwise).
+std::vector<KsdieRecord> ksquad_ksdice(const Strategy& strategy);
 // Draws the prepared patches into the offscreen image (003 §4 end to end; timed as `render`
 // where the runner has that phase); the pixels the last render() covered.
 bool ksquad_render(Strategy& strategy);
