@@ -82,6 +82,40 @@ void trim_cost_benchmark(benchmark::State& state, const StrategyEntry* entry, co
   state.SetLabel(strategy->device().name);
 }
 
+// A strategy against the store limit of its own request (issue: cpu-tensor f32 at >= 80% of it
+// on one large grid, >= 50% on many-4096 at 64^2): each iteration times evaluate() and then one
+// store pass over a buffer of the result's size, so load from other processes falls on both
+// sides alike. Counters: their mean times and of_store_limit, the strategy's points/s over the
+// store pass's (store time / evaluate time: the points are the same). The iteration time is
+// evaluate's.
+void store_limit_benchmark(benchmark::State& state, const StrategyEntry* entry, const Scene* scene,
+                           Sampling sampling, Precision precision) {
+  const EvalRequest request{sampling, precision, false};
+  const std::unique_ptr<Strategy> strategy = prepared_strategy(state, *entry, *scene, request);
+  if (!strategy) return;
+  const std::size_t points = total_samples(sample_parameters(*scene, sampling));
+  const std::size_t scalar = precision == Precision::f32 ? sizeof(float) : sizeof(double);
+  const std::size_t values = points * result_bytes_per_point(request) / scalar;
+  std::vector<unsigned char> buffer(values * scalar);
+  // First touch and a warm pass, untimed, as measure_store_limit does.
+  for (int pass = 0; pass < 2; ++pass) time_store_pass(buffer.data(), values, scalar, pass);
+  double evaluate_s = 0, store_s = 0;
+  int pass = 2;
+  for (auto _ : state) {
+    const double evaluate = time_seconds([&] { strategy->evaluate(); });
+    store_s += time_store_pass(buffer.data(), values, scalar, pass++);
+    evaluate_s += evaluate;
+    state.SetIterationTime(evaluate);
+  }
+  const double iterations = static_cast<double>(state.iterations());
+  state.counters["evaluate_ms"] = 1e3 * evaluate_s / iterations;
+  state.counters["store_ms"] = 1e3 * store_s / iterations;
+  state.counters["of_store_limit"] = store_s / evaluate_s;
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(points),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+  state.SetLabel(strategy->device().name);
+}
+
 // The memory-write ceiling a grid evaluator's output stream runs into (harness/store_limit.h):
 // a buffer the size of a 1024x1024 float32 xyz result (12 MiB, well past the caches).
 void store_bandwidth(benchmark::State& state) {
@@ -133,6 +167,21 @@ int main(int argc, char** argv) {
           ->Unit(benchmark::kMillisecond)
           ->UseManualTime();
     }
+  // One large surface near the store limit, many small ones (many-4096 at 64^2: 200 MB of f32
+  // output, like the large grids), and the built-in real model (the hammer's 45 faces; at 32^2 its
+  // output is under kStoreLimitMinBytes, so that ratio times fork and join as much as memory).
+  static const Scene many = *make_builtin_scene("many-4096");
+  const std::vector<std::pair<const Scene*, int>> store_cases = {
+      {&scenes[0], 2048}, {&scenes[0], 4096}, {&many, 64}, {&hammer, 32}, {&hammer, 256}};
+  for (const auto& [scene, n] : store_cases) {
+    Sampling sampling;
+    sampling.grid_u = sampling.grid_v = n;
+    benchmark::RegisterBenchmark(
+        fmt::format("store-limit/cpu-tensor/{}/{}x{}/f32", scene->name, n, n).c_str(),
+        store_limit_benchmark, find_strategy("cpu-tensor"), scene, sampling, Precision::f32)
+        ->Unit(benchmark::kMillisecond)
+        ->UseManualTime();
+  }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

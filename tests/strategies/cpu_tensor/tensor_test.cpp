@@ -94,6 +94,74 @@ TEST(CpuTensor, SimdOffAgreesAndSaysSo) {
   EXPECT_THROW(find_strategy("cpu-tensor")->create(off), std::invalid_argument);
 }
 
+// Faces of one knot vector and sampling share their basis tables (many-N's Bezier patches), faces
+// of others have their own: a scene mixing both evaluates every face exactly as that face alone
+// does, and in double agrees with cpu-coxdeboor, which shares nothing.
+TEST(CpuTensor, SharedTablesGiveEachFaceItsOwnValues) {
+  Scene mixed{"mixed", "shared and distinct knot vectors", {}};
+  for (const char* name : {"many-9", "patch144", "sphere", "degree-5", "many-4"}) {
+    const Scene part = *make_builtin_scene(name);
+    mixed.surfaces.insert(mixed.surfaces.end(), part.surfaces.begin(), part.surfaces.end());
+  }
+  Sampling grid;
+  grid.grid_u = 23;
+  grid.grid_v = 19;
+  for (Precision precision : {Precision::f32, Precision::f64}) {
+    const EvalRequest request{grid, precision, true};
+    const EvalResult all = run("cpu-tensor", mixed, request, 2);
+    for (std::size_t i = 0; i < mixed.surfaces.size(); ++i) {
+      const Scene alone{"alone", "", {mixed.surfaces[i]}};
+      const EvalResult one = run("cpu-tensor", alone, request, 2);
+      for (std::size_t k = 0; k < one.surfaces[0].positions.size(); ++k) {
+        ASSERT_EQ(all.surfaces[i].positions[k], one.surfaces[0].positions[k]) << "surface " << i;
+        ASSERT_EQ(all.surfaces[i].normals[k], one.surfaces[0].normals[k]) << "surface " << i;
+      }
+    }
+  }
+  const EvalRequest request{grid, Precision::f64, false};
+  const EvalResult tensor = run("cpu-tensor", mixed, request, 2);
+  const EvalResult cox = run("cpu-coxdeboor", mixed, request, 2);
+  const double tolerance = 64 * DBL_EPSILON * mixed.largest_coordinate();
+  for (std::size_t i = 0; i < mixed.surfaces.size(); ++i)
+    for (std::size_t k = 0; k < tensor.surfaces[i].positions.size(); ++k)
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(tensor.surfaces[i].positions[k][c], cox.surfaces[i].positions[k][c], tolerance)
+            << "surface " << i << " sample " << k;
+}
+
+// stores=streaming copies each finished row out with non-temporal stores (the default for large
+// results), stores=cached writes in place: the same arithmetic, so the same bits, on row lengths
+// whose rows start at every 16-byte misalignment (13 columns: 39 floats a row).
+TEST(CpuTensor, StreamingStoresWriteTheSameValues) {
+  const Scene scene = *make_builtin_scene("many-16");
+  for (int columns : {13, 64}) {
+    Sampling grid;
+    grid.grid_u = 11;
+    grid.grid_v = columns;
+    for (Precision precision : {Precision::f32, Precision::f64})
+      for (bool normals : {false, true}) {
+        const EvalRequest request{grid, precision, normals};
+        const EvalResult cached = run("cpu-tensor", scene, request, 2, {{"stores", "cached"}});
+        const EvalResult streamed = run("cpu-tensor", scene, request, 2, {{"stores", "streaming"}});
+        for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
+          for (std::size_t k = 0; k < cached.surfaces[i].positions.size(); ++k) {
+            ASSERT_EQ(cached.surfaces[i].positions[k], streamed.surfaces[i].positions[k]);
+            if (normals) {
+              ASSERT_EQ(cached.surfaces[i].normals[k], streamed.surfaces[i].normals[k]);
+            }
+          }
+      }
+  }
+  StrategyOptions bad;
+  bad.extra["stores"] = "fast";
+  try {
+    find_strategy("cpu-tensor")->create(bad);
+    FAIL() << "stores=fast accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("stores = 'fast'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(CpuTensor, RefusesExplicitLists) {
   const StrategyEntry& entry = *find_strategy("cpu-tensor");
   Sampling list;
