@@ -22,13 +22,14 @@ using namespace nurbs;
 // The strategy prepared for `request` and warmed up by one evaluate(); nullptr, with the case
 // skipped and the reason given, when it refuses or fails.
 std::unique_ptr<Strategy> prepared_strategy(benchmark::State& state, const StrategyEntry& entry,
-                                            const Scene& scene, const EvalRequest& request) {
+                                            const Scene& scene, const EvalRequest& request,
+                                            const StrategyOptions& options = {}) {
   if (auto refused = refusal_reason(entry.capabilities(), scene, request)) {
     state.SkipWithError(("refused: " + *refused).c_str());
     return nullptr;
   }
   try {
-    std::unique_ptr<Strategy> strategy = entry.create(StrategyOptions{});
+    std::unique_ptr<Strategy> strategy = entry.create(options);
     strategy->prepare(scene, request);
     strategy->evaluate();  // warm-up
     return strategy;
@@ -89,9 +90,10 @@ void trim_cost_benchmark(benchmark::State& state, const StrategyEntry* entry, co
 // store pass's (store time / evaluate time: the points are the same). The iteration time is
 // evaluate's.
 void store_limit_benchmark(benchmark::State& state, const StrategyEntry* entry, const Scene* scene,
-                           Sampling sampling, Precision precision) {
+                           Sampling sampling, Precision precision, StrategyOptions options) {
   const EvalRequest request{sampling, precision, false};
-  const std::unique_ptr<Strategy> strategy = prepared_strategy(state, *entry, *scene, request);
+  const std::unique_ptr<Strategy> strategy =
+      prepared_strategy(state, *entry, *scene, request, options);
   if (!strategy) return;
   const std::size_t points = total_samples(sample_parameters(*scene, sampling));
   const std::size_t scalar = precision == Precision::f32 ? sizeof(float) : sizeof(double);
@@ -173,15 +175,22 @@ int main(int argc, char** argv) {
   static const Scene many = *make_builtin_scene("many-4096");
   const std::vector<std::pair<const Scene*, int>> store_cases = {
       {&scenes[0], 2048}, {&scenes[0], 4096}, {&many, 64}, {&hammer, 32}, {&hammer, 256}};
-  for (const auto& [scene, n] : store_cases) {
-    Sampling sampling;
-    sampling.grid_u = sampling.grid_v = n;
-    benchmark::RegisterBenchmark(
-        fmt::format("store-limit/cpu-tensor/{}/{}x{}/f32", scene->name, n, n).c_str(),
-        store_limit_benchmark, find_strategy("cpu-tensor"), scene, sampling, Precision::f32)
-        ->Unit(benchmark::kMillisecond)
-        ->UseManualTime();
-  }
+  // Each also with stores=streaming (cpu-tensor's non-temporal row copies): what they are worth on
+  // this machine, in the same process.
+  for (const auto& [scene, n] : store_cases)
+    for (const char* stores : {"cached", "streaming"}) {
+      Sampling sampling;
+      sampling.grid_u = sampling.grid_v = n;
+      StrategyOptions options;
+      options.extra["stores"] = stores;
+      benchmark::RegisterBenchmark(
+          fmt::format("store-limit/cpu-tensor/{}/{}x{}/f32/stores={}", scene->name, n, n, stores)
+              .c_str(),
+          store_limit_benchmark, find_strategy("cpu-tensor"), scene, sampling, Precision::f32,
+          options)
+          ->Unit(benchmark::kMillisecond)
+          ->UseManualTime();
+    }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

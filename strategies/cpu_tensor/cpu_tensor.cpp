@@ -158,36 +158,18 @@ bool simd_option(const StrategyOptions& options) {
       fmt::format("cpu-tensor option simd = '{}': must be on or off", it->second));
 }
 
-// extra["stores"]: how rows reach the result. "cached": ordinary stores; "streaming": each row
-// finished in a per-thread staging buffer, then copied out with non-temporal stores; "auto"
-// (default): streaming when the whole result is at least kStreamingMinBytes.
-enum class Stores { automatic, cached, streaming };
-
-Stores stores_option(const StrategyOptions& options) {
+// extra["stores"]: how rows reach the result. "cached" (default): ordinary stores; "streaming":
+// each row finished in a per-thread staging buffer, then copied out with non-temporal stores
+// (no read-for-ownership). Streaming is not the default because it lost where it was measured:
+// on the 2-core EPYC guest, patch144 4096^2 f32 reached 0.42 of the store limit streaming against
+// 0.67 cached, many-4096 at 64^2 0.35 against 0.47 (nurbsbench_gbench store-limit cases, one
+// process); the option stays so other machines can measure it.
+bool streaming_option(const StrategyOptions& options) {
   const auto it = options.extra.find("stores");
-  if (it == options.extra.end() || it->second.empty() || it->second == "auto")
-    return Stores::automatic;
-  if (it->second == "cached") return Stores::cached;
-  if (it->second == "streaming") return Stores::streaming;
-  throw std::invalid_argument(fmt::format(
-      "cpu-tensor option stores = '{}': must be auto, cached or streaming", it->second));
-}
-
-// Results past this size cannot stay in the caches between evaluate() and whoever reads them,
-// so writing them without read-for-ownership only saves bandwidth. Chosen from measurements on the
-// canonical EPYC (README, cpu-tensor at scale): TODO
-inline constexpr std::size_t kStreamingMinBytes = std::size_t{32} << 20;
-
-std::string stores_description(Stores stores) {
-  switch (stores) {
-    case Stores::cached:
-      return "cached (stores=cached)";
-    case Stores::streaming:
-      return "streaming (stores=streaming)";
-    default:
-      return fmt::format("streaming for results of {} MiB or more, else cached",
-                         kStreamingMinBytes >> 20);
-  }
+  if (it == options.extra.end() || it->second.empty() || it->second == "cached") return false;
+  if (it->second == "streaming") return true;
+  throw std::invalid_argument(
+      fmt::format("cpu-tensor option stores = '{}': must be cached or streaming", it->second));
 }
 
 class CpuTensor final : public Strategy {
@@ -195,7 +177,7 @@ class CpuTensor final : public Strategy {
   explicit CpuTensor(const StrategyOptions& options)
       : threads_(openmp_threads(options)),
         simd_(simd_option(options)),
-        stores_(stores_option(options)) {}
+        streaming_(streaming_option(options)) {}
 
   std::string_view name() const override { return "cpu-tensor"; }
   Capabilities capabilities() const override { return tensor_capabilities(); }
@@ -205,7 +187,7 @@ class CpuTensor final : public Strategy {
             {{"threads", std::to_string(threads_)},
              {"simd", simd_ ? simd_description()
                             : "off: kernels built with -fno-tree-vectorize (simd=off)"},
-             {"stores", stores_description(stores_)}}};
+             {"stores", streaming_ ? "streaming (stores=streaming)" : "cached"}}};
   }
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
@@ -303,10 +285,6 @@ class CpuTensor final : public Strategy {
       p.curve_du.assign(threads_, std::vector<T>(widest));
       p.unresolved.assign(threads_, std::vector<unsigned char>(longest_row));
     }
-    const std::size_t result_bytes =
-        total_samples(samples_) * 3 * sizeof(T) * (request_.normals ? 2 : 1);
-    streaming_ = stores_ == Stores::streaming ||
-                 (stores_ == Stores::automatic && result_bytes >= kStreamingMinBytes);
     if (streaming_) {
       p.staged_positions.assign(threads_, std::vector<T>(longest_row * 3));
       if (request_.normals) p.staged_normals.assign(threads_, std::vector<T>(longest_row * 3));
@@ -423,8 +401,7 @@ class CpuTensor final : public Strategy {
 
   int threads_;
   bool simd_;
-  Stores stores_;
-  bool streaming_ = false;
+  bool streaming_;
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;
   std::variant<Prepared<float>, Prepared<double>> prepared_;

@@ -129,9 +129,9 @@ TEST(CpuTensor, SharedTablesGiveEachFaceItsOwnValues) {
             << "surface " << i << " sample " << k;
 }
 
-// stores=streaming copies each finished row out with non-temporal stores (the default for large
-// results), stores=cached writes in place: the same arithmetic, so the same bits, on row lengths
-// whose rows start at every 16-byte misalignment (13 columns: 39 floats a row).
+// stores=streaming copies each finished row out with non-temporal stores, stores=cached (the
+// default) writes in place: the same arithmetic, so the same bits, on row lengths whose rows start
+// at every 16-byte misalignment (13 columns: 39 floats a row).
 TEST(CpuTensor, StreamingStoresWriteTheSameValues) {
   const Scene scene = *make_builtin_scene("many-16");
   for (int columns : {13, 64}) {
