@@ -71,7 +71,11 @@ struct TensorSurface {
   SurfaceNet<T> net;
   int rows = 0, columns = 0;  // u samples, v samples
   int table_u = 0, table_v = 0;
-  explicit TensorSurface(const Surface& s) : net(s) {}
+  bool rational = true;
+  explicit TensorSurface(const Surface& s)
+      : net(s),
+        rational(
+            std::any_of(s.weights.begin(), s.weights.end(), [](double w) { return w != 1.0; })) {}
 };
 
 // The index of the table for (degree, knots, parameters) in `tables`, added when no table there
@@ -350,6 +354,7 @@ class CpuTensor final : public Strategy {
     job.run_first = tv.run_first.data();
     job.runs = static_cast<int>(tv.run_first.size());
     job.degree_v = t.net.degree_v;
+    job.rational = t.rational;
     job.count_v_samples = t.columns;
     job.basis_v = tv.basis.data();
     job.basis_dv = normals ? tv.ders.data() : nullptr;

@@ -47,7 +47,7 @@ TEST(CpuTensor, ThreadCountGivesIdenticalResults) {
 }
 
 TEST(CpuTensor, AgreesWithCoxDeBoorInDoublePrecision) {
-  for (const char* scene_name : {"patch144", "torus", "degree-7", "creases"}) {
+  for (const char* scene_name : {"patch144", "torus", "degree-7", "creases", "many-16"}) {
     const Scene scene = *make_builtin_scene(scene_name);
     Sampling span;
     span.mode = SamplingMode::span_grid;
