@@ -153,13 +153,20 @@ void find_runs(AxisTable<T>& t) {
   t.run_begin.push_back(n);
 }
 
+// Whether extra[key] picks `other` rather than `usual` (its default, also when empty); any other
+// value is refused, naming both.
+bool picks_other(const StrategyOptions& options, const std::string& key, std::string_view usual,
+                 std::string_view other) {
+  const auto it = options.extra.find(key);
+  if (it == options.extra.end() || it->second.empty() || it->second == usual) return false;
+  if (it->second == other) return true;
+  throw std::invalid_argument(
+      fmt::format("cpu-tensor option {} = '{}': must be {} or {}", key, it->second, usual, other));
+}
+
 // extra["simd"]: "on" (default) or "off" (the kernels compiled without vectorisation).
 bool simd_option(const StrategyOptions& options) {
-  const auto it = options.extra.find("simd");
-  if (it == options.extra.end() || it->second.empty() || it->second == "on") return true;
-  if (it->second == "off") return false;
-  throw std::invalid_argument(
-      fmt::format("cpu-tensor option simd = '{}': must be on or off", it->second));
+  return !picks_other(options, "simd", "on", "off");
 }
 
 // extra["stores"]: how rows reach the result. "cached" (default): ordinary stores; "streaming":
@@ -169,11 +176,7 @@ bool simd_option(const StrategyOptions& options) {
 // 0.67 cached, many-4096 at 64^2 0.35 against 0.47 (nurbsbench_gbench store-limit cases, one
 // process); the option stays so other machines can measure it.
 bool streaming_option(const StrategyOptions& options) {
-  const auto it = options.extra.find("stores");
-  if (it == options.extra.end() || it->second.empty() || it->second == "cached") return false;
-  if (it->second == "streaming") return true;
-  throw std::invalid_argument(
-      fmt::format("cpu-tensor option stores = '{}': must be cached or streaming", it->second));
+  return picks_other(options, "stores", "cached", "streaming");
 }
 
 class CpuTensor final : public Strategy {

@@ -14,25 +14,25 @@
 
 namespace nurbs::tensor {
 
+#if defined(__SSE2__)
+inline void stream16(float* dst, const float* src) {
+  _mm_stream_ps(dst, _mm_loadu_ps(src));
+}
+inline void stream16(double* dst, const double* src) {
+  _mm_stream_pd(dst, _mm_loadu_pd(src));
+}
+#endif
+
 // 16-byte streaming stores: the write-combining buffers gather them into full lines, so wider
 // ones add nothing to the bandwidth and this needs no per-instruction-set clone. The head and
 // tail outside 16-byte alignment use ordinary stores.
-inline void stream_copy(float* dst, const float* src, std::size_t n) {
+template <typename T>
+void stream_copy(T* dst, const T* src, std::size_t n) {
 #if defined(__SSE2__)
+  constexpr std::size_t lanes = 16 / sizeof(T);
   std::size_t i = 0;
   for (; i < n && (reinterpret_cast<std::uintptr_t>(dst + i) & 15) != 0; ++i) dst[i] = src[i];
-  for (; i + 4 <= n; i += 4) _mm_stream_ps(dst + i, _mm_loadu_ps(src + i));
-  for (; i < n; ++i) dst[i] = src[i];
-#else
-  std::copy(src, src + n, dst);
-#endif
-}
-
-inline void stream_copy(double* dst, const double* src, std::size_t n) {
-#if defined(__SSE2__)
-  std::size_t i = 0;
-  for (; i < n && (reinterpret_cast<std::uintptr_t>(dst + i) & 15) != 0; ++i) dst[i] = src[i];
-  for (; i + 2 <= n; i += 2) _mm_stream_pd(dst + i, _mm_loadu_pd(src + i));
+  for (; i + lanes <= n; i += lanes) stream16(dst + i, src + i);
   for (; i < n; ++i) dst[i] = src[i];
 #else
   std::copy(src, src + n, dst);
