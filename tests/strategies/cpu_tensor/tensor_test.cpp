@@ -10,6 +10,7 @@
 #include "harness/runner.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
+#include "tests/reference/test_support.h"
 
 namespace nurbs {
 namespace {
@@ -63,10 +64,7 @@ void expect_agrees_with_coxdeboor(const Scene& scene, const Sampling& sampling) 
 // many-16's weights are all 1: its positions take the kernel's polynomial path.
 TEST(CpuTensor, AgreesWithCoxDeBoorInDoublePrecision) {
   for (const char* scene_name : {"patch144", "torus", "degree-7", "creases", "many-16"}) {
-    Sampling span;
-    span.mode = SamplingMode::span_grid;
-    span.span_steps = 5;
-    expect_agrees_with_coxdeboor(*make_builtin_scene(scene_name), span);
+    expect_agrees_with_coxdeboor(*make_builtin_scene(scene_name), test::span_grid(5));
   }
 }
 
@@ -108,9 +106,7 @@ TEST(CpuTensor, SharedTablesGiveEachFaceItsOwnValues) {
     const Scene part = *make_builtin_scene(name);
     mixed.surfaces.insert(mixed.surfaces.end(), part.surfaces.begin(), part.surfaces.end());
   }
-  Sampling grid;
-  grid.grid_u = 23;
-  grid.grid_v = 19;
+  const Sampling grid = test::grid(23, 19);
   for (Precision precision : {Precision::f32, Precision::f64}) {
     const EvalRequest request{grid, precision, true};
     const EvalResult all = run("cpu-tensor", mixed, request, 2);
@@ -132,9 +128,7 @@ TEST(CpuTensor, SharedTablesGiveEachFaceItsOwnValues) {
 TEST(CpuTensor, StreamingStoresWriteTheSameValues) {
   const Scene scene = *make_builtin_scene("many-16");
   for (int columns : {13, 64}) {
-    Sampling grid;
-    grid.grid_u = 11;
-    grid.grid_v = columns;
+    const Sampling grid = test::grid(11, columns);
     for (Precision precision : {Precision::f32, Precision::f64})
       for (bool normals : {false, true}) {
         const EvalRequest request{grid, precision, normals};
