@@ -25,13 +25,14 @@ using namespace nurbs;
 // The strategy prepared for `request` and warmed up by one evaluate(); nullptr, with the case
 // skipped and the reason given, when it refuses or fails.
 std::unique_ptr<Strategy> prepared_strategy(benchmark::State& state, const StrategyEntry& entry,
-                                            const Scene& scene, const EvalRequest& request) {
+                                            const Scene& scene, const EvalRequest& request,
+                                            const StrategyOptions& options = {}) {
   if (auto refused = refusal_reason(entry.capabilities(), scene, request)) {
     state.SkipWithError(("refused: " + *refused).c_str());
     return nullptr;
   }
   try {
-    std::unique_ptr<Strategy> strategy = entry.create(StrategyOptions{});
+    std::unique_ptr<Strategy> strategy = entry.create(options);
     strategy->prepare(scene, request);
     strategy->evaluate();  // warm-up
     return strategy;
@@ -82,6 +83,41 @@ void trim_cost_benchmark(benchmark::State& state, const StrategyEntry* entry, co
   state.counters["evaluate_ms"] = 1e3 * evaluate_s / iterations;
   state.counters["classify_ms"] = 1e3 * classify_s / iterations;
   state.counters["kept"] = evaluate_s / (evaluate_s + classify_s);
+  state.SetLabel(strategy->device().name);
+}
+
+// A strategy against the store limit of its own request (issue: cpu-tensor f32 at >= 80% of it
+// on one large grid, >= 50% on many-4096 at 64^2): each iteration times evaluate() and then one
+// store pass over a buffer of the result's size, so load from other processes falls on both
+// sides alike. Counters: their mean times and of_store_limit, the strategy's points/s over the
+// store pass's (store time / evaluate time: the points are the same). The iteration time is
+// evaluate's.
+void store_limit_benchmark(benchmark::State& state, const StrategyEntry* entry, const Scene* scene,
+                           Sampling sampling, Precision precision, StrategyOptions options) {
+  const EvalRequest request{sampling, precision, false};
+  const std::unique_ptr<Strategy> strategy =
+      prepared_strategy(state, *entry, *scene, request, options);
+  if (!strategy) return;
+  const std::size_t points = total_samples(sample_parameters(*scene, sampling));
+  const std::size_t scalar = precision == Precision::f32 ? sizeof(float) : sizeof(double);
+  const std::size_t values = points * result_bytes_per_point(request) / scalar;
+  std::vector<unsigned char> buffer(values * scalar);
+  // First touch and a warm pass, untimed, as measure_store_limit does.
+  for (int pass = 0; pass < 2; ++pass) time_store_pass(buffer.data(), values, scalar, pass);
+  double evaluate_s = 0, store_s = 0;
+  int pass = 2;
+  for (auto _ : state) {
+    const double evaluate = time_seconds([&] { strategy->evaluate(); });
+    store_s += time_store_pass(buffer.data(), values, scalar, pass++);
+    evaluate_s += evaluate;
+    state.SetIterationTime(evaluate);
+  }
+  const double iterations = static_cast<double>(state.iterations());
+  state.counters["evaluate_ms"] = 1e3 * evaluate_s / iterations;
+  state.counters["store_ms"] = 1e3 * store_s / iterations;
+  state.counters["of_store_limit"] = store_s / evaluate_s;
+  state.counters["points/s"] = benchmark::Counter(static_cast<double>(points),
+                                                  benchmark::Counter::kIsIterationInvariantRate);
   state.SetLabel(strategy->device().name);
 }
 
@@ -253,6 +289,28 @@ int main(int argc, char** argv) {
       benchmark::RegisterBenchmark(
           fmt::format("trim-cost/{}/hammer/1024x1024/{}", name, to_string(precision)).c_str(),
           trim_cost_benchmark, find_strategy(name), &hammer, sampling, precision)
+          ->Unit(benchmark::kMillisecond)
+          ->UseManualTime();
+    }
+  // One large surface near the store limit, many small ones (many-4096 at 64^2: 200 MB of f32
+  // output, like the large grids), and the built-in real model (the hammer's 45 faces; at 32^2 its
+  // output is under kStoreLimitMinBytes, so that ratio times fork and join as much as memory).
+  static const Scene many = *make_builtin_scene("many-4096");
+  const std::vector<std::pair<const Scene*, int>> store_cases = {
+      {&scenes[0], 2048}, {&scenes[0], 4096}, {&many, 64}, {&hammer, 32}, {&hammer, 256}};
+  // Each also with stores=streaming (cpu-tensor's non-temporal row copies): what they are worth on
+  // this machine, in the same process.
+  for (const auto& [scene, n] : store_cases)
+    for (const char* stores : {"cached", "streaming"}) {
+      Sampling sampling;
+      sampling.grid_u = sampling.grid_v = n;
+      StrategyOptions options;
+      options.extra["stores"] = stores;
+      benchmark::RegisterBenchmark(
+          fmt::format("store-limit/cpu-tensor/{}/{}x{}/f32/stores={}", scene->name, n, n, stores)
+              .c_str(),
+          store_limit_benchmark, find_strategy("cpu-tensor"), scene, sampling, Precision::f32,
+          options)
           ->Unit(benchmark::kMillisecond)
           ->UseManualTime();
     }

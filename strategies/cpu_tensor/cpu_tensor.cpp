@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <optional>
 #include <stdexcept>
+#include <unordered_map>
 #include <variant>
 
 #include "reference/nurbs_math.h"
 #include "strategies/cpu_tensor/row_trim.h"
+#include "strategies/cpu_tensor/streaming_store.h"
 #include "strategies/cpu_tensor/tensor_kernels.h"
 #include "strategies/strategy_options.h"
 
@@ -35,103 +37,154 @@ std::string simd_description() {
   return "baseline SIMD kernels";
 }
 
+// The basis table of one parameter list of one knot vector: its spans and the non-zero basis
+// functions (and first derivatives when normals are asked) at every parameter, computed in
+// evaluate() (they are part of the work from parameters to points). Surfaces whose knot vector,
+// degree and parameters along that direction are identical share one table (many-N's Bezier
+// patches, a model's faces sampled alike), so a scene of many small faces pays for its distinct
+// tables, not for one per face.
+template <typename T>
+struct AxisTable {
+  int degree = 0, count = 0;
+  std::vector<T> knots, params;
+  // u tables: values at [a * (p+1) + k], one sample's functions together (a row reads one);
+  // v tables: at [k * n + b], the sample loop of a row reads each k contiguously.
+  bool parameter_major = false;
+  std::vector<int> spans;
+  std::vector<T> basis, ders;
+  // v tables: runs of consecutive samples in the same span, which share their q+1 curve points.
+  std::vector<int> run_begin, run_first;
+};
+
+// A piece of one table's parameters: the unit the threads share the table work in.
+struct TableChunk {
+  int table = 0, begin = 0, end = 0;
+};
+
+// Chunks small enough that one large grid's tables spread over the threads, large enough that a
+// chunk's cost dwarfs taking it from the shared counter.
+inline constexpr int kTableChunk = 256;
+
 // Everything one surface needs at evaluate time, at scalar T.
 template <typename T>
 struct TensorSurface {
   SurfaceNet<T> net;
   int rows = 0, columns = 0;  // u samples, v samples
-  std::vector<T> u_params, v_params;
-  std::vector<int> spans_u, spans_v;
-  std::vector<T> basis_u, basis_du;  // per u sample, p+1 values each
-  std::vector<T> basis_v, basis_dv;  // [l * columns + b]
-  std::vector<int> run_begin, run_first;
-  explicit TensorSurface(const Surface& s) : net(s) {}
+  int table_u = 0, table_v = 0;
+  bool rational = true;
+  explicit TensorSurface(const Surface& s)
+      : net(s),
+        rational(
+            std::any_of(s.weights.begin(), s.weights.end(), [](double w) { return w != 1.0; })) {}
 };
 
-// The non-zero basis functions (and first derivatives when asked) at parameter `a` of a list,
-// with its knot span: A2.1 + A2.2 / A2.3, once per parameter rather than once per sample.
-// `parameter_major`: values at [a * (p+1) + k], else at [k * n + a].
+// The index of the table for (degree, knots, parameters) in `tables`, added when no table there
+// has them; `index` maps a hash of the three to the tables that have it.
 template <typename T>
-void basis_entry(int degree, int count, const std::vector<T>& knots, const std::vector<T>& params,
-                 std::size_t a, bool derivatives, bool parameter_major, int* spans, T* values,
-                 T* ders) {
-  const std::size_t n = params.size(), order = static_cast<std::size_t>(degree) + 1;
-  const int span = find_span(degree, count, knots.data(), params[a]);
-  spans[a] = span;
-  T d[3][kMaxOrder];
-  if (derivatives)
-    basis_function_derivatives(span, params[a], degree, 1, knots.data(), d);
-  else
-    basis_functions(span, params[a], degree, knots.data(), d[0]);
-  for (std::size_t k = 0; k < order; ++k) {
-    const std::size_t at = parameter_major ? a * order + k : k * n + a;
-    values[at] = d[0][k];
-    if (derivatives) ders[at] = d[1][k];
-  }
-}
-
-template <typename T>
-TensorSurface<T> prepare_surface(const Surface& s, const SurfaceSamples& samples, bool normals) {
-  TensorSurface<T> t(s);
-  t.rows = static_cast<int>(samples.u.size());
-  t.columns = static_cast<int>(samples.v.size());
+int find_or_add_table(std::vector<AxisTable<T>>& tables,
+                      std::unordered_multimap<std::size_t, int>& index, int degree,
+                      const std::vector<T>& knots, const std::vector<double>& samples,
+                      bool parameter_major, bool derivatives) {
   // Parameters are rounded to T first, as a device holding them in T would (cpu-coxdeboor too).
-  t.u_params.assign(samples.u.begin(), samples.u.end());
-  t.v_params.assign(samples.v.begin(), samples.v.end());
-  const std::size_t order_u = s.degree_u + 1, order_v = s.degree_v + 1;
-  t.spans_u.resize(t.rows);
-  t.spans_v.resize(t.columns);
-  t.basis_u.resize(t.rows * order_u);
-  t.basis_v.resize(t.columns * order_v);
-  if (normals) {
-    t.basis_du.resize(t.rows * order_u);
-    t.basis_dv.resize(t.columns * order_v);
+  const std::vector<T> params(samples.begin(), samples.end());
+  std::size_t hash = std::hash<int>()(degree * 2 + (parameter_major ? 1 : 0));
+  const auto mix = [&hash](T x) { hash = hash * 1000003u ^ std::hash<T>()(x); };
+  for (T k : knots) mix(k);
+  for (T u : params) mix(u);
+  const auto [first, last] = index.equal_range(hash);
+  for (auto it = first; it != last; ++it) {
+    const AxisTable<T>& t = tables[it->second];
+    if (t.degree == degree && t.parameter_major == parameter_major && t.knots == knots &&
+        t.params == params)
+      return it->second;
   }
-  t.run_begin.reserve(t.columns + 1);
-  t.run_first.reserve(t.columns);
-  return t;
+  AxisTable<T> t;
+  t.degree = degree;
+  t.count = static_cast<int>(knots.size()) - degree - 1;
+  t.knots = knots;
+  t.params = params;
+  t.parameter_major = parameter_major;
+  const std::size_t n = params.size(), order = static_cast<std::size_t>(degree) + 1;
+  t.spans.resize(n);
+  t.basis.resize(n * order);
+  if (derivatives) t.ders.resize(n * order);
+  if (!parameter_major) {
+    t.run_begin.reserve(n + 1);
+    t.run_first.reserve(n);
+  }
+  tables.push_back(std::move(t));
+  index.emplace(hash, static_cast<int>(tables.size()) - 1);
+  return static_cast<int>(tables.size()) - 1;
 }
 
-// The basis tables of one surface: computed in evaluate() (they are part of the work from
-// parameters to points), shared by the calling team of threads.
+// Spans and basis functions of the parameters [begin, end) of `t`: A2.1 + A2.2 / A2.3, once per
+// parameter rather than once per sample.
 template <typename T>
-void fill_tables_in_team(TensorSurface<T>& t, bool normals) {
-  const SurfaceNet<T>& n = t.net;
-#pragma omp for schedule(static) nowait
-  for (int a = 0; a < t.rows; ++a)
-    basis_entry(n.degree_u, n.count_u, n.knots_u, t.u_params, a, normals, true, t.spans_u.data(),
-                t.basis_u.data(), t.basis_du.data());
-#pragma omp for schedule(static)
-  for (int b = 0; b < t.columns; ++b)
-    basis_entry(n.degree_v, n.count_v, n.knots_v, t.v_params, b, normals, false, t.spans_v.data(),
-                t.basis_v.data(), t.basis_dv.data());
-#pragma omp single
-  {
-    // Runs of consecutive v samples in the same span share their q+1 curve points.
-    t.run_begin.clear();
-    t.run_first.clear();
-    for (int b = 0; b < t.columns; ++b)
-      if (b == 0 || t.spans_v[b] != t.spans_v[b - 1]) {
-        t.run_begin.push_back(b);
-        t.run_first.push_back(t.spans_v[b] - n.degree_v);
-      }
-    t.run_begin.push_back(t.columns);
+void fill_table_chunk(AxisTable<T>& t, int begin, int end, bool derivatives) {
+  const std::size_t n = t.params.size(), order = static_cast<std::size_t>(t.degree) + 1;
+  for (int a = begin; a < end; ++a) {
+    const T u = t.params[a];
+    const int span = find_span(t.degree, t.count, t.knots.data(), u);
+    t.spans[a] = span;
+    T d[3][kMaxOrder];
+    if (derivatives)
+      basis_function_derivatives(span, u, t.degree, 1, t.knots.data(), d);
+    else
+      basis_functions(span, u, t.degree, t.knots.data(), d[0]);
+    for (std::size_t k = 0; k < order; ++k) {
+      const std::size_t at = t.parameter_major ? a * order + k : k * n + a;
+      t.basis[at] = d[0][k];
+      if (derivatives) t.ders[at] = d[1][k];
+    }
   }
+}
+
+// The runs of a v table, from its spans (after every chunk of it is filled).
+template <typename T>
+void find_runs(AxisTable<T>& t) {
+  t.run_begin.clear();
+  t.run_first.clear();
+  const int n = static_cast<int>(t.spans.size());
+  for (int b = 0; b < n; ++b)
+    if (b == 0 || t.spans[b] != t.spans[b - 1]) {
+      t.run_begin.push_back(b);
+      t.run_first.push_back(t.spans[b] - t.degree);
+    }
+  t.run_begin.push_back(n);
+}
+
+// Whether extra[key] picks `other` rather than `usual` (its default, also when empty); any other
+// value is refused, naming both.
+bool picks_other(const StrategyOptions& options, const std::string& key, std::string_view usual,
+                 std::string_view other) {
+  const auto it = options.extra.find(key);
+  if (it == options.extra.end() || it->second.empty() || it->second == usual) return false;
+  if (it->second == other) return true;
+  throw std::invalid_argument(
+      fmt::format("cpu-tensor option {} = '{}': must be {} or {}", key, it->second, usual, other));
 }
 
 // extra["simd"]: "on" (default) or "off" (the kernels compiled without vectorisation).
 bool simd_option(const StrategyOptions& options) {
-  const auto it = options.extra.find("simd");
-  if (it == options.extra.end() || it->second.empty() || it->second == "on") return true;
-  if (it->second == "off") return false;
-  throw std::invalid_argument(
-      fmt::format("cpu-tensor option simd = '{}': must be on or off", it->second));
+  return !picks_other(options, "simd", "on", "off");
+}
+
+// extra["stores"]: how rows reach the result. "cached" (default): ordinary stores; "streaming":
+// each row finished in a per-thread staging buffer, then copied out with non-temporal stores
+// (no read-for-ownership). Streaming is not the default because it lost where it was measured:
+// on the 2-core EPYC guest, patch144 4096^2 f32 reached 0.42 of the store limit streaming against
+// 0.67 cached, many-4096 at 64^2 0.35 against 0.47 (nurbsbench_gbench store-limit cases, one
+// process); the option stays so other machines can measure it.
+bool streaming_option(const StrategyOptions& options) {
+  return picks_other(options, "stores", "cached", "streaming");
 }
 
 class CpuTensor final : public Strategy {
  public:
   explicit CpuTensor(const StrategyOptions& options)
-      : threads_(openmp_threads(options)), simd_(simd_option(options)) {}
+      : threads_(openmp_threads(options)),
+        simd_(simd_option(options)),
+        streaming_(streaming_option(options)) {}
 
   std::string_view name() const override { return "cpu-tensor"; }
   Capabilities capabilities() const override { return tensor_capabilities(); }
@@ -140,7 +193,8 @@ class CpuTensor final : public Strategy {
             "cpu",
             {{"threads", std::to_string(threads_)},
              {"simd", simd_ ? simd_description()
-                            : "off: kernels built with -fno-tree-vectorize (simd=off)"}}};
+                            : "off: kernels built with -fno-tree-vectorize (simd=off)"},
+             {"stores", streaming_ ? "streaming (stores=streaming)" : "cached"}}};
   }
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
@@ -196,9 +250,13 @@ class CpuTensor final : public Strategy {
   template <typename T>
   struct Prepared {
     std::vector<TensorSurface<T>> surfaces;
+    std::vector<AxisTable<T>> tables;             // shared by the surfaces that index them
+    std::vector<TableChunk> table_chunks;         // the table work, over every table
+    std::vector<int> v_tables;                    // the tables whose runs a row reads
     std::vector<std::pair<int, int>> rows;        // (surface, u sample): the parallel work items
     std::vector<std::vector<T>> curve, curve_du;  // per thread scratch
     std::vector<std::vector<unsigned char>> unresolved;
+    std::vector<std::vector<T>> staged_positions, staged_normals;  // per thread, when streaming
   };
 
   template <typename T>
@@ -207,19 +265,36 @@ class CpuTensor final : public Strategy {
     std::size_t widest = 0, longest_row = 0;
     positions_.assign(scene.surfaces.size(), {});
     normals_.assign(scene.surfaces.size(), {});
+    std::unordered_multimap<std::size_t, int> index;
+    p.surfaces.reserve(scene.surfaces.size());
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
-      p.surfaces.push_back(prepare_surface<T>(scene.surfaces[i], samples_[i], request_.normals));
-      const TensorSurface<T>& t = p.surfaces.back();
+      TensorSurface<T>& t = p.surfaces.emplace_back(scene.surfaces[i]);
+      t.rows = static_cast<int>(samples_[i].u.size());
+      t.columns = static_cast<int>(samples_[i].v.size());
+      t.table_u = find_or_add_table(p.tables, index, t.net.degree_u, t.net.knots_u, samples_[i].u,
+                                    true, request_.normals);
+      t.table_v = find_or_add_table(p.tables, index, t.net.degree_v, t.net.knots_v, samples_[i].v,
+                                    false, request_.normals);
       for (int a = 0; a < t.rows; ++a) p.rows.emplace_back(static_cast<int>(i), a);
       widest = std::max(widest, static_cast<std::size_t>(t.net.count_v) * 4);
       longest_row = std::max(longest_row, static_cast<std::size_t>(t.columns));
       positions_[i] = PointArray(request_.precision, samples_[i].count());
       if (request_.normals) normals_[i] = PointArray(request_.precision, samples_[i].count());
     }
+    for (std::size_t k = 0; k < p.tables.size(); ++k) {
+      const int n = static_cast<int>(p.tables[k].params.size());
+      if (!p.tables[k].parameter_major) p.v_tables.push_back(static_cast<int>(k));
+      for (int begin = 0; begin < n; begin += kTableChunk)
+        p.table_chunks.push_back({static_cast<int>(k), begin, std::min(n, begin + kTableChunk)});
+    }
     p.curve.assign(threads_, std::vector<T>(widest));
     if (request_.normals) {
       p.curve_du.assign(threads_, std::vector<T>(widest));
       p.unresolved.assign(threads_, std::vector<unsigned char>(longest_row));
+    }
+    if (streaming_) {
+      p.staged_positions.assign(threads_, std::vector<T>(longest_row * 3));
+      if (request_.normals) p.staged_normals.assign(threads_, std::vector<T>(longest_row * 3));
     }
     return p;
   }
@@ -258,63 +333,83 @@ class CpuTensor final : public Strategy {
   template <typename T>
   void evaluate_row(Prepared<T>& p, int surface, int a, int thread) {
     const TensorSurface<T>& t = p.surfaces[surface];
+    const AxisTable<T>& tu = p.tables[t.table_u];
+    const AxisTable<T>& tv = p.tables[t.table_v];
     const T* net = t.net.homogeneous.data()->data();
     const int order_u = t.net.degree_u + 1;
     const bool normals = request_.normals;
     T* curve = p.curve[thread].data();
     T* curve_du = normals ? p.curve_du[thread].data() : nullptr;
-    const int first_row = t.spans_u[a] - t.net.degree_u;
+    const int first_row = tu.spans[a] - t.net.degree_u;
     using Contraction = void (*)(const T*, int, int, int, const T*, T*);
     const Contraction contract_rows =
         simd_ ? static_cast<Contraction>(tensor::contract_rows)
               : static_cast<Contraction>(tensor::no_simd::contract_rows);
-    contract_rows(net, t.net.count_v, first_row, t.net.degree_u, t.basis_u.data() + a * order_u,
+    contract_rows(net, t.net.count_v, first_row, t.net.degree_u, tu.basis.data() + a * order_u,
                   curve);
     if (normals)
-      contract_rows(net, t.net.count_v, first_row, t.net.degree_u, t.basis_du.data() + a * order_u,
+      contract_rows(net, t.net.count_v, first_row, t.net.degree_u, tu.ders.data() + a * order_u,
                     curve_du);
     tensor::RowJob<T> job;
     job.curve = curve;
     job.curve_du = curve_du;
-    job.run_begin = t.run_begin.data();
-    job.run_first = t.run_first.data();
-    job.runs = static_cast<int>(t.run_first.size());
+    job.run_begin = tv.run_begin.data();
+    job.run_first = tv.run_first.data();
+    job.runs = static_cast<int>(tv.run_first.size());
     job.degree_v = t.net.degree_v;
+    job.rational = t.rational;
     job.count_v_samples = t.columns;
-    job.basis_v = t.basis_v.data();
-    job.basis_dv = normals ? t.basis_dv.data() : nullptr;
+    job.basis_v = tv.basis.data();
+    job.basis_dv = normals ? tv.ders.data() : nullptr;
     const std::size_t offset = static_cast<std::size_t>(a) * t.columns * 3;
-    job.positions = data_of<T>(positions_[surface]) + offset;
-    job.normals = normals ? data_of<T>(normals_[surface]) + offset : nullptr;
+    T* positions = data_of<T>(positions_[surface]) + offset;
+    T* normals_out = normals ? data_of<T>(normals_[surface]) + offset : nullptr;
+    job.positions = streaming_ ? p.staged_positions[thread].data() : positions;
+    job.normals = streaming_ && normals ? p.staged_normals[thread].data() : normals_out;
     job.unresolved = normals ? p.unresolved[thread].data() : nullptr;
     if (simd_)
       tensor::evaluate_row(job);
     else
       tensor::no_simd::evaluate_row(job);
-    if (!normals) return;
     // Collapsed edges and other places where Su x Sv is rounding noise: the reference's own
     // limit-normal rule (nurbs_math.h surface_normal), rare, so scalar.
-    for (int b = 0; b < t.columns; ++b) {
+    for (int b = 0; normals && b < t.columns; ++b) {
       if (!job.unresolved[b]) continue;
-      const Vec3<T> n = surface_normal(t.net, t.u_params[a], t.v_params[b]);
+      const Vec3<T> n = surface_normal(t.net, tu.params[a], tv.params[b]);
       for (int c = 0; c < 3; ++c) job.normals[3 * b + c] = n[c];
     }
+    if (!streaming_) return;
+    const std::size_t values = static_cast<std::size_t>(t.columns) * 3;
+    tensor::stream_copy(positions, job.positions, values);
+    if (normals) tensor::stream_copy(normals_out, job.normals, values);
   }
 
   template <typename T>
   void evaluate_all(Prepared<T>& p) {
     const int rows = static_cast<int>(p.rows.size());
+    const int chunks = static_cast<int>(p.table_chunks.size());
+    const int v_tables = static_cast<int>(p.v_tables.size());
+    // One parallel region and three loops over every surface's work, so a scene of many small
+    // faces pays two barriers in all, not a team's worth of them per face.
 #pragma omp parallel num_threads(threads_)
     {
-      for (TensorSurface<T>& t : p.surfaces) fill_tables_in_team(t, request_.normals);
+#pragma omp for schedule(dynamic, 1)
+      for (int c = 0; c < chunks; ++c) {
+        const TableChunk& chunk = p.table_chunks[c];
+        fill_table_chunk(p.tables[chunk.table], chunk.begin, chunk.end, request_.normals);
+      }
 #pragma omp for schedule(static)
+      for (int k = 0; k < v_tables; ++k) find_runs(p.tables[p.v_tables[k]]);
+#pragma omp for schedule(static) nowait
       for (int r = 0; r < rows; ++r)
         evaluate_row(p, p.rows[r].first, p.rows[r].second, omp_get_thread_num());
+      if (streaming_) tensor::stream_fence();
     }
   }
 
   int threads_;
   bool simd_;
+  bool streaming_;
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;
   std::variant<Prepared<float>, Prepared<double>> prepared_;

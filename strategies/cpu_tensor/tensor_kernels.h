@@ -21,6 +21,9 @@ struct RowJob {
   const int* run_first = nullptr;
   int runs = 0;
   int degree_v = 0;
+  // false when every weight is 1: positions are then the plain sums, with no w to sum or divide by
+  // (w would be the partition of unity, 1 up to rounding). Normals always take the rational path.
+  bool rational = true;
   int count_v_samples = 0;              // stride of the basis tables
   const T* basis_v = nullptr;           // basis_v[l * count_v_samples + b]
   const T* basis_dv = nullptr;          // derivative table, same layout

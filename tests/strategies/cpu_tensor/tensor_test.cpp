@@ -10,6 +10,7 @@
 #include "harness/runner.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
+#include "tests/reference/test_support.h"
 
 namespace nurbs {
 namespace {
@@ -46,22 +47,24 @@ TEST(CpuTensor, ThreadCountGivesIdenticalResults) {
   }
 }
 
+// f64 positions within 64 double ulps of the scene's largest coordinate of cpu-coxdeboor's, which
+// evaluates each sample on its own (A2.2 + A4.3, no tables, always the homogeneous divide).
+void expect_agrees_with_coxdeboor(const Scene& scene, const Sampling& sampling) {
+  const EvalRequest request{sampling, Precision::f64, false};
+  const EvalResult tensor = run("cpu-tensor", scene, request, 0);
+  const EvalResult cox = run("cpu-coxdeboor", scene, request, 0);
+  const double tolerance = 64 * DBL_EPSILON * scene.largest_coordinate();
+  for (std::size_t i = 0; i < tensor.surfaces.size(); ++i)
+    for (std::size_t k = 0; k < tensor.surfaces[i].positions.size(); ++k)
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(tensor.surfaces[i].positions[k][c], cox.surfaces[i].positions[k][c], tolerance)
+            << scene.name << " surface " << i << " sample " << k;
+}
+
+// many-16's weights are all 1: its positions take the kernel's polynomial path.
 TEST(CpuTensor, AgreesWithCoxDeBoorInDoublePrecision) {
-  for (const char* scene_name : {"patch144", "torus", "degree-7", "creases"}) {
-    const Scene scene = *make_builtin_scene(scene_name);
-    Sampling span;
-    span.mode = SamplingMode::span_grid;
-    span.span_steps = 5;
-    const EvalRequest request{span, Precision::f64, false};
-    const EvalResult tensor = run("cpu-tensor", scene, request, 0);
-    const EvalResult cox = run("cpu-coxdeboor", scene, request, 0);
-    const double tolerance = 64 * DBL_EPSILON * scene.largest_coordinate();
-    for (std::size_t i = 0; i < tensor.surfaces.size(); ++i)
-      for (std::size_t k = 0; k < tensor.surfaces[i].positions.size(); ++k)
-        for (int c = 0; c < 3; ++c)
-          ASSERT_NEAR(tensor.surfaces[i].positions[k][c], cox.surfaces[i].positions[k][c],
-                      tolerance)
-              << scene_name << " sample " << k;
+  for (const char* scene_name : {"patch144", "torus", "degree-7", "creases", "many-16"}) {
+    expect_agrees_with_coxdeboor(*make_builtin_scene(scene_name), test::span_grid(5));
   }
 }
 
@@ -92,6 +95,62 @@ TEST(CpuTensor, SimdOffAgreesAndSaysSo) {
             0u);
   off.extra["simd"] = "fast";
   EXPECT_THROW(find_strategy("cpu-tensor")->create(off), std::invalid_argument);
+}
+
+// Faces of one knot vector and sampling share their basis tables (many-N's Bezier patches), faces
+// of others have their own: a scene mixing both evaluates every face exactly as that face alone
+// does, and in double agrees with cpu-coxdeboor, which shares nothing.
+TEST(CpuTensor, SharedTablesGiveEachFaceItsOwnValues) {
+  Scene mixed{"mixed", "shared and distinct knot vectors", {}};
+  for (const char* name : {"many-9", "patch144", "sphere", "degree-5", "many-4"}) {
+    const Scene part = *make_builtin_scene(name);
+    mixed.surfaces.insert(mixed.surfaces.end(), part.surfaces.begin(), part.surfaces.end());
+  }
+  const Sampling grid = test::grid(23, 19);
+  for (Precision precision : {Precision::f32, Precision::f64}) {
+    const EvalRequest request{grid, precision, true};
+    const EvalResult all = run("cpu-tensor", mixed, request, 2);
+    for (std::size_t i = 0; i < mixed.surfaces.size(); ++i) {
+      const Scene alone{"alone", "", {mixed.surfaces[i]}};
+      const EvalResult one = run("cpu-tensor", alone, request, 2);
+      for (std::size_t k = 0; k < one.surfaces[0].positions.size(); ++k) {
+        ASSERT_EQ(all.surfaces[i].positions[k], one.surfaces[0].positions[k]) << "surface " << i;
+        ASSERT_EQ(all.surfaces[i].normals[k], one.surfaces[0].normals[k]) << "surface " << i;
+      }
+    }
+  }
+  expect_agrees_with_coxdeboor(mixed, grid);
+}
+
+// stores=streaming copies each finished row out with non-temporal stores, stores=cached (the
+// default) writes in place: the same arithmetic, so the same bits, on row lengths whose rows start
+// at every 16-byte misalignment (13 columns: 39 floats a row).
+TEST(CpuTensor, StreamingStoresWriteTheSameValues) {
+  const Scene scene = *make_builtin_scene("many-16");
+  for (int columns : {13, 64}) {
+    const Sampling grid = test::grid(11, columns);
+    for (Precision precision : {Precision::f32, Precision::f64})
+      for (bool normals : {false, true}) {
+        const EvalRequest request{grid, precision, normals};
+        const EvalResult cached = run("cpu-tensor", scene, request, 2, {{"stores", "cached"}});
+        const EvalResult streamed = run("cpu-tensor", scene, request, 2, {{"stores", "streaming"}});
+        for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
+          for (std::size_t k = 0; k < cached.surfaces[i].positions.size(); ++k) {
+            ASSERT_EQ(cached.surfaces[i].positions[k], streamed.surfaces[i].positions[k]);
+            if (normals) {
+              ASSERT_EQ(cached.surfaces[i].normals[k], streamed.surfaces[i].normals[k]);
+            }
+          }
+      }
+  }
+  StrategyOptions bad;
+  bad.extra["stores"] = "fast";
+  try {
+    find_strategy("cpu-tensor")->create(bad);
+    FAIL() << "stores=fast accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("stores = 'fast'"), std::string::npos) << e.what();
+  }
 }
 
 TEST(CpuTensor, RefusesExplicitLists) {
