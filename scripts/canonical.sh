@@ -51,6 +51,7 @@ if [ "$tiny" = 1 ]; then
   accuracy=(patch144,degree-2,degree-3 8x8 1)
   deforming=(patch144 16x16 1)
   lod=(--samples 32x32,64x64 --repetitions 1)
+  camera=(--scenes teapot --frames 4 --viewport 160x120 --pixels-per-sample 4 --fixed-samples 16x16)
 else
   fig7=(patch144 4x4,8x8,16x16,32x32,64x64,128x128,256x256,512x512,1024x1024,2048x2048 3)
   fig9_tspline=(tspline-tjunction 4x4,8x8,16x16,32x32,64x64,128x128,256x256,512x512,1024x1024 3)
@@ -61,6 +62,7 @@ else
   accuracy=(default 64x64 3)
   deforming=(teapot,patch144,many-256 16x16 1)  # RPNS's scenes; frames below
   lod=(--samples 128x128,512x512,1024x1024)      # 002 Fig 15's sizes (the verb's defaults)
+  camera=(--scenes teapot --frames 60 --viewport 640x480 --pixels-per-sample 4 --fixed-samples 64x64)
 fi
 
 run() {  # run <subdir> <scenes> <samples> <repetitions> [extra run options...]
@@ -80,8 +82,9 @@ run fig8-many-surfaces "${fig8[@]}"
 run fig8-trimmed-ducks "${fig8_ducks[@]}" --threads 1
 run accuracy "${accuracy[@]}"
 
-# RPNS per-frame time with deforming control points (30 frames), the Table 1 memory figures and
-# 002 Fig 15; report reads DIR/lod.json and DIR/memory.json beside a results.json.
+# RPNS per-frame time with deforming control points (30 frames), the Table 1 memory figures,
+# 002 Fig 15 and 000 §3.2's camera path; report reads DIR/lod.json, DIR/camera_path.json and
+# DIR/memory.json beside a results.json.
 run deforming "${deforming[@]}" --deforming 30
 # 003 §4: vk-ksquad in each mapping, deforming, on grids and span grids (its own report beside
 # its sets; the sets go into the machine's report too).
@@ -101,6 +104,9 @@ done
 echo "canonical: lod"
 "$nb" lod "${lod[@]}" --out "$out/fig14-deboor-vs-basis" >"$out/lod.log" 2>&1 ||
   { echo "canonical: lod failed, see $out/lod.log" >&2; exit 1; }
+echo "canonical: camera-path"
+"$nb" camera-path "${camera[@]}" --out "$out/fig14-deboor-vs-basis" >"$out/camera_path.log" 2>&1 ||
+  { echo "canonical: camera-path failed, see $out/camera_path.log" >&2; exit 1; }
 echo "canonical: memory"
 "$nb" memory --scenes all --json >"$out/fig14-deboor-vs-basis/memory.json"
 

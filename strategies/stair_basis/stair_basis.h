@@ -51,6 +51,8 @@
 #define SB_CONSTS_OUT SB_REAL*
 #define SB_KNOTS_IN const SB_REAL*
 #define SB_C(c, i) (c)[i]
+#define SB_C_OUT(c, i) (c)[i]
+#define SB_KNOT_IN(k, i) (k)[i]
 #define SB_OUT_ARRAY(name) SB_REAL* name
 #define SB_TO_REAL(x) static_cast<SB_REAL>(x)
 #elif defined(__OPENCL_VERSION__)
@@ -61,16 +63,24 @@
 #define SB_CONSTS_OUT __local SB_REAL*
 #define SB_KNOTS_IN __global const SB_REAL*
 #define SB_C(c, i) (c)[i]
+#define SB_C_OUT(c, i) (c)[i]
+#define SB_KNOT_IN(k, i) (k)[i]
 #define SB_OUT_ARRAY(name) SB_REAL* name
 #define SB_TO_REAL(x) ((SB_REAL)(x))
 #else
 // GLSL: a function cannot take a buffer as a parameter, so the includer declares the storage
-// buffer `consts` (float) and a set of constants is its offset there; stair_constants is not
-// compiled (the host computes the constants with the C++ build).
+// buffer `consts` (float) and a set of constants is its offset there. stair_constants is
+// compiled where the includer defines SB_GLSL_CONSTANTS and declares a writable `consts` and an
+// `sb_knots` buffer (float; a knot vector is its offset there): vk-ksquad's constants pass,
+// ksquad_constants.comp.
 #define SB_REAL float
 #define SB_FN
 #define SB_CONSTS int
+#define SB_CONSTS_OUT int
+#define SB_KNOTS_IN int
 #define SB_C(c, i) consts[(c) + (i)]
+#define SB_C_OUT(c, i) consts[(c) + (i)]
+#define SB_KNOT_IN(k, i) sb_knots[(k) + (i)]
 #define SB_OUT_ARRAY(name) out float name[SB_MAX_ORDER]
 #define SB_TO_REAL(x) float(x)
 #endif
@@ -86,23 +96,24 @@
 #define SB_KNOT(c, t) SB_C(c, SB_KNOTS + (t))
 #define SB_RS(c, s, t) SB_C(c, SB_R + (s)*SB_MAX_DEG + (t))
 
-#if defined(__cplusplus) || defined(__OPENCL_VERSION__)
+#if defined(__cplusplus) || defined(__OPENCL_VERSION__) || defined(SB_GLSL_CONSTANTS)
 // The constants of span `span` (= i) of a degree-`degree` direction; `knots` is the whole knot
 // vector. Entries past the degree are left as they were.
 SB_FN void stair_constants(int span, int degree, SB_KNOTS_IN knots, SB_CONSTS_OUT c) {
   const int p = degree;
-  for (int t = 0; t < 2 * p; ++t) c[SB_KNOTS + t] = knots[span - p + 1 + t];
+  for (int t = 0; t < 2 * p; ++t) SB_C_OUT(c, SB_KNOTS + t) = SB_KNOT_IN(knots, span - p + 1 + t);
   // x_{i-s} = knot p-1-s, x_{i+1+t} = knot p+t
   for (int s = 0; s < p; ++s)
     for (int t = 0; t < p; ++t)
-      c[SB_R + s * SB_MAX_DEG + t] =
-          SB_TO_REAL(1) / (c[SB_KNOTS + p + t] - c[SB_KNOTS + p - 1 - s]);
-  c[SB_COLUMN] = SB_TO_REAL(1);
-  c[SB_DIAGONAL] = SB_TO_REAL(1);
+      SB_C_OUT(c, SB_R + s * SB_MAX_DEG + t) =
+          SB_TO_REAL(1) / (SB_C_OUT(c, SB_KNOTS + p + t) - SB_C_OUT(c, SB_KNOTS + p - 1 - s));
+  SB_C_OUT(c, SB_COLUMN) = SB_TO_REAL(1);
+  SB_C_OUT(c, SB_DIAGONAL) = SB_TO_REAL(1);
   for (int l = 1; l <= p; ++l) {
-    c[SB_COLUMN + l] = c[SB_COLUMN + l - 1] * c[SB_R + l - 1];  // 1/(x_{i+l} - x_i)
-    c[SB_DIAGONAL + l] =
-        c[SB_DIAGONAL + l - 1] * c[SB_R + (l - 1) * SB_MAX_DEG];  // 1/(x_{i+1} - x_{i+1-l})
+    // 1/(x_{i+l} - x_i) and 1/(x_{i+1} - x_{i+1-l})
+    SB_C_OUT(c, SB_COLUMN + l) = SB_C_OUT(c, SB_COLUMN + l - 1) * SB_C_OUT(c, SB_R + l - 1);
+    SB_C_OUT(c, SB_DIAGONAL + l) =
+        SB_C_OUT(c, SB_DIAGONAL + l - 1) * SB_C_OUT(c, SB_R + (l - 1) * SB_MAX_DEG);
   }
 }
 #endif

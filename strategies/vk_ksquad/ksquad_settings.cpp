@@ -104,6 +104,13 @@ KsquadSettings ksquad_settings(const StrategyOptions& options) {
                                   "': must be device or host");
     a.device_corners = it->second == "device";
   }
+  if (auto it = options.extra.find("vk-constants");
+      it != options.extra.end() && !it->second.empty()) {
+    if (it->second != "device" && it->second != "host")
+      throw std::invalid_argument("vk-ksquad option vk-constants = '" + it->second +
+                                  "': must be device or host");
+    a.device_constants = it->second == "device";
+  }
   a.eye = option_numbers(options, "vk-eye", 3, ',');
   a.center = option_numbers(options, "vk-center", 3, ',');
   a.viewport = option_numbers(options, "vk-viewport", 2, 'x');

@@ -23,8 +23,9 @@ inline constexpr int kNonuniformMaxLevel = 16;
 // radii), vk-fov = degrees (45), vk-viewport = "WxH" (1024x768), vk-mu = pixels (4),
 // vk-corners = device|host (where the KSQuad corners of eq. 3 are evaluated; device),
 // vk-max-level = N (the device's maxTessellationGenerationLevel), vk-pieces = N (2: a KSQuad's
-// edge is cut into up to N patches, so levels up to N x vk-max-level). Both modes:
-// vk-vertices-per-draw = N (kDefaultVerticesPerDraw; 0 = one draw per degree pair).
+// edge is cut into up to N patches, so levels up to N x vk-max-level). Every mode:
+// vk-vertices-per-draw = N (kDefaultVerticesPerDraw; 0 = one draw per degree pair),
+// vk-constants = device|host (where the per-span stair constants are computed; device).
 // Nonuniform mode (vk-mode=nonuniform; adaptive's control stage and corner table, then a geometry
 // stage): vk-epsilon = pixels (eq. 4's ε, 0.5), vk-eta = pixels (eq. 5's η, 4), vk-max-level
 // (default 16: a KSQuad's lattice, KSDice stored per patch = its square), vk-pieces is 1.
@@ -37,6 +38,9 @@ struct KsquadSettings {
   double fov = 45, mu = 4;
   int max_level = 0;
   bool device_corners = true;  // adaptive: vk-corners = device (the corner pass) | host
+  // Every mode: vk-constants = device (the per-span stair constants by ksquad_constants.comp,
+  // once per prepare) | host (the C++ build of the same function, uploaded)
+  bool device_constants = true;
   int pieces = 2;  // adaptive: patches per KSQuad and direction, levels up to pieces x max_level
   std::uint64_t vertices_per_draw = kDefaultVerticesPerDraw;
 };

@@ -4,9 +4,12 @@
 //    gl_PrimitiveID as the row of the Info-KSQuad table (003 Fig 8's first level of indirection;
 //    the surface table is the second).
 //  * "Per-KSQuad constant denominators computed once" (§3.2): computed once per non-empty span
-//    and direction on the host by the tested C++ stair_constants<float> (the same float
-//    arithmetic the device would do, correctly rounded divisions) and read from a storage buffer;
-//    KSQuads sharing a span share its constants.
+//    and direction per prepare, on the device by a compute pass (ksquad_constants.comp: the
+//    single-source stair_constants compiled as GLSL, from the knots as floats; vk-constants=device,
+//    the default, as 003 §1 asks: no precomputation on the CPU) or on the host by the tested C++
+//    build of the same function (vk-constants=host, kept to compare), and read from a storage
+//    buffer; KSQuads sharing a span share its constants. They depend on the knots alone, so a
+//    deforming frame never recomputes them.
 //  * Uniform mode (003 §4's uniform mapping): the levels of a patch are the segment counts of its
 //    u and v runs. Span grid T: the tessellator chooses the samples -- its (T+1)x(T+1) lattice
 //    per KSQuad (DESIGN.md's span grid), the parameter blended from the span's knots by
@@ -74,6 +77,7 @@
 
 namespace nurbs::embedded {
 extern const std::string_view vk_ksquad_corners_comp;
+extern const std::string_view vk_ksquad_constants_comp;
 }  // namespace nurbs::embedded
 
 namespace nurbs {
@@ -167,6 +171,7 @@ VkKsquad::VkKsquad(int device_index, const KsquadSettings& settings,
   if (settings_.nonuniform) check_nonuniform_limits();
   // the report labels vk-ksquad's series by the mapping
   record_.details["vk_mode"] = settings_.gs ? "gs" : "uniform";
+  record_.details["vk_constants"] = settings_.device_constants ? "device" : "host";
   if (settings_.adaptive) {
     record_.details["vk_mode"] = settings_.nonuniform ? "nonuniform" : "adaptive";
     record_.details["vk_corners"] = settings_.device_corners ? "device" : "host";
@@ -328,21 +333,38 @@ void VkKsquad::build_tables(const Scene& scene) {
   }
   tables_.patches.clear();
   tables_.constants.clear();
+  knot_table_.clear();
+  constant_jobs_.clear();
   params_ = std::move(table.params);
   total_ = table.total;
   // (surface, direction, span) -> offset of its constants in floats.
   std::map<std::tuple<int, int, int>, int> constant_of;
+  std::map<std::pair<int, int>, std::size_t> knot_of;  // (surface, direction) -> knot_table_
   const auto constants = [&](int surface, int direction, int span) {
     const auto key = std::make_tuple(surface, direction, span);
     if (auto it = constant_of.find(key); it != constant_of.end()) return it->second;
     const Surface& s = scene.surfaces[surface];
     const std::vector<double>& k64 = direction == 0 ? s.knots_u : s.knots_v;
     const std::vector<float> k32(k64.begin(), k64.end());
-    StairConstants<float> c{};
-    stair_constants(span, direction == 0 ? s.degree_u : s.degree_v, k32.data(), c);
+    const int degree = direction == 0 ? s.degree_u : s.degree_v;
     const int offset = static_cast<int>(tables_.constants.size());
-    const float* f = reinterpret_cast<const float*>(&c);
-    tables_.constants.insert(tables_.constants.end(), f, f + kConstantFloats);
+    if (settings_.device_constants) {
+      // ksquad_constants.comp computes them from the knots (as floats) once per prepare; the
+      // host keeps only the copied knot window, which its own readers (adaptive_edges) use.
+      const auto [knots, added] = knot_of.try_emplace({surface, direction}, knot_table_.size());
+      if (added) knot_table_.insert(knot_table_.end(), k32.begin(), k32.end());
+      constant_jobs_.insert(constant_jobs_.end(),
+                            {static_cast<int>(knots->second), degree, span, offset});
+      tables_.constants.resize(tables_.constants.size() + kConstantFloats, 0.0f);
+      for (int t = 0; t < 2 * degree; ++t)
+        tables_.constants[static_cast<std::size_t>(offset + SB_KNOTS + t)] =
+            k32[static_cast<std::size_t>(span - degree + 1 + t)];
+    } else {
+      StairConstants<float> c{};
+      stair_constants(span, degree, k32.data(), c);
+      const float* f = reinterpret_cast<const float*>(&c);
+      tables_.constants.insert(tables_.constants.end(), f, f + kConstantFloats);
+    }
     constant_of.emplace(key, offset);
     return offset;
   };
@@ -477,6 +499,30 @@ void VkKsquad::upload_tables(const Scene& scene) {
   set_->write({&surfaces_buf_, &patches_buf_, &constants_buf_, &points_, &params_buf_, &positions_,
                &corners_buf_, &levels_, &normals_, &classifier_.reals(), &classifier_.ints(),
                &trim_surfaces_buf_, &sample_params_, &corner_jobs_buf_, &ksdice_});
+  compute_constants();
+}
+
+constexpr std::uint32_t kConstantsGroup = 64;  // ksquad_constants.comp: local_size_x
+
+// vk-constants=device: the stair constants of every (surface, direction, span) by the constants
+// pass, then a barrier so every later stage that reads them sees them (later submissions on the
+// same queue are in the barrier's second scope).
+void VkKsquad::compute_constants() {
+  if (constant_jobs_.empty()) return;
+  knots_buf_ = storage(knot_table_, "knot vectors");
+  constant_jobs_buf_ = storage(constant_jobs_, "stair constant jobs");
+  constants_set_->write({&knots_buf_, &constant_jobs_buf_, &constants_buf_});
+  const auto count = static_cast<std::int32_t>(constant_jobs_.size() / 4);
+  device_.submit_and_wait([&](VkCommandBuffer cb) {
+    constants_pass_->bind(cb, *constants_set_);
+    vkCmdPushConstants(cb, constants_pass_->layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof count,
+                       &count);
+    vkCmdDispatch(cb, (static_cast<std::uint32_t>(count) + kConstantsGroup - 1) / kConstantsGroup,
+                  1, 1);
+    memory_barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                   VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_HOST_READ_BIT);
+  });
 }
 
 // Once per strategy (STYLE.md: compiled shaders are created once, never in evaluate()).
@@ -489,6 +535,11 @@ void VkKsquad::create_pipeline() {
   corner_pass_ = std::make_unique<vulkan::ComputePipeline>(
       device_, *set_, static_cast<std::uint32_t>(sizeof(ModeConstants)),
       embedded::vk_ksquad_corners_comp, "ksquad_corners.comp");
+  constants_set_ = std::make_unique<vulkan::StorageSet>(
+      device_, std::vector<VkShaderStageFlags>(3, VK_SHADER_STAGE_COMPUTE_BIT));
+  constants_pass_ = std::make_unique<vulkan::ComputePipeline>(
+      device_, *constants_set_, static_cast<std::uint32_t>(sizeof(std::int32_t)),
+      embedded::vk_ksquad_constants_comp, "ksquad_constants.comp");
 
   capture_ = std::make_unique<vk_ksquad::CaptureTarget>(device_);
 }

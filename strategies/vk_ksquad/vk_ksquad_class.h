@@ -103,6 +103,7 @@ class VkKsquad final : public Strategy {
   void upload_tables(const Scene& scene);
 
   void create_pipeline();
+  void compute_constants();
 
   using Pipelines = vk_ksquad::Pipelines;
 
@@ -145,6 +146,13 @@ class VkKsquad final : public Strategy {
   vulkan::Buffer ksdice_;         // nonuniform: the geometry stage's KSDie records
   std::vector<int> corner_jobs_;  // kCornerInts per corner (ksquad_corners.comp)
   std::unique_ptr<vulkan::ComputePipeline> corner_pass_;  // ksquad_corners.comp
+  // vk-constants=device: the knot vectors (floats), 4 ints per (surface, direction, span) job,
+  // and the constants pass (ksquad_constants.comp) with its own descriptor set.
+  std::vector<float> knot_table_;
+  std::vector<int> constant_jobs_;
+  vulkan::Buffer knots_buf_, constant_jobs_buf_;
+  std::unique_ptr<vulkan::StorageSet> constants_set_;
+  std::unique_ptr<vulkan::ComputePipeline> constants_pass_;
   std::size_t patch_count_ = 0, total_ = 0, surface_count_ = 0, region_ = 0;
   KsquadSettings settings_;
   ModeConstants mode_{};
