@@ -8,18 +8,23 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh --tests
 
 jobs=$(nproc)
-echo "== sanitizer build (ASan + UBSan, CPU parts)"
+# Each phase prints its elapsed time: CI has a 40-minute budget on 2 cores, and this shows where it goes.
+phase() { echo "== $1 (at ${SECONDS}s)"; }
+phase "sanitizer build (ASan + UBSan, CPU parts)"
 cmake --preset asan >/dev/null
 cmake --build --preset asan -j "$jobs"
+phase "sanitizer tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --preset asan
 
-echo "== release build"
+phase "release build"
 cmake --preset release >/dev/null
 cmake --build --preset release -j "$jobs"
+phase "release tests"
 # On the project's machines every strategy must be available (DESIGN.md).
 NURBSBENCH_REQUIRE_ALL_STRATEGIES=1 ctest --preset release
 
 # Last: a finding here should not hide a failure above. The clang build holds only the parsers.
-echo "== fuzzing (libFuzzer + ASan + UBSan, every input parser)"
+phase "fuzzing (libFuzzer + ASan + UBSan, every input parser)"
 bash scripts/fuzz.sh "${NURBSBENCH_FUZZ_SECONDS:-30}"
+phase "done"
