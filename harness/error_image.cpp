@@ -10,14 +10,10 @@
 #include <cmath>
 #include <limits>
 
+#include "harness/image_file.h"
 #include "harness/metrics.h"
 #include "reference/trim_classify.h"
 #include "reference/validation.h"
-
-#ifdef NURBSBENCH_HAVE_OIIO
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#endif
 
 namespace nurbs {
 
@@ -31,13 +27,12 @@ int sample_scale(int width, int height) {
   return std::max(1, 256 / std::max(width, height));
 }
 
-void require_oiio([[maybe_unused]] std::string_view option, [[maybe_unused]] const fs::path& path) {
-#ifndef NURBSBENCH_HAVE_OIIO
-  throw InputError(
-      fmt::format("{} = {}: this build has no OpenImageIO (install "
-                  "libopenimageio-dev, see scripts/setup.sh, and reconfigure)",
-                  option, path.string()));
-#endif
+void require_oiio(std::string_view option, const fs::path& path) {
+  if (!image_files_built())
+    throw InputError(
+        fmt::format("{} = {}: this build has no OpenImageIO (install "
+                    "libopenimageio-dev, see scripts/setup.sh, and reconfigure)",
+                    option, path.string()));
 }
 
 // Calls f(k, pixel) for every sample of a width x height tensor grid: k in SurfaceSamples order
@@ -112,7 +107,6 @@ ErrorImageFormat error_image_format(const fs::path& path) {
   return format;
 }
 
-#ifdef NURBSBENCH_HAVE_OIIO
 namespace {
 
 // Viridis at five stops, linearly interpolated: perceptually ordered, readable in grey.
@@ -134,51 +128,56 @@ std::array<float, 3> colour(double t) {
 // yellow), so it cannot be read as an error level.
 constexpr std::array<float, 3> kOutsideGrey = {0.6f, 0.6f, 0.6f};
 
-void write_atomically(const fs::path& path, const OIIO::ImageBuf& image) {
-  const fs::path tmp = path.parent_path() / fmt::format(".{}.tmp{}{}", path.stem().string(),
-                                                        ::getpid(), path.extension().string());
-  if (!image.write(tmp.string())) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw std::runtime_error(
-        fmt::format("{}: cannot write image: {}", path.string(), image.geterror()));
-  }
-  fs::rename(tmp, path);
+// A width x height RGB image in floats (0..1, stored as 8 bits), filled with `background`.
+ImageFile rgb8_image(int width, int height, std::array<float, 3> background) {
+  ImageFile image;
+  image.width = width;
+  image.height = height;
+  image.channels = 3;
+  image.uint8 = true;
+  image.pixels.resize(static_cast<std::size_t>(width) * height * 3);
+  for (std::size_t i = 0; i < image.pixels.size(); i += 3)
+    std::copy(background.begin(), background.end(), image.pixels.begin() + i);
+  return image;
+}
+
+void set_pixel(ImageFile& image, int x, int y, const std::array<float, 3>& c) {
+  std::copy(c.begin(), c.end(),
+            image.pixels.begin() + (static_cast<std::size_t>(y) * image.width + x) * 3);
 }
 
 // Each sample of a width x height grid as a scale x scale square of colour_of(pixel index); row 0
 // of the file is the top, so v grows upwards as on a plot.
 template <class ColourOf>
-void paint_samples(OIIO::ImageBuf& image, int width, int height, int scale, ColourOf&& colour_of) {
+void paint_samples(ImageFile& image, int width, int height, int scale, ColourOf&& colour_of) {
   for (int y = 0; y < height * scale; ++y)
     for (int x = 0; x < width * scale; ++x) {
       const std::size_t pixel = static_cast<std::size_t>(y / scale) * width + x / scale;
-      const std::array<float, 3> c = colour_of(pixel);
-      image.setpixel(x, height * scale - 1 - y, c.data());
+      set_pixel(image, x, height * scale - 1 - y, colour_of(pixel));
     }
 }
 
-OIIO::ImageBuf exr_image(const ErrorGrid& g, const std::string& title) {
+ImageFile exr_image(const ErrorGrid& g, const std::string& title) {
   const bool trimmed = !g.inside.empty();
-  OIIO::ImageSpec spec(g.width, g.height, trimmed ? 2 : 1, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"error"};
-  if (trimmed) spec.channelnames.push_back("inside");
-  spec.attribute("ImageDescription", title);
-  spec.attribute("nurbsbench:surface", g.surface);
-  spec.attribute("nurbsbench:units", "model units (distance from the reference)");
-  spec.attribute("nurbsbench:ulp_scale", static_cast<float>(g.ulp_scale));
-  OIIO::ImageBuf image(spec);
-  image.set_pixels(OIIO::ROI(0, g.width, 0, g.height, 0, 1, 0, 1), OIIO::TypeDesc::FLOAT,
-                   g.error.data());
-  if (trimmed) {
-    const std::vector<float> inside(g.inside.begin(), g.inside.end());
-    image.set_pixels(OIIO::ROI(0, g.width, 0, g.height, 0, 1, 1, 2), OIIO::TypeDesc::FLOAT,
-                     inside.data());
+  ImageFile image;
+  image.width = g.width;
+  image.height = g.height;
+  image.channels = trimmed ? 2 : 1;
+  image.channel_names = {"error"};
+  if (trimmed) image.channel_names.push_back("inside");
+  image.text_attributes = {{"ImageDescription", title},
+                           {"nurbsbench:surface", g.surface},
+                           {"nurbsbench:units", "model units (distance from the reference)"}};
+  image.float_attributes = {{"nurbsbench:ulp_scale", static_cast<float>(g.ulp_scale)}};
+  image.pixels.reserve(g.error.size() * image.channels);
+  for (std::size_t pixel = 0; pixel < g.error.size(); ++pixel) {
+    image.pixels.push_back(g.error[pixel]);
+    if (trimmed) image.pixels.push_back(static_cast<float>(g.inside[pixel]));
   }
   return image;
 }
 
-OIIO::ImageBuf png_image(const ErrorGrid& g, const std::string& title) {
+ImageFile png_image(const ErrorGrid& g, const std::string& title) {
   const auto [w, h] = error_png_size(g.width, g.height);
   const int scale = sample_scale(g.width, g.height);
   // Log scale over the decades the errors span, in ulps; zero and below the range = darkest.
@@ -199,14 +198,11 @@ OIIO::ImageBuf png_image(const ErrorGrid& g, const std::string& title) {
     if (!std::isfinite(ulp)) return 1.0;
     return ulp > 0 ? (std::log10(ulp) - lo_exp) / (hi_exp - lo_exp) : 0.0;
   };
-  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
-  spec.attribute("ImageDescription",
-                 fmt::format("{}; error in f32 ulps of the largest coordinate, log scale 1e{} .. "
-                             "1e{}",
-                             title, lo_exp, hi_exp));
-  OIIO::ImageBuf image(spec);
-  const float white[3] = {1, 1, 1};
-  OIIO::ImageBufAlgo::fill(image, white);
+  ImageFile image = rgb8_image(w, h, {1, 1, 1});
+  image.text_attributes = {
+      {"ImageDescription",
+       fmt::format("{}; error in f32 ulps of the largest coordinate, log scale 1e{} .. 1e{}", title,
+                   lo_exp, hi_exp)}};
   paint_samples(image, g.width, g.height, scale, [&](std::size_t pixel) {
     return outside(pixel) ? kOutsideGrey : colour(t_of(g.error[pixel] / g.ulp_scale));
   });
@@ -214,49 +210,42 @@ OIIO::ImageBuf png_image(const ErrorGrid& g, const std::string& title) {
   const int bar_x = g.width * scale + 10, bar_top = 20, bar_bottom = h - 20;
   for (int y = bar_top; y <= bar_bottom; ++y) {
     const auto c = colour(1.0 - static_cast<double>(y - bar_top) / (bar_bottom - bar_top));
-    for (int x = bar_x; x < bar_x + 16; ++x) image.setpixel(x, y, c.data());
+    for (int x = bar_x; x < bar_x + 16; ++x) set_pixel(image, x, y, c);
   }
-  const float black[3] = {0, 0, 0};
+  constexpr std::array<float, 3> black = {0, 0, 0};
   // DejaVu Sans (fonts-dejavu-core, see scripts/setup.sh); OIIO's own default font is not
   // packaged on Debian. Without a font the bar is still drawn and the range is in the metadata.
-  const std::string font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  image.font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
   for (double e = lo_exp; e <= hi_exp; e += 1) {
     const int y =
         bar_bottom - static_cast<int>((e - lo_exp) / (hi_exp - lo_exp) * (bar_bottom - bar_top));
-    for (int x = bar_x + 16; x < bar_x + 22; ++x) image.setpixel(x, y, black);
-    OIIO::ImageBufAlgo::render_text(image, bar_x + 24, y + 4, fmt::format("1e{}", e), 12, font,
-                                    black);
+    for (int x = bar_x + 16; x < bar_x + 22; ++x) set_pixel(image, x, y, black);
+    image.texts.push_back({bar_x + 24, y + 4, fmt::format("1e{}", e), 12, black});
   }
-  OIIO::ImageBufAlgo::render_text(image, bar_x - 4, 14, "ulp", 12, font, black);
+  image.texts.push_back({bar_x - 4, 14, "ulp", 12, black});
   if (!g.inside.empty()) {
     // The swatch sits in the bottom margin, under the bar.
     for (int y = h - 14; y < h - 2; ++y)
-      for (int x = bar_x; x < bar_x + 16; ++x) image.setpixel(x, y, kOutsideGrey.data());
-    OIIO::ImageBufAlgo::render_text(image, bar_x + 20, h - 3, "outside", 12, font, black);
+      for (int x = bar_x; x < bar_x + 16; ++x) set_pixel(image, x, y, kOutsideGrey);
+    image.texts.push_back({bar_x + 20, h - 3, "outside", 12, black});
   }
   return image;
 }
 
 }  // namespace
-#endif
 
 std::vector<fs::path> write_error_images(const fs::path& requested,
                                          const std::vector<ErrorGrid>& grids,
                                          const std::string& title) {
   const ErrorImageFormat format = error_image_format(requested);
   const std::vector<fs::path> paths = error_image_paths(requested, grids.size());
-#ifdef NURBSBENCH_HAVE_OIIO
   for (std::size_t i = 0; i < grids.size(); ++i) {
     const std::string surface_title =
         fmt::format("{}, surface {} ({})", title, i, grids[i].surface);
-    write_atomically(paths[i], format == ErrorImageFormat::exr
+    write_image_file(paths[i], format == ErrorImageFormat::exr
                                    ? exr_image(grids[i], surface_title)
                                    : png_image(grids[i], surface_title));
   }
-#else
-  (void)format;
-  (void)title;
-#endif
   return paths;
 }
 
@@ -332,42 +321,33 @@ void write_render_image(const fs::path& path, const RenderedImage& picture,
     throw std::runtime_error(fmt::format("{}: the strategy's picture is {}x{} with {} bytes",
                                          path.string(), picture.width, picture.height,
                                          picture.rgba.size()));
-#ifdef NURBSBENCH_HAVE_OIIO
-  OIIO::ImageSpec spec(picture.width, picture.height, 4, OIIO::TypeDesc::UINT8);
-  spec.attribute("ImageDescription", title);
+  ImageFile image;
+  image.width = picture.width;
+  image.height = picture.height;
+  image.channels = 4;
+  image.uint8 = true;
+  image.bytes = picture.rgba;
+  image.text_attributes = {{"ImageDescription", title}};
   // The strategy's bytes as they are: without this OIIO takes them for premultiplied alpha and
   // divides the colour by it on the way to PNG.
-  spec.attribute("oiio:UnassociatedAlpha", 1);
-  OIIO::ImageBuf image(spec);
-  image.set_pixels(OIIO::ROI(0, picture.width, 0, picture.height), OIIO::TypeDesc::UINT8,
-                   picture.rgba.data());
-  write_atomically(path, image);
-#else
-  (void)title;
-#endif
+  image.int_attributes = {{"oiio:UnassociatedAlpha", 1}};
+  write_image_file(path, image);
 }
 
 void write_trim_mask(const fs::path& path, const TrimMask& mask, const std::string& title) {
-#ifdef NURBSBENCH_HAVE_OIIO
   const int scale = sample_scale(mask.width, mask.height);
-  OIIO::ImageSpec spec(mask.width * scale, mask.height * scale, 3, OIIO::TypeDesc::UINT8);
-  spec.attribute(
-      "ImageDescription",
-      fmt::format("{}; one square per sample, v upwards: light = inside, dark = outside, orange = "
-                  "in the trim band (light: said inside), magenta = misclassified ({} samples)",
-                  title, mask.misclassified));
-  OIIO::ImageBuf image(spec);
+  ImageFile image = rgb8_image(mask.width * scale, mask.height * scale, {0, 0, 0});
+  image.text_attributes = {
+      {"ImageDescription",
+       fmt::format("{}; one square per sample, v upwards: light = inside, dark = outside, orange = "
+                   "in the trim band (light: said inside), magenta = misclassified ({} samples)",
+                   title, mask.misclassified)}};
   paint_samples(image, mask.width, mask.height, scale, [&](std::size_t pixel) {
     const auto& c = kTrimMaskColours[static_cast<std::size_t>(mask.pixel[pixel])];
     // Exactly the 8-bit value back after OIIO's float -> uint8 conversion.
     return std::array<float, 3>{c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f};
   });
-  write_atomically(path, image);
-#else
-  (void)path;
-  (void)mask;
-  (void)title;
-#endif
+  write_image_file(path, image);
 }
 
 std::vector<fs::path> write_trim_masks(const fs::path& directory, std::string_view strategy,

@@ -291,15 +291,15 @@ bool write_all(int fd, std::string_view text) {
 }
 
 // The measurement server. Why a server and not one fork + exec per measurement: starting this
-// binary costs about 0.1 s of CPU (it links some 270 shared libraries: OpenCASCADE, OpenImageIO,
-// the GPU drivers' loaders), wall seconds on a loaded machine, which would dominate a 16x16
-// measurement. Why not a bare fork of the run itself: its OpenMP pool (the reference) and any
-// driver threads do not exist in a forked child, whose next parallel region or driver call can
-// hang. So the run fork + execs this binary once (`measure-server`), before the server has run a
-// parallel region or touched a driver, and the server forks one child per measurement from that
-// clean, single-threaded state (Android's zygote, Python's forkserver). The watchdog runs in the
-// server; the run waits for the server's one-line answer, with a margin, in case the server
-// itself is lost.
+// binary costs about 0.1 s of CPU (it links some 50 shared libraries: OpenCASCADE, the GPU
+// drivers' loaders; OpenImageIO is a module loaded only to write images), more on a loaded machine,
+// which would dominate a 16x16 measurement. Why not a bare fork of the run itself: its OpenMP pool
+// (the reference) and any driver threads do not exist in a forked child, whose next parallel region
+// or driver call can hang. So the run fork + execs this binary once (`measure-server`), before the
+// server has run a parallel region or touched a driver, and the server forks one child per
+// measurement from that clean, single-threaded state (Android's zygote, Python's forkserver). The
+// watchdog runs in the server; the run waits for the server's one-line answer, with a margin, in
+// case the server itself is lost.
 class MeasurementServer {
  public:
   ~MeasurementServer() { stop(); }
