@@ -788,36 +788,33 @@ TEST(CliTrim, BadTrimBandIsExitTwoAndWritesNothing) {
 
 class CliCheck : public ::testing::Test {
  protected:
+  // Made once per build and shared by every case (each runs in a process of its own).
   static void SetUpTestSuite() {
-    results_ = new TempDir;
-    const CliResult r =
-        run_cli({"run", "--scenes", "patch144,sphere", "--strategies", "cpu-coxdeboor", "--samples",
-                 "8x8", "--repetitions", "1", "--out", results_->path().string()});
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-  }
-  static void TearDownTestSuite() {
-    delete results_;
-    results_ = nullptr;
+    const SharedCliOutput run =
+        shared_cli_output({"run", "--scenes", "patch144,sphere", "--strategies", "cpu-coxdeboor",
+                           "--samples", "8x8", "--repetitions", "1"});
+    ASSERT_EQ(run.result.exit_code, 0) << run.result.err;
+    results_ = run.directory;
   }
 
   CliResult check(const std::string& gates_json) {
     const std::string gates = tmp_ / "gates.json";
     write_text(gates, gates_json);
-    return run_cli({"check", "--gates", gates, "--results", results_->path().string()});
+    return run_cli({"check", "--gates", gates, "--results", results_.string()});
   }
   // The measured value of one record, as check prints it.
   static std::string measured(const std::string& scene, const std::string& metric) {
-    const json results = json::parse(read_text(results_->path() / "results.json"));
+    const json results = json::parse(read_text(results_ / "results.json"));
     for (const json& r : results["records"])
       if (r["scene"] == scene) return fmt::format("{:.6g}", r["accuracy"][metric].get<double>());
     ADD_FAILURE() << "no record for " << scene;
     return "";
   }
 
-  static TempDir* results_;
+  static std::filesystem::path results_;
   TempDir tmp_;
 };
-TempDir* CliCheck::results_ = nullptr;
+std::filesystem::path CliCheck::results_;
 
 TEST_F(CliCheck, GatesThatHoldExitZero) {
   const CliResult r = check(R"([
@@ -903,7 +900,7 @@ TEST_F(CliCheck, MalformedGatesFileIsExitTwo) {
     expect_usage_error(r, expect);
   }
   const std::string missing = tmp_ / "missing.json";
-  expect_usage_error(run_cli({"check", "--gates", missing, "--results", results_->path().string()}),
+  expect_usage_error(run_cli({"check", "--gates", missing, "--results", results_.string()}),
                      {missing, "cannot open"});
 }
 

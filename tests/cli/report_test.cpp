@@ -83,22 +83,19 @@ Record synthetic(const std::string& strategy, double points_per_s, double max_ul
 class CliReport : public ::testing::Test {
  protected:
   // One tiny run with every strategy (and the store-limit row) on the scenes the charts read.
+  // Made once per build and shared by every case (each runs in a process of its own).
   static void SetUpTestSuite() {
-    results_ = new TempDir;
-    const CliResult r =
-        run_cli({"run", "--scenes", "patch144,tan16,many-1,many-4,degree-2", "--strategies", "all",
-                 "--samples", "4x4,8x8", "--repetitions", "1", "--out", results_->path().string()});
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-  }
-  static void TearDownTestSuite() {
-    delete results_;
-    results_ = nullptr;
+    const SharedCliOutput run =
+        shared_cli_output({"run", "--scenes", "patch144,tan16,many-1,many-4,degree-2",
+                           "--strategies", "all", "--samples", "4x4,8x8", "--repetitions", "1"});
+    ASSERT_EQ(run.result.exit_code, 0) << run.result.err;
+    results_ = run.directory;
   }
   static std::set<std::string> strategies_in_results() {
     std::set<std::string> names;
     // Named, not iterated as a temporary: a range-for over `parse(...)["records"]` would outlive
     // the parsed document (the heap-use-after-free that ASan aborted this suite on).
-    const json results = json::parse(read_text(results_->path() / "results.json"));
+    const json results = json::parse(read_text(results_ / "results.json"));
     for (const json& r : results["records"]) names.insert(r["strategy"].get<std::string>());
     return names;
   }
@@ -106,19 +103,19 @@ class CliReport : public ::testing::Test {
   std::string copy_results(const std::string& name) {
     const fs::path dir = tmp_.path() / name;
     fs::create_directories(dir);
-    fs::copy_file(results_->path() / "results.json", dir / "results.json");
+    fs::copy_file(results_ / "results.json", dir / "results.json");
     return dir.string();
   }
 
-  static TempDir* results_;
+  static std::filesystem::path results_;
   TempDir tmp_;
 };
-TempDir* CliReport::results_ = nullptr;
+std::filesystem::path CliReport::results_;
 
 TEST_F(CliReport, WritesTablesChartsAndHtmlListingEveryStrategy) {
   const std::string out = tmp_ / "report";
-  const CliResult r = run_cli(
-      {"report", "--results", results_->path().string(), "--out", out, "--error-images", "1"});
+  const CliResult r =
+      run_cli({"report", "--results", results_.string(), "--out", out, "--error-images", "1"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string md = read_text(fs::path(out) / "REPORT.md");
   const std::string html = read_text(fs::path(out) / "index.html");
@@ -174,7 +171,7 @@ TEST_F(CliReport, OpensInAHeadlessBrowserWithEveryChartImageLoaded) {
   }
   if (!matplotlib_present()) GTEST_SKIP() << "no matplotlib: the report has no chart images";
   const fs::path out = tmp_ / "report";
-  ASSERT_EQ(run_cli({"report", "--results", results_->path().string(), "--out", out.string(),
+  ASSERT_EQ(run_cli({"report", "--results", results_.string(), "--out", out.string(),
                      "--error-images", "0"})
                 .exit_code,
             0);
@@ -226,7 +223,7 @@ TEST_F(CliReport, WithoutMatplotlibWritesTablesAndSaysWhichChartsAreMissing) {
              "'matplotlib'\"\nexit 3\n");
   fs::permissions(fake_python, fs::perms::owner_all);
   const std::string out = tmp_ / "report";
-  const CliResult r = run_cli({"report", "--results", results_->path().string(), "--out", out,
+  const CliResult r = run_cli({"report", "--results", results_.string(), "--out", out,
                                "--error-images", "0", "--python", fake_python});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string md = read_text(fs::path(out) / "REPORT.md");
@@ -237,7 +234,7 @@ TEST_F(CliReport, WithoutMatplotlibWritesTablesAndSaysWhichChartsAreMissing) {
   EXPECT_FALSE(fs::exists(fs::path(out) / "fig7_time_vs_points.png"));
 
   const CliResult no_python =
-      run_cli({"report", "--results", results_->path().string(), "--out", tmp_ / "report2",
+      run_cli({"report", "--results", results_.string(), "--out", tmp_ / "report2",
                "--error-images", "0", "--python", tmp_ / "no-such-python"});
   ASSERT_EQ(no_python.exit_code, 0) << no_python.err;
   EXPECT_NE(read_text(fs::path(tmp_ / "report2") / "REPORT.md").find("not drawn: cannot run"),
@@ -339,7 +336,7 @@ TEST_F(CliReport, ReadsTheCommittedLodFileWithoutTheNewColumns) {
 }
 
 TEST_F(CliReport, ShowsDeformingFramesFromRecordsWithAFramePhase) {
-  ResultsFile results = read_results(results_->path());
+  ResultsFile results = read_results(results_);
   const std::string dir = tmp_ / "deforming";
   {
     ResultsWriter writer(dir, results.machine, results.settings);
@@ -358,7 +355,7 @@ TEST_F(CliReport, ShowsDeformingFramesFromRecordsWithAFramePhase) {
 
 TEST_F(CliReport, SeveralResultsSetsAreOneReport) {
   const std::string out = tmp_ / "report";
-  const CliResult r = run_cli({"report", "--results", results_->path().string(), "--results",
+  const CliResult r = run_cli({"report", "--results", results_.string(), "--results",
                                copy_results("second"), "--out", out, "--error-images", "0"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(read_text(fs::path(out) / "REPORT.md").find("| second |"), std::string::npos);
@@ -380,8 +377,8 @@ TEST_F(CliReport, ChartsKeepOnePointPerMeasurementAcrossSets) {
         series[chart["id"]] = chart["series"];
     return series;
   };
-  const auto one = series_of({results_->path().string()}, "one");
-  const auto two = series_of({results_->path().string(), copy_results("again")}, "two");
+  const auto one = series_of({results_.string()}, "one");
+  const auto two = series_of({results_.string(), copy_results("again")}, "two");
   ASSERT_EQ(one.size(), 2u);
   EXPECT_GT(one.at("fig7_time_vs_points").size(), 2u);
   EXPECT_EQ(one, two);
@@ -420,9 +417,9 @@ TEST_F(CliReport, BadInputIsExitTwoWithOneLineAndNoOutput) {
   write_text(fs::path(not_results) / "results.json", R"({"format": "other/1", "records": []})");
   expect_usage_error(run_cli({"report", "--results", not_results, "--out", out}),
                      {"results.json", "format", "other/1"});
-  expect_usage_error(run_cli({"report", "--results", results_->path().string(), "--out", out,
-                              "--error-images", "-1"}),
-                     {"--error-images", "-1"});
+  expect_usage_error(
+      run_cli({"report", "--results", results_.string(), "--out", out, "--error-images", "-1"}),
+      {"--error-images", "-1"});
   expect_usage_error(run_cli({"report", "--out", out}), {"--results"});
 
   struct Case {

@@ -5,7 +5,9 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/file.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -134,6 +136,57 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+// The output directory of `nurbsbench <args> --out DIR`, made once per build of the CLI and shared
+// by every test process that asks for the same arguments. CTest runs each test case in a process of
+// its own, so a suite's SetUpTestSuite would otherwise repeat the same multi-second run for every
+// case. The directory lives under the build tree (NURBSBENCH_TEST_CACHE), keyed by the arguments
+// and the CLI binary's size and modification time (a rebuilt CLI makes it again and removes the old
+// one). It is made under an exclusive lock into a temporary directory and renamed into place, so
+// test processes running in parallel wait for one maker and never read a half-written directory.
+// A failed run is returned, not kept: `result.exit_code` says which. Callers only read it.
+struct SharedCliOutput {
+  CliResult result;  // of the run that made the directory; exit 0 and empty output when reused
+  std::filesystem::path directory;
+};
+
+inline SharedCliOutput shared_cli_output(const std::vector<std::string>& args) {
+  namespace fs = std::filesystem;
+  struct stat binary {};
+  if (::stat(NURBSBENCH_CLI, &binary) != 0) throw std::runtime_error("cannot stat the CLI binary");
+  const std::string binary_stamp = std::to_string(binary.st_size) + " " +
+                                   std::to_string(binary.st_mtim.tv_sec) + "." +
+                                   std::to_string(binary.st_mtim.tv_nsec);
+  std::string args_text;
+  for (const std::string& a : args) args_text += a + "\n";
+  const fs::path root = NURBSBENCH_TEST_CACHE;
+  fs::create_directories(root);
+  const std::string name = "run-" + std::to_string(std::hash<std::string>{}(args_text));
+  const fs::path directory =
+      root / (name + "-" + std::to_string(std::hash<std::string>{}(binary_stamp)));
+
+  const int lock = ::open((root / (name + ".lock")).c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (lock < 0) throw std::runtime_error("cannot open the lock of " + directory.string());
+  while (::flock(lock, LOCK_EX) != 0)
+    if (errno != EINTR) throw std::runtime_error("cannot lock " + directory.string());
+  SharedCliOutput out{{0, "", ""}, directory};
+  if (!fs::exists(directory)) {
+    std::error_code ignored;
+    // What an earlier build of the CLI made for these arguments is stale now.
+    for (const fs::directory_entry& e : fs::directory_iterator(root))
+      if (e.path().filename().string().starts_with(name + "-")) fs::remove_all(e.path(), ignored);
+    const fs::path making = directory.string() + ".making";
+    std::vector<std::string> full = args;
+    full.insert(full.end(), {"--out", making.string()});
+    out.result = run_cli(full);
+    if (out.result.exit_code == 0)
+      fs::rename(making, directory);
+    else
+      fs::remove_all(making, ignored);
+  }
+  ::close(lock);  // releases the lock
+  return out;
+}
 
 inline std::string read_text(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
