@@ -216,7 +216,8 @@ std::string context_of(const std::vector<Row>& rows, const std::vector<ResultSet
   std::set<std::string> devices;
   for (const Row& r : rows) {
     used.insert(r.set);
-    devices.insert(device_text(r.record->device));
+    // A refused or failed record that never reached a device names none: nothing to list.
+    if (!r.record->device.name.empty()) devices.insert(device_text(r.record->device));
   }
   if (used.empty())
     for (const ResultSet& s : sets) used.insert(&s);
