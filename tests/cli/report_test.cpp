@@ -464,26 +464,52 @@ std::vector<Record> fig7_records(const std::string& strategy, const DeviceInfo& 
   return out;
 }
 
-// The claims table of the report built from `records`: claim quote prefix -> row.
-std::map<std::string, std::vector<std::string>> claims_of(std::vector<Record> records) {
+// A row of the claims table: column header -> cell.
+using ClaimRow = std::map<std::string, std::string>;
+
+// The claims table of `report`: claim (figure and quote prefix) -> its rows by "measured on".
+std::map<std::string, std::map<std::string, ClaimRow>> claims_by_device(const Report& report) {
+  const auto s = std::find_if(report.sections.begin(), report.sections.end(),
+                              [](const ReportSection& x) { return x.id == "claims"; });
+  std::map<std::string, std::map<std::string, ClaimRow>> claims;
+  if (s == report.sections.end() || s->tables.empty()) {
+    ADD_FAILURE() << "no claims section";
+    return claims;
+  }
+  const auto& header = s->tables.front().header;
+  std::map<std::string, std::string> measured_as;
+  for (const auto& row : s->tables.front().rows) {
+    EXPECT_EQ(row.size(), header.size());
+    ClaimRow cells;
+    for (std::size_t c = 0; c < header.size() && c < row.size(); ++c) cells[header[c]] = row[c];
+    // Two claims share a quote (Fig 8 untrimmed and trimmed): the second by what it measures.
+    std::string claim = cells["figure"] + " " + cells["claim (quoted)"].substr(0, 20);
+    if (measured_as.contains(claim) && measured_as[claim] != cells["measured as"])
+      claim += " [" + cells["measured as"].substr(0, 12) + "]";
+    measured_as.emplace(claim, cells["measured as"]);
+    EXPECT_TRUE(claims[claim].emplace(cells["measured on"], cells).second)
+        << "two rows of " << claim << " on " << cells["measured on"];
+  }
+  return claims;
+}
+
+// The claims table of the report built from `records` (one set, one device per claim): claim
+// quote prefix -> row.
+std::map<std::string, ClaimRow> claims_of(std::vector<Record> records) {
   ResultSet set;
   set.directory = "results/synthetic";
   set.tag = "synthetic";
   set.results.machine = json{{"cpu_model", "Test CPU"}};
   set.results.records = std::move(records);
-  const Report report = build_report({set});
-  const auto s = std::find_if(report.sections.begin(), report.sections.end(),
-                              [](const ReportSection& x) { return x.id == "claims"; });
-  std::map<std::string, std::vector<std::string>> rows;
-  if (s == report.sections.end() || s->tables.empty()) {
-    ADD_FAILURE() << "no claims section";
-    return rows;
+  std::map<std::string, ClaimRow> rows;
+  for (const auto& [claim, by_device] : claims_by_device(build_report({set}))) {
+    EXPECT_EQ(by_device.size(), 1u) << claim;
+    rows[claim] = by_device.begin()->second;
   }
-  const auto& header = s->tables.front().header;
-  EXPECT_EQ(header[6], "holds?");
-  for (const auto& row : s->tables.front().rows) rows[row[1] + " " + row[2].substr(0, 20)] = row;
   return rows;
 }
+const std::string kHolds = "holds?", kMeasured = "measured", kWhy = "why (from the measurements)",
+                  kCommand = "command that made the data", kOn = "measured on";
 const std::string kFig7Large = "Fig 7 The GPU-based evalua";
 const std::string kFig7Small = "Fig 7 the GPU evaluation h";
 
@@ -536,17 +562,23 @@ TEST(ReportClaims, AGpuFiftyTimesFasterHoldsAndIsSlowerOnTheSmallestGrid) {
     records.push_back(r);
   const auto rows = claims_of(records);
   ASSERT_TRUE(rows.contains(kFig7Large));
-  EXPECT_EQ(rows.at(kFig7Large)[6], "holds");
-  EXPECT_NE(rows.at(kFig7Large)[5].find("= 100×"), std::string::npos) << rows.at(kFig7Large)[5];
-  EXPECT_EQ(rows.at(kFig7Large)[7], "");
-  EXPECT_NE(rows.at(kFig7Large)[8].find("--out results/synthetic &&"), std::string::npos);
-  EXPECT_EQ(rows.at(kFig7Small)[6], "holds");
-  EXPECT_NE(rows.at(kFig7Small)[5].find("= 1e+03×"), std::string::npos) << rows.at(kFig7Small)[5];
+  const ClaimRow& large = rows.at(kFig7Large);
+  EXPECT_EQ(large.at(kHolds), "holds");
+  EXPECT_EQ(large.at(kOn), "GPU: Test GPU");
+  EXPECT_NE(large.at(kMeasured).find("= 100×"), std::string::npos) << large.at(kMeasured);
+  EXPECT_EQ(large.at(kWhy), "");
+  EXPECT_NE(large.at(kCommand).find("--out results/synthetic &&"), std::string::npos);
+  // The CPU is the side claimed faster here; the verdict is still the GPU's.
+  const ClaimRow& small = rows.at(kFig7Small);
+  EXPECT_EQ(small.at(kHolds), "holds");
+  EXPECT_EQ(small.at(kOn), "GPU: Test GPU");
+  EXPECT_NE(small.at(kMeasured).find("= 1e+03×"), std::string::npos) << small.at(kMeasured);
   // Records the results lack: said, with the command that makes them.
   const auto fig15 = rows.find("Fig 15 The figure shows tha");
   ASSERT_NE(fig15, rows.end());
-  EXPECT_EQ(fig15->second[6], "not measured");
-  EXPECT_NE(fig15->second[8].find("nurbsbench lod"), std::string::npos);
+  EXPECT_EQ(fig15->second.at(kHolds), "not measured");
+  EXPECT_EQ(fig15->second.at(kOn), "-");
+  EXPECT_NE(fig15->second.at(kCommand).find("nurbsbench lod"), std::string::npos);
 }
 
 TEST(ReportClaims, ACpuStandInSlowerThanTheCpuDoesNotHoldAndSaysWhyFromTheRecords) {
@@ -557,13 +589,16 @@ TEST(ReportClaims, ACpuStandInSlowerThanTheCpuDoesNotHoldAndSaysWhyFromTheRecord
     records.push_back(r);
   const auto rows = claims_of(records);
   ASSERT_TRUE(rows.contains(kFig7Large));
-  const auto& row = rows.at(kFig7Large);
-  EXPECT_EQ(row[6], "does not hold");
-  EXPECT_NE(row[5].find("0.333× (3× the other way)"), std::string::npos) << row[5];
-  EXPECT_NE(row[7].find("llvmpipe (LLVM 15)"), std::string::npos) << row[7];
-  EXPECT_NE(row[7].find("device kind \"cpu\""), std::string::npos) << row[7];
-  EXPECT_NE(row[7].find("fixed cost per evaluation"), std::string::npos) << row[7];
-  EXPECT_NE(row[7].find("33%"), std::string::npos) << row[7];
+  const ClaimRow& row = rows.at(kFig7Large);
+  EXPECT_EQ(row.at(kHolds), "does not hold");
+  EXPECT_EQ(row.at(kOn), "CPU stand-in (llvmpipe)");
+  EXPECT_NE(row.at(kMeasured).find("0.333× (3× the other way)"), std::string::npos)
+      << row.at(kMeasured);
+  const std::string& why = row.at(kWhy);
+  EXPECT_NE(why.find("llvmpipe (LLVM 15)"), std::string::npos) << why;
+  EXPECT_NE(why.find("device kind \"cpu\""), std::string::npos) << why;
+  EXPECT_NE(why.find("fixed cost per evaluation"), std::string::npos) << why;
+  EXPECT_NE(why.find("33%"), std::string::npos) << why;
 }
 
 TEST(ReportClaims, CpuSidesOnDifferentThreadCountsAreQualified) {
@@ -575,8 +610,167 @@ TEST(ReportClaims, CpuSidesOnDifferentThreadCountsAreQualified) {
   const auto rows = claims_of(records);
   const auto macri = rows.find("no figure (Tessellation; Optimizations) To speed up the calc");
   ASSERT_NE(macri, rows.end());
-  EXPECT_EQ(macri->second[6], "holds");
-  EXPECT_NE(macri->second[7].find("different devices"), std::string::npos) << macri->second[7];
+  EXPECT_EQ(macri->second.at(kHolds), "holds");
+  EXPECT_EQ(macri->second.at(kOn), "CPU (host)");
+  EXPECT_NE(macri->second.at(kWhy).find("different devices"), std::string::npos)
+      << macri->second.at(kWhy);
+}
+
+// ------------------------------------------------------------------------- several machines
+
+// One machine's Fig 7 results set: cpu-coxdeboor on the host and gl-pingpong on `device`, each at
+// 16 and 4M points, written where `nurbsbench run` would (MACHINE/fig7-time-vs-points: the
+// directory has the same name on every machine) and read back as the report reads it.
+struct MachineRun {
+  json machine;
+  DeviceInfo device;  // gl-pingpong's
+  double cpu_small_s, cpu_large_s, gl_small_s, gl_large_s;
+};
+ResultSet fig7_set(const fs::path& machine_dir, const MachineRun& m) {
+  const fs::path dir = machine_dir / "fig7-time-vs-points";
+  {
+    ResultsWriter writer(dir, m.machine, json::object());
+    for (const Record& r : fig7_records("cpu-coxdeboor", {"host CPU, 1 thread", "cpu", {}},
+                                        m.cpu_small_s, m.cpu_large_s))
+      writer.append(r);
+    for (const Record& r : fig7_records("gl-pingpong", m.device, m.gl_small_s, m.gl_large_s))
+      writer.append(r);
+  }
+  return load_result_set(dir);
+}
+// A real GPU (GL names it with its bus and instruction set) and a 2-core machine whose GL is
+// llvmpipe, from the same commit: only the machine tells their sets apart.
+const MachineRun kH200{{{"cpu_model", "Intel(R) Xeon(R) Platinum 8480+"},
+                        {"logical_cores", 16},
+                        {"threads", 16},
+                        {"git_commit", "abc123"}},
+                       {"NVIDIA H200/PCIe/SSE2", "gpu", {}},
+                       1e-6,
+                       0.5,
+                       1e-4,
+                       0.004};
+const MachineRun kLlvmpipe{{{"cpu_model", "AMD EPYC 7B13 64-Core Processor"},
+                            {"logical_cores", 2},
+                            {"threads", 2},
+                            {"git_commit", "abc123"}},
+                           {"llvmpipe (LLVM 15.0.6, 256 bits)",
+                            "cpu",
+                            {{"gl_renderer", "llvmpipe (LLVM 15.0.6, 256 bits)"}}},
+                           2e-6,
+                           0.2,
+                           0.01,
+                           0.4};
+
+// The factor the claims table prints for slow / fast (report_number, 3 significant digits).
+std::string factor(double slow_s, double fast_s) {
+  const double r = slow_s / fast_s;
+  return r < 1 ? fmt::format("= {:.3g}× ({:.3g}× the other way)", r, 1 / r)
+               : fmt::format("= {:.3g}×", r);
+}
+
+TEST(ReportMachines, EachClaimHasAVerdictPerDevice) {
+  TempDir tmp;
+  const std::vector<ResultSet> sets = {fig7_set(tmp.path() / "h200", kH200),
+                                       fig7_set(tmp.path() / "cpu", kLlvmpipe)};
+  ASSERT_EQ(sets[0].tag, sets[1].tag);
+  const Report report = build_report(sets);
+  const auto claims = claims_by_device(report);
+
+  // 000 Fig 7 at the largest grid: cpu-coxdeboor / gl-pingpong, at least 10x.
+  ASSERT_TRUE(claims.contains(kFig7Large));
+  const auto& large = claims.at(kFig7Large);
+  ASSERT_EQ(large.size(), 2u);
+  ASSERT_TRUE(large.contains("GPU: NVIDIA H200"));
+  const ClaimRow& gpu = large.at("GPU: NVIDIA H200");
+  EXPECT_EQ(gpu.at(kHolds), kH200.cpu_large_s / kH200.gl_large_s >= 10 ? "holds" : "does not hold");
+  EXPECT_EQ(gpu.at(kHolds), "holds");
+  EXPECT_NE(gpu.at(kMeasured).find(factor(kH200.cpu_large_s, kH200.gl_large_s)), std::string::npos)
+      << gpu.at(kMeasured);
+  EXPECT_EQ(gpu.at(kMeasured).find("geometric mean"), std::string::npos) << gpu.at(kMeasured);
+  EXPECT_EQ(gpu.at(kWhy), "");
+  EXPECT_NE(gpu.at(kCommand).find("--out " + sets[0].directory.string() + " &&"), std::string::npos)
+      << gpu.at(kCommand);
+  ASSERT_TRUE(large.contains("CPU stand-in (llvmpipe)"));
+  const ClaimRow& cpu = large.at("CPU stand-in (llvmpipe)");
+  EXPECT_EQ(cpu.at(kHolds), "does not hold");
+  EXPECT_NE(cpu.at(kMeasured).find(factor(kLlvmpipe.cpu_large_s, kLlvmpipe.gl_large_s)),
+            std::string::npos)
+      << cpu.at(kMeasured);
+  EXPECT_NE(cpu.at(kWhy).find("ran on llvmpipe (LLVM 15.0.6, 256 bits)"), std::string::npos)
+      << cpu.at(kWhy);
+  EXPECT_NE(cpu.at(kCommand).find("--out " + sets[1].directory.string() + " &&"), std::string::npos)
+      << cpu.at(kCommand);
+
+  // At the smallest grid the CPU is the side claimed faster; each verdict is still its GPU's.
+  ASSERT_TRUE(claims.contains(kFig7Small));
+  const auto& small = claims.at(kFig7Small);
+  ASSERT_EQ(small.size(), 2u);
+  for (const auto& [on, run] :
+       {std::pair{"GPU: NVIDIA H200", kH200}, std::pair{"CPU stand-in (llvmpipe)", kLlvmpipe}}) {
+    ASSERT_TRUE(small.contains(on)) << on;
+    EXPECT_EQ(small.at(on).at(kHolds), "holds") << on;
+    EXPECT_NE(small.at(on).at(kMeasured).find(factor(run.gl_small_s, run.cpu_small_s)),
+              std::string::npos)
+        << small.at(on).at(kMeasured);
+  }
+  // A claim neither machine measured keeps its one row.
+  ASSERT_TRUE(claims.contains("Fig 15 The figure shows tha"));
+  EXPECT_EQ(claims.at("Fig 15 The figure shows tha").size(), 1u);
+  EXPECT_EQ(claims.at("Fig 15 The figure shows tha").begin()->second.at(kHolds), "not measured");
+}
+
+// Series of a chart: label -> y values in x order.
+std::map<std::string, std::vector<double>> chart_series(const Report& report,
+                                                        const std::string& id) {
+  std::map<std::string, std::vector<double>> out;
+  for (const json& chart : report.charts["charts"])
+    if (chart["id"] == id)
+      for (const json& s : chart["series"])
+        out[s["label"].get<std::string>()] = s["y"].get<std::vector<double>>();
+  return out;
+}
+
+TEST(ReportMachines, ChartSeriesNameTheMachineWhereThereAreSeveral) {
+  TempDir tmp;
+  const ResultSet h200 = fig7_set(tmp.path() / "h200", kH200),
+                  cpu = fig7_set(tmp.path() / "cpu", kLlvmpipe);
+  const auto two = chart_series(build_report({h200, cpu}), "fig7_time_vs_points");
+  const std::map<std::string, std::vector<double>> expected = {
+      {"cpu-coxdeboor [NVIDIA H200]", {kH200.cpu_small_s, kH200.cpu_large_s}},
+      {"gl-pingpong [NVIDIA H200]", {kH200.gl_small_s, kH200.gl_large_s}},
+      {"cpu-coxdeboor [AMD EPYC 7B13 2t]", {kLlvmpipe.cpu_small_s, kLlvmpipe.cpu_large_s}},
+      {"gl-pingpong [AMD EPYC 7B13 2t]", {kLlvmpipe.gl_small_s, kLlvmpipe.gl_large_s}}};
+  EXPECT_EQ(two, expected);
+  // Tables name each set by its machine too: both sets are "fig7-time-vs-points".
+  const std::string md = report_markdown(build_report({h200, cpu}));
+  EXPECT_NE(md.find("| fig7-time-vs-points [NVIDIA H200] |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| fig7-time-vs-points [AMD EPYC 7B13 2t] |"), std::string::npos) << md;
+
+  // Another set of the H200 machine, from another commit, its GPU named as Vulkan names it: the
+  // same machine, so no suffix.
+  MachineRun again = kH200;
+  again.machine["git_commit"] = "def456";
+  again.device.name = "NVIDIA H200";
+  const ResultSet h200_again = fig7_set(tmp.path() / "h200-again", again);
+  std::set<std::string> labels;
+  for (const auto& [label, ys] :
+       chart_series(build_report({h200, h200_again}), "fig7_time_vs_points"))
+    labels.insert(label);
+  EXPECT_EQ(labels, (std::set<std::string>{"cpu-coxdeboor", "gl-pingpong"}));
+
+  // Two machines with the same GPU and different CPUs: the GPU's name alone does not tell them
+  // apart, so the labels add the CPU.
+  MachineRun other_host = kH200;
+  other_host.machine["cpu_model"] = "AMD EPYC 9654 96-Core Processor";
+  other_host.machine["logical_cores"] = 192;
+  other_host.gl_large_s = 0.003;
+  const auto same_gpu = chart_series(
+      build_report({h200, fig7_set(tmp.path() / "other-host", other_host)}), "fig7_time_vs_points");
+  ASSERT_EQ(same_gpu.size(), 4u);
+  ASSERT_TRUE(same_gpu.contains("gl-pingpong [NVIDIA H200, AMD EPYC 9654 192t]"));
+  EXPECT_EQ(same_gpu.at("gl-pingpong [NVIDIA H200, AMD EPYC 9654 192t]"),
+            (std::vector<double>{other_host.gl_small_s, other_host.gl_large_s}));
+  ASSERT_TRUE(same_gpu.contains("gl-pingpong [NVIDIA H200, Intel Xeon Platinum 8480+ 16t]"));
 }
 
 // ---------------------------------------------------------------------------------- recommend
