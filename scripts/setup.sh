@@ -2,7 +2,8 @@
 # Installs every Debian 12 package nurbsbench needs (all backends, tests, plots). Idempotent:
 # packages already present are not downloaded again, and apt is not touched at all when nothing
 # is missing. Run as root (or with sudo available). `--tests` adds what only the tests need (the
-# report's browser test: Debian's chromium), so the main job does not download a browser.
+# report's browser test: Debian's chromium; the bundle test: patchelf, debootstrap), so the main
+# job does not download a browser; `--bundle` adds what scripts/bundle.sh needs (patchelf).
 set -euo pipefail
 
 packages=(
@@ -27,12 +28,15 @@ packages=(
   libocct-data-exchange-dev libocct-modeling-algorithms-dev occt-misc
 )
 
-if [ "${1:-}" = --tests ]; then
-  packages+=(chromium)
-elif [ $# -gt 0 ]; then
-  echo "setup: unknown argument '$1' (only --tests)" >&2
-  exit 2
-fi
+for arg in "$@"; do
+  case "$arg" in
+    # the report's browser test, and the bundle test's minimal Debian root (tests/bundle/)
+    --tests) packages+=(chromium patchelf debootstrap) ;;
+    # scripts/bundle.sh: the run path of the bundled binary and libraries
+    --bundle) packages+=(patchelf) ;;
+    *) echo "setup: unknown argument '$arg' (--tests, --bundle)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

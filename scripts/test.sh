@@ -24,6 +24,11 @@ phase "release tests"
 # On the project's machines every strategy must be available (DESIGN.md).
 NURBSBENCH_REQUIRE_ALL_STRATEGIES=1 ctest --preset release
 
+# The relocatable bundle (scripts/bundle.sh) in a minimal Debian root that holds only glibc and
+# the software drivers: what a GPU node without packages runs (issue 27).
+phase "relocatable bundle in a minimal Debian root"
+bash tests/bundle/bundle_test.sh
+
 # Last: a finding here should not hide a failure above. The clang build holds only the parsers.
 phase "fuzzing (libFuzzer + ASan + UBSan, every input parser)"
 bash scripts/fuzz.sh "${NURBSBENCH_FUZZ_SECONDS:-30}"

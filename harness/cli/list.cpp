@@ -4,8 +4,10 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/commands.h"
+#include "harness/drivers.h"
 #include "harness/store_limit.h"
 #include "scenes/builtin_scenes.h"
+#include "strategies/gpu_devices.h"
 #include "strategies/registry.h"
 
 namespace nurbs::cli {
@@ -23,6 +25,53 @@ nlohmann::json capabilities_json(const Capabilities& c) {
           {"normals", c.normals},       {"precisions", precisions},
           {"sampling", sampling},       {"updates_control_points", c.updates_control_points}};
 }
+// The loaded library a driver file names: its path as written, or a loaded file of that name.
+std::string loaded_path(const DriverFile& file, const std::vector<std::string>& loaded) {
+  const auto base = [](const std::string& p) { return p.substr(p.find_last_of('/') + 1); };
+  for (const std::string& l : loaded)
+    if (l == file.library || base(l) == base(file.library)) return l;
+  return {};
+}
+
+// Per GPU API: its devices (which one the strategies use), the driver files its loader reads
+// here and which of them served, or why there is nothing.
+nlohmann::json devices_json(std::string& text) {
+  nlohmann::json apis = nlohmann::json::array();
+  text += "devices (per GPU API; a software device is a CPU):\n";
+  for (const ApiDevices& api : gpu_api_devices()) {
+    nlohmann::json devices = nlohmann::json::array();
+    text += fmt::format("  {}:\n", api.api);
+    if (!api.unavailable.empty()) text += fmt::format("    none: {}\n", api.unavailable);
+    for (const DeviceInfo& d : api.devices) {
+      devices.push_back({{"name", d.name}, {"kind", d.kind}, {"details", d.details}});
+      const auto detail = [&](const char* key) {
+        const auto it = d.details.find(key);
+        return it == d.details.end() ? std::string() : it->second;
+      };
+      std::string driver = detail("driver");
+      if (driver.empty()) driver = detail("gl_version");
+      if (driver.empty()) driver = detail("driver_version");
+      const std::string index = detail("index");
+      text += fmt::format("    {}{} ({}{}{}){}\n", index.empty() ? "" : fmt::format("#{} ", index),
+                          d.name, d.kind, d.kind == "cpu" ? ": a CPU figure" : "",
+                          driver.empty() ? "" : ", " + driver,
+                          detail("chosen") == "yes" ? "  <- used without --device" : "");
+    }
+    nlohmann::json files = nlohmann::json::array();
+    const std::vector<DriverFile> driver_files_here = driver_files(api.api);
+    if (driver_files_here.empty()) text += "    driver files: none where the loader looks\n";
+    for (const DriverFile& f : driver_files_here) {
+      const std::string loaded = loaded_path(f, api.loaded_libraries);
+      files.push_back({{"path", f.path}, {"library", f.library}, {"from", f.from}, {"loaded", loaded}});
+      text += fmt::format("    driver file {} -> {}{} (from {})\n", f.path, f.library,
+                          loaded.empty() ? "" : ", loaded: " + loaded, f.from);
+    }
+    apis.push_back({{"api", api.api}, {"unavailable", api.unavailable}, {"devices", devices},
+                    {"driver_files", files}});
+  }
+  return apis;
+}
+
 }  // namespace
 
 int list_command(const ListOptions& options) {
@@ -51,8 +100,10 @@ int list_command(const ListOptions& options) {
     scenes.push_back({{"name", s.name}, {"description", s.description}});
     text += fmt::format("  {:<20} {}\n", s.name, s.description);
   }
+  const nlohmann::json apis = devices_json(text);
   if (options.json)
-    std::cout << nlohmann::json{{"strategies", strategies}, {"limits", limits}, {"scenes", scenes}}
+    std::cout << nlohmann::json{{"strategies", strategies}, {"limits", limits}, {"scenes", scenes},
+                                {"devices", apis}}
                      .dump(2)
               << "\n";
   else

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "harness/cli/commands.h"
+#include "harness/drivers.h"
 #include "reference/validation.h"
 
 namespace {
@@ -38,6 +39,13 @@ int main(int argc, char** argv) {
       "nurbsbench: NURBS surface evaluation strategies, benchmarked and checked against a "
       "high-precision reference"};
   app.require_subcommand(1);
+  // Given before or after the verb (fallthrough): a driver the loaders do not find by themselves.
+  std::vector<std::string> driver_dirs;
+  app.add_option("--driver-dir", driver_dirs,
+                 "folder of a GPU driver installed where the loaders do not look (its Vulkan "
+                 "ICD manifests, EGL vendor files, OpenCL ICDs and libraries); repeatable")
+      ->type_name("DIR");
+  app.fallthrough();
 
   ListOptions list;
   auto* list_cmd =
@@ -284,6 +292,7 @@ int main(int argc, char** argv) {
   run.samples_given = run_samples->count() > 0;
   run.span_given = run_span->count() > 0;
   try {
+    if (!driver_dirs.empty() && nurbs::apply_driver_dirs(driver_dirs)) nurbs::reexecute(argv);
     if (*list_cmd) return list_command(list);
     if (*scene_cmd) return scene_command(scene);
     if (*import_cmd) return import_command(import);

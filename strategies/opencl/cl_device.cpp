@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "strategies/device_wait.h"
+#include "strategies/gpu_devices.h"
 
 namespace nurbs::opencl {
 namespace {
@@ -79,29 +80,78 @@ int device_option(const StrategyOptions& options) {
   return n;
 }
 
-Context::Context(int device_index) {
-  int seen = 0;
+namespace {
+
+// Without --device: the first GPU device if there is one (DESIGN.md: the same binary picks a real
+// GPU when present), else the first device (PoCL's CPU device here). -1 when there is none.
+int preferred_index(const std::vector<std::pair<cl_platform_id, cl_device_id>>& all) {
+  int first = all.empty() ? -1 : 0;
+  for (std::size_t i = 0; i < all.size(); ++i)
+    if (device_value<cl_device_type>(all[i].second, CL_DEVICE_TYPE) & CL_DEVICE_TYPE_GPU)
+      return static_cast<int>(i);
+  return first;
+}
+
+std::vector<std::pair<cl_platform_id, cl_device_id>> all_devices() {
+  std::vector<std::pair<cl_platform_id, cl_device_id>> all;
   for (cl_platform_id p : platforms())
-    for (cl_device_id d : devices(p)) {
-      // Without --device: the first GPU device if there is one (DESIGN.md: the same binary picks
-      // a real GPU when present), else the first device (PoCL's CPU device here).
-      const bool chosen =
-          device_index == kPreferGpu
-              ? (!device_ ||
-                 ((device_value<cl_device_type>(d, CL_DEVICE_TYPE) & CL_DEVICE_TYPE_GPU) &&
-                  !(device_value<cl_device_type>(device_, CL_DEVICE_TYPE) & CL_DEVICE_TYPE_GPU)))
-              : seen == device_index;
-      ++seen;
-      if (chosen) {
-        platform_ = p;
-        device_ = d;
-      }
-    }
-  if (!device_) {
-    if (seen == 0) throw std::runtime_error("no OpenCL platform");
-    throw std::runtime_error("OpenCL device " + std::to_string(device_index) + " does not exist (" +
-                             std::to_string(seen) + " found)");
+    for (cl_device_id d : devices(p)) all.emplace_back(p, d);
+  return all;
+}
+
+DeviceInfo device_info(cl_platform_id platform, cl_device_id device) {
+  const auto type = device_value<cl_device_type>(device, CL_DEVICE_TYPE);
+  DeviceInfo info;
+  info.name = device_string(device, CL_DEVICE_NAME);
+  // PoCL's device is the host CPU: "cpu", so no result reads as a GPU measurement.
+  info.kind = (type & CL_DEVICE_TYPE_GPU) ? "gpu" : (type & CL_DEVICE_TYPE_CPU) ? "cpu" : "other";
+  info.details["platform"] = platform_string(platform, CL_PLATFORM_NAME);
+  info.details["platform_version"] = platform_string(platform, CL_PLATFORM_VERSION);
+  info.details["device_version"] = device_string(device, CL_DEVICE_VERSION);
+  info.details["driver_version"] = device_string(device, CL_DRIVER_VERSION);
+  info.details["compute_units"] =
+      std::to_string(device_value<cl_uint>(device, CL_DEVICE_MAX_COMPUTE_UNITS));
+  info.details["max_mem_alloc_size"] =
+      std::to_string(device_value<cl_ulong>(device, CL_DEVICE_MAX_MEM_ALLOC_SIZE));
+  info.details["max_work_group_size"] =
+      std::to_string(device_value<std::size_t>(device, CL_DEVICE_MAX_WORK_GROUP_SIZE));
+  info.details["local_mem_size"] =
+      std::to_string(device_value<cl_ulong>(device, CL_DEVICE_LOCAL_MEM_SIZE));
+  info.details["fp64"] =
+      device_string(device, CL_DEVICE_EXTENSIONS).find("cl_khr_fp64") != std::string::npos
+          ? "yes"
+          : "no";
+  return info;
+}
+
+}  // namespace
+
+std::vector<DeviceInfo> list_devices() {
+  const auto all = all_devices();
+  if (all.empty())
+    throw std::runtime_error(platforms().empty() ? "no OpenCL platform" : "no OpenCL device");
+  const int chosen = preferred_index(all);
+  std::vector<DeviceInfo> listed;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    DeviceInfo info = device_info(all[i].first, all[i].second);
+    info.details["index"] = std::to_string(i);
+    info.details["chosen"] = static_cast<int>(i) == chosen ? "yes" : "no";
+    listed.push_back(std::move(info));
   }
+  listed.front().details["loaded_libraries"] = loaded_libraries_text();
+  return listed;
+}
+
+Context::Context(int device_index) {
+  const auto all = all_devices();
+  const int index = device_index == kPreferGpu ? preferred_index(all) : device_index;
+  if (index < 0 || index >= static_cast<int>(all.size())) {
+    if (all.empty()) throw std::runtime_error("no OpenCL platform");
+    throw std::runtime_error("OpenCL device " + std::to_string(device_index) + " does not exist (" +
+                             std::to_string(all.size()) + " found)");
+  }
+  platform_ = all[static_cast<std::size_t>(index)].first;
+  device_ = all[static_cast<std::size_t>(index)].second;
   cl_int status = CL_SUCCESS;
   context_ = clCreateContext(nullptr, 1, &device_, nullptr, nullptr, &status);
   check(status, "clCreateContext");
@@ -118,20 +168,7 @@ Context::~Context() {
 }
 
 DeviceInfo Context::record() const {
-  const auto type = device_value<cl_device_type>(device_, CL_DEVICE_TYPE);
-  DeviceInfo info;
-  info.name = device_string(device_, CL_DEVICE_NAME);
-  // PoCL's device is the host CPU: "cpu", so no result reads as a GPU measurement.
-  info.kind = (type & CL_DEVICE_TYPE_GPU) ? "gpu" : (type & CL_DEVICE_TYPE_CPU) ? "cpu" : "other";
-  info.details["platform"] = platform_string(platform_, CL_PLATFORM_NAME);
-  info.details["platform_version"] = platform_string(platform_, CL_PLATFORM_VERSION);
-  info.details["device_version"] = device_string(device_, CL_DEVICE_VERSION);
-  info.details["driver_version"] = device_string(device_, CL_DRIVER_VERSION);
-  info.details["compute_units"] =
-      std::to_string(device_value<cl_uint>(device_, CL_DEVICE_MAX_COMPUTE_UNITS));
-  info.details["max_mem_alloc_size"] = std::to_string(max_alloc_);
-  info.details["fp64"] = has_fp64() ? "yes" : "no";
-  return info;
+  return device_info(platform_, device_);
 }
 
 bool Context::has_fp64() const {

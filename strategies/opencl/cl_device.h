@@ -25,6 +25,11 @@ void check(cl_int status, const char* what);
 // Device index meaning "no --device given": the first GPU device, else the first device.
 inline constexpr int kPreferGpu = -1;
 
+// Every device over all platforms, in --device order, each record marked with details "index"
+// and "chosen" (the one used without --device); the first also carries "loaded_libraries" (the
+// ICDs among them). Throws std::runtime_error when there is no platform or device.
+std::vector<DeviceInfo> list_devices();
+
 class Context {
  public:
   // `device_index` counts devices over all platforms; throws when out of range.

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "strategies/device_wait.h"
+#include "strategies/gpu_devices.h"
 
 namespace nurbs::vulkan {
 namespace {
@@ -129,6 +130,61 @@ std::string version_string(std::uint32_t v) {
                      VK_API_VERSION_PATCH(v));
 }
 
+bool has_device_extension(VkPhysicalDevice d, const char* name) {
+  std::uint32_t n = 0;
+  if (vkEnumerateDeviceExtensionProperties(d, nullptr, &n, nullptr) != VK_SUCCESS) return false;
+  std::vector<VkExtensionProperties> extensions(n);
+  vkEnumerateDeviceExtensionProperties(d, nullptr, &n, extensions.data());
+  return std::any_of(extensions.begin(), extensions.end(), [&](const VkExtensionProperties& e) {
+    return std::strcmp(e.extensionName, name) == 0;
+  });
+}
+
+// The record of one physical device: what a result names as its device, with the limits that
+// differ between a GPU and lavapipe (tessellation level, work groups, shared memory) and the
+// driver's own name, so a record says which ICD produced it.
+DeviceInfo device_info(VkPhysicalDevice physical, bool validation) {
+  VkPhysicalDeviceProperties properties;
+  vkGetPhysicalDeviceProperties(physical, &properties);
+  DeviceInfo info;
+  info.name = properties.deviceName;
+  // lavapipe (VK_PHYSICAL_DEVICE_TYPE_CPU) and any other software device: "cpu".
+  const auto type = properties.deviceType;
+  info.kind = type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ||
+                      type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU ||
+                      type == VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU
+                  ? "gpu"
+                  : "cpu";
+  info.details["api"] = "Vulkan " + version_string(properties.apiVersion);
+  info.details["driver_version"] = std::to_string(properties.driverVersion);
+  info.details["vendor_id"] = fmt::format("{:#06x}", properties.vendorID);
+  info.details["device_type"] = type == VK_PHYSICAL_DEVICE_TYPE_CPU              ? "cpu"
+                                : type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU   ? "discrete gpu"
+                                : type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU ? "integrated gpu"
+                                                                                 : "other";
+  const VkPhysicalDeviceLimits& limits = properties.limits;
+  info.details["max_tessellation_generation_level"] =
+      std::to_string(limits.maxTessellationGenerationLevel);
+  info.details["max_tessellation_patch_size"] = std::to_string(limits.maxTessellationPatchSize);
+  info.details["max_compute_work_group_invocations"] =
+      std::to_string(limits.maxComputeWorkGroupInvocations);
+  info.details["max_compute_shared_memory_size"] =
+      std::to_string(limits.maxComputeSharedMemorySize);
+  info.details["timestamp_period_ns"] = fmt::format("{}", limits.timestampPeriod);
+  // The driver's name (VK_KHR_driver_properties, core in 1.2): "NVIDIA", "llvmpipe"...
+  if (has_device_extension(physical, "VK_KHR_driver_properties")) {
+    VkPhysicalDeviceDriverProperties driver{};
+    driver.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES;
+    VkPhysicalDeviceProperties2 properties2{};
+    properties2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+    properties2.pNext = &driver;
+    vkGetPhysicalDeviceProperties2(physical, &properties2);
+    info.details["driver"] = fmt::format("{} {}", driver.driverName, driver.driverInfo);
+  }
+  info.details["validation"] = validation ? "on" : "off";
+  return info;
+}
+
 }  // namespace
 
 void check(VkResult result, const char* what) {
@@ -230,28 +286,30 @@ void Device::destroy() {
 }
 
 DeviceInfo Device::record() const {
-  DeviceInfo info;
-  info.name = properties_.deviceName;
-  // lavapipe (VK_PHYSICAL_DEVICE_TYPE_CPU) and any other software device: "cpu".
-  const auto type = properties_.deviceType;
-  info.kind = type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ||
-                      type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU ||
-                      type == VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU
-                  ? "gpu"
-                  : "cpu";
-  info.details["api"] = "Vulkan " + version_string(properties_.apiVersion);
-  info.details["driver_version"] = std::to_string(properties_.driverVersion);
-  info.details["vendor_id"] = fmt::format("{:#06x}", properties_.vendorID);
-  info.details["device_type"] = type == VK_PHYSICAL_DEVICE_TYPE_CPU              ? "cpu"
-                                : type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU   ? "discrete gpu"
-                                : type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU ? "integrated gpu"
-                                                                                 : "other";
-  info.details["max_tessellation_generation_level"] =
-      std::to_string(properties_.limits.maxTessellationGenerationLevel);
-  info.details["max_tessellation_patch_size"] =
-      std::to_string(properties_.limits.maxTessellationPatchSize);
-  info.details["validation"] = validation_ ? "on" : "off";
-  return info;
+  return device_info(physical_, validation_);
+}
+
+std::vector<DeviceInfo> list_devices() {
+  bool validation = false;
+  VkInstance instance = create_instance(validation);
+  std::vector<DeviceInfo> listed;
+  try {
+    const std::vector<VkPhysicalDevice> devices = physical_devices(instance);
+    const VkPhysicalDevice chosen = devices.empty() ? VK_NULL_HANDLE : choose(devices, kPreferGpu);
+    for (std::size_t i = 0; i < devices.size(); ++i) {
+      DeviceInfo info = device_info(devices[i], validation);
+      info.details["index"] = std::to_string(i);
+      info.details["chosen"] = devices[i] == chosen ? "yes" : "no";
+      listed.push_back(std::move(info));
+    }
+    // The ICDs stay loaded only while the instance lives: what they are is read now.
+    if (!listed.empty()) listed.front().details["loaded_libraries"] = loaded_libraries_text();
+  } catch (...) {
+    vkDestroyInstance(instance, nullptr);
+    throw;
+  }
+  vkDestroyInstance(instance, nullptr);
+  return listed;
 }
 
 void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& commands) const {
@@ -329,10 +387,14 @@ Buffer::Buffer(const Device& device, VkDeviceSize bytes, VkBufferUsageFlags usag
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device.handle(), buffer_, &req);
   // Device-local first (a real GPU); lavapipe's memory is device-local and host-visible at once.
-  // A buffer with no usage of its own (usage 0) is a staging buffer: host-visible first.
+  // A buffer with no usage of its own (usage 0) is a staging buffer: host-visible first, and
+  // host-cached where there is such memory, since the host reads results through it.
   const VkMemoryPropertyFlags host =
       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  int type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | host);
+  int type = -1;
+  if (usage == 0) type = device.memory_type(req.memoryTypeBits, host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  if (type < 0)
+    type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | host);
   if (usage == 0 && type < 0) type = device.memory_type(req.memoryTypeBits, host);
   if (type < 0) type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
   if (type < 0)
@@ -362,6 +424,7 @@ Buffer::Buffer(const Device& device, VkDeviceSize bytes, VkBufferUsageFlags usag
   }
   if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
     check(vkMapMemory(device.handle(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+  host_cached_ = (flags & VK_MEMORY_PROPERTY_HOST_CACHED_BIT) != 0;
 }
 
 Buffer& Buffer::operator=(Buffer&& other) noexcept {
@@ -372,6 +435,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
     memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
     size_ = std::exchange(other.size_, 0);
     mapped_ = std::exchange(other.mapped_, nullptr);
+    host_cached_ = std::exchange(other.host_cached_, false);
   }
   return *this;
 }
@@ -403,7 +467,10 @@ void Buffer::write(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
 
 void Buffer::read(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
   if (bytes == 0) return;
-  if (mapped_) {
+  // Device-local memory that is host-visible but not host-cached (a GPU's BAR window) is read
+  // uncached across the bus: 16.7M points took 8.5 s that way on an H200, so such memory is read
+  // through a cached staging copy. lavapipe's memory is cached: read in place.
+  if (mapped_ && host_cached_) {
     std::memcpy(data, static_cast<const char*>(mapped_) + offset, bytes);
     return;
   }

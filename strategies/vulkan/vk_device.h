@@ -50,6 +50,12 @@ class MissingFeature : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Every physical device the loader offers, each record marked with details "index" (for
+// --device) and "chosen" (the one used without --device); the first also carries
+// "loaded_libraries", the shared libraries loaded while the instance lived (the ICDs among them).
+// Throws std::runtime_error when there is no loader or driver.
+std::vector<DeviceInfo> list_devices();
+
 class Device;
 
 // A buffer and its memory; mapped for its whole life when host-visible.
@@ -78,6 +84,7 @@ class Buffer {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkDeviceSize size_ = 0;
   void* mapped_ = nullptr;
+  bool host_cached_ = false;
 };
 
 // A 2D image with its memory and view (device-local), e.g. an offscreen render target.

@@ -117,6 +117,83 @@ TEST(CliList, JsonDescribesEveryStrategyAndScene) {
   for (const BuiltinSceneInfo& s : builtin_scenes()) EXPECT_TRUE(scenes.count(s.name)) << s.name;
 }
 
+// Per GPU API: a device the strategies use, or why there is none; the driver files read.
+TEST(CliList, EachGpuApiNamesItsDeviceOrWhyNone) {
+  const CliResult text = run_cli({"list"});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  const std::size_t devices = text.out.find("devices (per GPU API; a software device is a CPU):\n");
+  ASSERT_NE(devices, std::string::npos) << text.out;
+  const CliResult r = run_cli({"list", "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json doc = json::parse(r.out);
+  ASSERT_TRUE(doc["devices"].is_array());
+  std::vector<std::string> apis;
+  for (const json& api : doc["devices"]) {
+    const std::string name = api["api"].get<std::string>();
+    SCOPED_TRACE(name);
+    apis.push_back(name);
+    EXPECT_NE(text.out.find("\n  " + name + ":\n", devices), std::string::npos) << text.out;
+    const std::string unavailable = api["unavailable"].get<std::string>();
+    int chosen = 0;
+    for (const json& d : api["devices"]) {
+      EXPECT_TRUE(d["kind"] == "cpu" || d["kind"] == "gpu") << d.dump();
+      chosen += d["details"].value("chosen", "") == "yes";
+    }
+    // Exactly one device is the default pick, or none is there and the reason says why.
+    if (unavailable.empty()) {
+      EXPECT_EQ(chosen, 1) << api.dump();
+    } else {
+      EXPECT_TRUE(api["devices"].empty()) << api.dump();
+      EXPECT_NE(text.out.find("    none: " + unavailable), std::string::npos) << text.out;
+    }
+    for (const json& f : api["driver_files"]) {
+      EXPECT_TRUE(f["path"].is_string() && f["library"].is_string() && f["from"].is_string());
+      EXPECT_NE(text.out.find("    driver file " + f["path"].get<std::string>()), std::string::npos);
+    }
+  }
+  EXPECT_EQ(apis, (std::vector<std::string>{"Vulkan", "OpenGL (EGL)", "OpenCL"}));
+}
+
+TEST(CliList, DriverDirThatIsNoFolderIsRefused) {
+  expect_usage_error(run_cli({"list", "--driver-dir", "/nonexistent-nurbsbench-driver"}),
+                     {"--driver-dir '/nonexistent-nurbsbench-driver': not a folder"});
+  TempDir empty;
+  expect_usage_error(run_cli({"--driver-dir", empty.path().string(), "list"}),
+                     {"--driver-dir '" + empty.path().string() + "': holds no Vulkan ICD manifest"});
+}
+
+// A Vulkan driver the loader cannot see (VK_DRIVER_FILES names nothing) is found through
+// --driver-dir: the machine's own manifests, copied into a folder laid out as a driver's.
+TEST(CliList, DriverDirBringsADriverTheLoaderDoesNotSee) {
+  std::vector<fs::path> manifests;
+  for (const char* dir : {"/usr/share/vulkan/icd.d", "/etc/vulkan/icd.d"}) {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+      if (e.path().extension() == ".json") manifests.push_back(e.path());
+  }
+  const json before = json::parse(run_cli({"list", "--json"}).out);
+  if (manifests.empty() || !before["devices"][0]["unavailable"].get<std::string>().empty())
+    GTEST_SKIP() << "no Vulkan device on this machine to hide and find again";
+  TempDir driver;
+  fs::create_directories(driver.path() / "share/vulkan/icd.d");
+  for (const fs::path& m : manifests) fs::copy_file(m, driver.path() / "share/vulkan/icd.d" / m.filename());
+  setenv("VK_DRIVER_FILES", "/nonexistent-nurbsbench.json", 1);
+  const CliResult hidden = run_cli({"list", "--json"});
+  const CliResult found = run_cli({"list", "--json", "--driver-dir", driver.path().string()});
+  unsetenv("VK_DRIVER_FILES");
+  ASSERT_EQ(hidden.exit_code, 0) << hidden.err;
+  ASSERT_EQ(found.exit_code, 0) << found.err;
+  EXPECT_FALSE(json::parse(hidden.out)["devices"][0]["unavailable"].get<std::string>().empty());
+  const json vulkan = json::parse(found.out)["devices"][0];
+  EXPECT_EQ(vulkan["unavailable"], "") << vulkan.dump();
+  EXPECT_EQ(vulkan["devices"].size(), before["devices"][0]["devices"].size());
+  bool served = false;
+  for (const json& f : vulkan["driver_files"])
+    served |= f["path"].get<std::string>().starts_with(driver.path().string()) &&
+              !f["loaded"].get<std::string>().empty();
+  EXPECT_TRUE(served) << vulkan.dump();
+}
+
 // ---------------------------------------------------------------------------------------- help
 
 TEST(CliHelp, EveryVerbHasHelpAndExitsZero) {
