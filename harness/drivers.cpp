@@ -240,6 +240,30 @@ FoundDrivers scan(const std::string& dir) {
   return found;
 }
 
+// True when a driver file the loader reads already names this library (compared by file name):
+// the same driver read twice is enumerated twice (seen on the H200: its Vulkan ICD, in the standard
+// folder and under --driver-dir, became devices #0 and #1).
+bool already_read(const std::vector<DriverFile>& files, const std::string& library) {
+  const std::string name = fs::path(library).filename();
+  return std::any_of(files.begin(), files.end(), [&](const DriverFile& f) {
+    return fs::path(f.library).filename() == name;
+  });
+}
+
+// What of DIR's drivers the loaders do not read yet.
+FoundDrivers unread(FoundDrivers found) {
+  const std::vector<DriverFile> vulkan = vulkan_files(), egl = egl_files(), opencl = opencl_files();
+  std::erase_if(found.vulkan, [&](const std::string& f) { return already_read(vulkan, json_library(f)); });
+  std::erase_if(found.egl_dirs, [&](const std::string& d) {
+    const std::vector<fs::path> files = files_in(d, ".json");
+    return std::all_of(files.begin(), files.end(),
+                       [&](const fs::path& f) { return already_read(egl, json_library(f)); });
+  });
+  std::erase_if(found.opencl_icds, [&](const std::string& f) { return already_read(opencl, icd_library(f)); });
+  std::erase_if(found.opencl_libraries, [&](const std::string& l) { return already_read(opencl, l); });
+  return found;
+}
+
 // ocl-icd reads one vendors folder (OCL_ICD_VENDORS replaces /etc/OpenCL/vendors), so the
 // machine's .icd files and DIR's are merged into one private folder that OCL_ICD_VENDORS names.
 void add_opencl(const FoundDrivers& found) {
@@ -280,7 +304,7 @@ std::vector<DriverFile> driver_files(const std::string& api) {
 bool apply_driver_dirs(const std::vector<std::string>& dirs) {
   bool library_path_changed = false;
   for (const std::string& dir : dirs) {
-    const FoundDrivers found = scan(dir);
+    const FoundDrivers found = unread(scan(dir));
     // Where the user named the drivers (VK_DRIVER_FILES, or the older VK_ICD_FILENAMES), the loader
     // reads that list alone and ignores VK_ADD_DRIVER_FILES (seen with loader 1.3.239): add there.
     const char* vulkan_list = !env("VK_DRIVER_FILES").empty()    ? "VK_DRIVER_FILES"

@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 const char* const kVariables[] = {"VK_ADD_DRIVER_FILES", "VK_DRIVER_FILES", "VK_ICD_FILENAMES",
                                   "__EGL_VENDOR_LIBRARY_FILENAMES", "__EGL_VENDOR_LIBRARY_DIRS",
-                                  "OCL_ICD_VENDORS", "LD_LIBRARY_PATH", "TMPDIR"};
+                                  "OCL_ICD_VENDORS", "LD_LIBRARY_PATH", "TMPDIR", "XDG_DATA_DIRS"};
 
 std::string env(const char* name) {
   const char* v = std::getenv(name);
@@ -133,6 +133,22 @@ TEST_F(DriverDir, KeepsWhatTheUserSetAndAddsWhereTheLoaderStillReads) {
   ASSERT_EQ(egl.size(), 2u);
   EXPECT_EQ(egl[0].library, "libEGL_nvidia.so.0");
   EXPECT_EQ(egl[0].from, "__EGL_VENDOR_LIBRARY_FILENAMES");
+}
+
+// A driver the loaders already read (here: NVIDIA's manifests in the standard folders too, as on
+// the H200) is not added again: the loader would enumerate its devices twice.
+TEST_F(DriverDir, ADriverTheLoadersAlreadyReadIsNotAddedAgain) {
+  write(root_ / "system/vulkan/icd.d/nvidia_icd.json", manifest("libGLX_nvidia.so.0"));
+  write(root_ / "system/glvnd/egl_vendor.d/10_nvidia.json", manifest("libEGL_nvidia.so.0"));
+  setenv("XDG_DATA_DIRS", (root_ / "system").c_str(), 1);
+  setenv("__EGL_VENDOR_LIBRARY_DIRS", (root_ / "system/glvnd/egl_vendor.d").c_str(), 1);
+  const fs::path d = nvidia_like();
+  apply_driver_dirs({d.string()});
+  EXPECT_EQ(env("VK_ADD_DRIVER_FILES"), "");
+  EXPECT_EQ(env("__EGL_VENDOR_LIBRARY_DIRS"), (root_ / "system/glvnd/egl_vendor.d").string());
+  // Its libraries' folder and its OpenCL library, which no loader reads yet, still count.
+  EXPECT_EQ(env("LD_LIBRARY_PATH"), (d / "lib64").string());
+  EXPECT_TRUE(fs::exists(fs::path(env("OCL_ICD_VENDORS")) / "libnvidia-opencl.so.1.icd"));
 }
 
 TEST_F(DriverDir, AFolderOfIcdFilesIsReadAsTheLoaderReadsIt) {
