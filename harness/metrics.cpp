@@ -122,6 +122,15 @@ Accuracy measure_accuracy(const Scene& scene, const EvalResult& result,
       throw std::runtime_error("result has a different number of samples than requested");
     if (surface.trim)
       count_trim_figures(surface, static_cast<int>(i), r, ref, trim, figures, outside_band);
+    auto finite = [](const PointArray& points, std::size_t k) {
+      const auto p = points[k];
+      return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+    };
+    for (std::size_t k = 0; k < r.positions.size(); ++k) {
+      if (finite(r.positions, k) && (k >= r.normals.size() || finite(r.normals, k))) continue;
+      if (acc.non_finite++ == 0)
+        acc.first_non_finite = {static_cast<int>(i), r.samples.u_of(k), r.samples.v_of(k)};
+    }
     // The part of a trimmed surface outside its face is not the model: its errors do not count.
     auto scored = [&](std::size_t k) { return !surface.trim || ref.inside[k] != 0; };
     for (std::size_t k = 0; k < r.positions.size(); ++k) {
@@ -129,7 +138,6 @@ Accuracy measure_accuracy(const Scene& scene, const EvalResult& result,
       const auto p = r.positions[k];
       const double error = std::hypot(p[0] - ref.positions[k][0], p[1] - ref.positions[k][1],
                                       p[2] - ref.positions[k][2]);
-      if (!std::isfinite(error)) ++acc.non_finite;
       // !(error <= max) so that NaN (and the first sample) is taken as the worst.
       if (!(error <= acc.max_abs) || count == 0) {
         acc.max_abs = std::isfinite(error) ? error : std::numeric_limits<double>::infinity();
@@ -162,6 +170,15 @@ Accuracy measure_accuracy(const Scene& scene, const EvalResult& result,
     acc.trim = figures;
   }
   return acc;
+}
+
+std::string non_finite_failure(const Accuracy& accuracy, std::size_t samples) {
+  if (accuracy.non_finite == 0) return "";
+  const NonFiniteSample& first = accuracy.first_non_finite;
+  return fmt::format(
+      "{} of {} samples are not finite (NaN/Inf position or normal); the first at surface {} "
+      "(u, v) = ({:.17g}, {:.17g})",
+      accuracy.non_finite, samples, first.surface, first.u, first.v);
 }
 
 }  // namespace nurbs

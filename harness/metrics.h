@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -49,6 +50,11 @@ struct TrimAccuracy {
   std::optional<double> misclassified_rate;
 };
 
+struct NonFiniteSample {
+  int surface = 0;
+  double u = 0, v = 0;
+};
+
 struct Accuracy {
   double max_abs = 0;  // model units
   double rms_abs = 0;
@@ -57,7 +63,10 @@ struct Accuracy {
   // where max_abs occurred
   int worst_surface = 0;
   double worst_u = 0, worst_v = 0;
-  std::size_t non_finite = 0;  // samples with a NaN/Inf coordinate
+  // Samples with a NaN/Inf position or normal coordinate, wherever they lie (outside the face and
+  // in the trim band too): a strategy that returns them has failed, whatever its errors inside.
+  std::size_t non_finite = 0;
+  NonFiniteSample first_non_finite;  // meaningful when non_finite > 0
   std::optional<double> max_normal_angle_deg;
   std::optional<TrimAccuracy> trim;  // present exactly when the scene has trims
 };
@@ -72,6 +81,10 @@ bool no_inside_samples(const Accuracy& accuracy);
 Accuracy measure_accuracy(const Scene& scene, const EvalResult& result,
                           const std::vector<ReferenceSurface>& reference,
                           const TrimScoring& trim = {});
+
+// "N of M samples are not finite (...); the first at surface S (u, v)" when accuracy has any
+// non-finite sample, else "": why such a record is failed, never ok.
+std::string non_finite_failure(const Accuracy& accuracy, std::size_t samples);
 
 // Strategies compute S_u x S_v; a reversed face's outward normal is its negation
 // (Surface::reversed). Flips the normals of those surfaces in place, for scoring and for output.

@@ -90,7 +90,11 @@ void score(const StrategyEntry& entry, const Scene& scene, const EvalRequest& re
     write_trim_masks(images, entry.name, scene, trim_masks(scene, result, reference, trim_band));
   r.throughput_pts_per_s =
       r.evaluate.median_s > 0 ? static_cast<double>(r.points) / r.evaluate.median_s : 0;
-  r.status = Status::ok;
+  // A NaN anywhere is a wrong answer, not a measurement: outside the face or in the trim band no
+  // error figure sees it, yet a renderer or mesher downstream would.
+  const std::string non_finite = non_finite_failure(*r.accuracy, r.points);
+  r.status = non_finite.empty() ? Status::ok : Status::failed;
+  r.reason = non_finite;
 }
 
 // A strategy that trims classifies its samples after each evaluation of a trimmed scene; the

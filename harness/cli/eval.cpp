@@ -7,6 +7,7 @@
 #include "harness/cli/commands.h"
 #include "harness/error_image.h"
 #include "harness/metrics.h"
+#include "harness/strategy_guard.h"
 #include "harness/runner.h"
 #include "harness/uv_file.h"
 #include "reference/validation.h"
@@ -94,7 +95,8 @@ int eval_command(const EvalOptions& options) {
     throw InputError(
         fmt::format("strategy {} refuses scene {}: {}", entry->name, scene.name, *refused));
 
-  std::unique_ptr<Strategy> strategy = entry->create(StrategyOptions{
+  // Guarded like run's strategies, so that NURBSBENCH_INJECT_FAULT reaches eval too.
+  std::unique_ptr<Strategy> strategy = create_guarded(*entry, StrategyOptions{
       options.threads, backend_extra(options.gl, options.device, options.strategy_options)});
   // The strategy's own classification of its samples, for the CSV's inside column.
   const bool classifies = entry->capabilities().trims && scene.has_trims();
@@ -152,6 +154,12 @@ int eval_command(const EvalOptions& options) {
     std::cout << csv;
   else
     write_file_atomically(options.out, csv);
+  // The points are written (they are what to look at), but the evaluation failed.
+  const std::string non_finite = non_finite_failure(accuracy, total_samples(produced));
+  if (!non_finite.empty()) {
+    std::cerr << fmt::format("nurbsbench: {} on {}: {}\n", entry->name, scene.name, non_finite);
+    return 1;
+  }
   return 0;
 }
 

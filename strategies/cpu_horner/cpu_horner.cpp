@@ -34,7 +34,13 @@ struct PowerBasisTable {
   std::vector<double> exact_knots;  // as given: forward-difference seeds are formed from them
   horner::Origin origin_rule;
   std::vector<T> origin;        // per span index
-  std::vector<T> coefficients;  // per span index, (p+1)^2, see power_basis.h
+  // Per span index, (p+1)^2, see power_basis.h, in the span's own scale: about the span's left
+  // knot they multiply ((u - u_s)/h)^j, h = u_{s+1} - u_s, and inverse_width is 1/h (about 0:
+  // u^j, Macri's literal form, and 1). Unscaled, the t^j coefficient grows like 1/h^j and
+  // overflows float on real models (linkrods.step: degree 10, spans 2.3e-6 wide: 1e56, inf,
+  // then inf * 0 = NaN); scaled, every term stays of order one.
+  std::vector<T> coefficients;
+  std::vector<T> inverse_width;
   // Per span index, the p+1 basis values and derivatives at the span's right knot, rounded once
   // from long double. The span search gives a parameter on an interior knot to the next span
   // (t = 0: the constant coefficients, exact), but the domain's end stays in the last span at
@@ -47,6 +53,7 @@ struct PowerBasisTable {
       : degree(p), count(n), knots(k.begin(), k.end()), exact_knots(k), origin_rule(where) {
     const std::size_t order = static_cast<std::size_t>(p) + 1;
     origin.assign(n, T(0));
+    inverse_width.assign(n, T(1));
     coefficients.assign(n * order * order, T(0));
     end_values.assign(n * order, T(0));
     end_ders.assign(n * order, T(0));
@@ -55,7 +62,13 @@ struct PowerBasisTable {
       const long double o = where == horner::Origin::span_start ? k[s] : 0.0L;
       origin[s] = T(o);
       const auto c = horner::power_basis_coefficients(k, p, s, o);
-      for (std::size_t i = 0; i < c.size(); ++i) coefficients[s * order * order + i] = T(c[i]);
+      const long double width =
+          where == horner::Origin::span_start ? static_cast<long double>(k[s + 1]) - k[s] : 1.0L;
+      inverse_width[s] = T(1.0L / width);
+      long double power = 1;  // width^j
+      for (std::size_t j = 0; j < order; ++j, power *= width)
+        for (std::size_t i = 0; i < order; ++i)
+          coefficients[s * order * order + j * order + i] = T(c[j * order + i] * power);
       // About the right knot, the constant and linear coefficients are the value and slope there.
       const auto at_end = horner::power_basis_coefficients(k, p, s, k[s + 1]);
       for (std::size_t i = 0; i < order; ++i) {
@@ -73,8 +86,10 @@ struct PowerBasisTable {
       if (ders) std::copy_n(&end_ders[s * order], order, ders);
       return s;
     }
-    horner::horner_basis(coefficients.data() + s * order * order, degree, u - origin[s], values,
-                         ders);
+    horner::horner_basis(coefficients.data() + s * order * order, degree,
+                         (u - origin[s]) * inverse_width[s], values, ders);
+    if (ders)
+      for (std::size_t i = 0; i < order; ++i) ders[i] *= inverse_width[s];
     return s;
   }
 };

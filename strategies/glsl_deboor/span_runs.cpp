@@ -6,9 +6,11 @@ namespace nurbs::glsl_deboor {
 
 std::vector<SpanRun> bin_into_spans(const std::vector<double>& parameters, int degree, int count,
                                     const std::vector<double>& knots) {
+  const std::vector<float> rounded(knots.begin(), knots.end());
   std::vector<SpanRun> runs;
   for (std::size_t a = 0; a < parameters.size(); ++a) {
-    const int span = find_span(degree, count, knots.data(), parameters[a]);
+    const int span =
+        find_span(degree, count, rounded.data(), static_cast<float>(parameters[a]));
     if (!runs.empty() && runs.back().span == span)
       ++runs.back().count;
     else

@@ -1,6 +1,8 @@
 // 002 §3.3.2 on the host: the evaluation parameters of one direction binned into the non-empty
-// knot spans they fall in (A2.1 FindSpan, in double, as the reference does). Each run becomes one
-// quad drawn with its span index and knots as uniforms, so the device never searches.
+// knot spans they fall in (A2.1 FindSpan), with parameters and knots rounded to float as the
+// shader sees them: a span two knots of a real model round into (linkrods.step: 1.8e-8 apart near
+// 3.6) would make de Boor divide 0 by 0; the search never returns one. Each run becomes one quad
+// drawn with its span index and knots as uniforms, so the device never searches.
 #pragma once
 
 #include <vector>

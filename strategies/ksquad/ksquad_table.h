@@ -33,13 +33,23 @@ std::vector<SpanRun> runs_of_grid(const std::vector<double>& params, int degree,
 }
 
 // Span grid natively: the k-th run of steps + 1 parameters is the k-th non-empty span's (its end
-// knot included, as sample_parameters lists it).
-inline std::vector<SpanRun> runs_of_span_grid(const std::vector<double>& knots, int degree,
-                                              int count, int steps) {
+// knot included, as sample_parameters lists it). A span non-empty in double but empty once its
+// knots are rounded to T (real models: knots 1.8e-8 apart near 3.6) holds parameters that all
+// round to its one knot value: they are evaluated in the span the rounded search gives there
+// (the next non-empty one), whose constants are finite; the surface is continuous, so that is
+// the same point.
+template <typename T>
+std::vector<SpanRun> runs_of_span_grid(const std::vector<double>& knots, int degree, int count,
+                                       int steps) {
+  const std::vector<T> rounded(knots.begin(), knots.end());
   std::vector<SpanRun> runs;
   for (int s = degree; s < count; ++s)
-    if (knots[s] < knots[s + 1])
-      runs.push_back({s, static_cast<int>(runs.size()) * (steps + 1), steps + 1});
+    if (knots[s] < knots[s + 1]) {
+      const int span = rounded[s] < rounded[s + 1]
+                           ? s
+                           : find_span(degree, count, rounded.data(), rounded[s]);
+      runs.push_back({span, static_cast<int>(runs.size()) * (steps + 1), steps + 1});
+    }
   return runs;
 }
 
@@ -59,10 +69,10 @@ std::vector<KSQuad> build_ksquads(const Scene& scene, const std::vector<SurfaceS
     const std::vector<T> ku(s.knots_u.begin(), s.knots_u.end());
     const std::vector<T> kv(s.knots_v.begin(), s.knots_v.end());
     const auto ru = span_grid
-                        ? runs_of_span_grid(s.knots_u, s.degree_u, s.count_u, sampling.span_steps)
+                        ? runs_of_span_grid<T>(s.knots_u, s.degree_u, s.count_u, sampling.span_steps)
                         : runs_of_grid(samples[i].u, s.degree_u, s.count_u, ku);
     const auto rv = span_grid
-                        ? runs_of_span_grid(s.knots_v, s.degree_v, s.count_v, sampling.span_steps)
+                        ? runs_of_span_grid<T>(s.knots_v, s.degree_v, s.count_v, sampling.span_steps)
                         : runs_of_grid(samples[i].v, s.degree_v, s.count_v, kv);
     for (const SpanRun& a : ru)
       for (const SpanRun& b : rv) quads.push_back({static_cast<int>(i), a, b});

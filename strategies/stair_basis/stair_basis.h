@@ -36,13 +36,21 @@
 //    non-empty span: x_{i-s} <= x_i < x_{i+1} <= x_{i+1+t}), so no 0/0 can occur.
 //  * Every difference the per-sample work takes, u - x_{i-s} and x_{i+1+t} - u, is >= 0 on the
 //    span: the form has products of differences and powers, no subtraction of products.
+//  * The closed forms are evaluated in the span's own scale, h = x_{i+1} - x_i:
+//    N_{i,c} = ((u - x_i)/h)^c * A_c h^c, N_{i-d,d} = ((x_{i+1} - u)/h)^d * B_d h^d, the same
+//    values. As printed, A_c = 1/prod(x_{i+l} - x_i) overflows float where a span is short and
+//    the degree high (real models: a degree-10 direction with 2.3e-6-wide spans of multiplicity
+//    9, linkrods.step, gives A_10 ~ 1e56) and (u - x_i)^c underflows, 0 * inf = NaN; scaled,
+//    every factor lies in [0, 1]. A span empty in the working precision (two knots that round
+//    to one float) has no scale: callers choose spans by a search over the rounded knots
+//    (reference/nurbs_math.h find_span), which never returns one.
 //
 // The constants of one direction of one span ("computed only once", 003 §3.2) are SB_CONSTANT_REALS
 // packed reals, the layout every language reads (vk-ksquad uploads the C++ build's):
 //   SB_KNOTS    + t, t = 0..2p-1       x_{i-p+1} .. x_{i+p}
 //   SB_R        + s * SB_MAX_DEG + t   r[s][t] = 1 / (x_{i+1+t} - x_{i-s}), s, t = 0..p-1
-//   SB_COLUMN   + c, c = 0..p          A_c (A_0 = 1)
-//   SB_DIAGONAL + d, d = 0..p          B_d (B_0 = 1)
+//   SB_COLUMN   + c, c = 0..p          A_c h^c (= 1 at c = 0)
+//   SB_DIAGONAL + d, d = 0..p          B_d h^d (= 1 at d = 0)
 
 #if defined(__cplusplus)
 // The includer defines SB_REAL (float, double or long double).
@@ -109,11 +117,13 @@ SB_FN void stair_constants(int span, int degree, SB_KNOTS_IN knots, SB_CONSTS_OU
           SB_TO_REAL(1) / (SB_C_OUT(c, SB_KNOTS + p + t) - SB_C_OUT(c, SB_KNOTS + p - 1 - s));
   SB_C_OUT(c, SB_COLUMN) = SB_TO_REAL(1);
   SB_C_OUT(c, SB_DIAGONAL) = SB_TO_REAL(1);
+  // h/(x_{i+l} - x_i) and h/(x_{i+1} - x_{i+1-l}), each in (0, 1]
+  const SB_REAL h = SB_C_OUT(c, SB_KNOTS + p) - SB_C_OUT(c, SB_KNOTS + p - 1);
   for (int l = 1; l <= p; ++l) {
-    // 1/(x_{i+l} - x_i) and 1/(x_{i+1} - x_{i+1-l})
-    SB_C_OUT(c, SB_COLUMN + l) = SB_C_OUT(c, SB_COLUMN + l - 1) * SB_C_OUT(c, SB_R + l - 1);
+    SB_C_OUT(c, SB_COLUMN + l) =
+        SB_C_OUT(c, SB_COLUMN + l - 1) * (h * SB_C_OUT(c, SB_R + l - 1));
     SB_C_OUT(c, SB_DIAGONAL + l) =
-        SB_C_OUT(c, SB_DIAGONAL + l - 1) * SB_C_OUT(c, SB_R + (l - 1) * SB_MAX_DEG);
+        SB_C_OUT(c, SB_DIAGONAL + l - 1) * (h * SB_C_OUT(c, SB_R + (l - 1) * SB_MAX_DEG));
   }
 }
 #endif
@@ -135,11 +145,13 @@ SB_FN void stair_basis(SB_CONSTS c, int degree, SB_REAL u, SB_OUT_ARRAY(basis), 
   SB_REAL diag[SB_MAX_ORDER];
   col[0] = SB_TO_REAL(1);
   diag[0] = SB_TO_REAL(1);
-  SB_REAL pow_l = SB_TO_REAL(1);
-  SB_REAL pow_r = SB_TO_REAL(1);
+  SB_REAL pow_l = SB_TO_REAL(1);  // ((u - x_i)/h)^m
+  SB_REAL pow_r = SB_TO_REAL(1);  // ((x_{i+1} - u)/h)^m
+  const SB_REAL scaled_l = dl[0] * SB_RS(c, 0, 0);
+  const SB_REAL scaled_r = dr[0] * SB_RS(c, 0, 0);
   for (int m = 1; m <= p; ++m) {
-    pow_l *= dl[0];
-    pow_r *= dr[0];
+    pow_l *= scaled_l;
+    pow_r *= scaled_r;
     col[m] = pow_l * SB_C(c, SB_COLUMN + m);
     diag[m] = pow_r * SB_C(c, SB_DIAGONAL + m);
   }

@@ -65,12 +65,14 @@ TEST(Isolation, CrashInSetupNamesSetup) {
   expect_only_faulty(run, kStrategies, kScenes, "cpu-tensor", "crashed", {"in setup"});
 }
 
-// NaN positions are a measurement, not an error: ok, every sample non-finite, the error infinite
-// (null in JSON), so any accuracy gate on it fails.
-TEST(Isolation, NanIsOkWithInfiniteErrorAndFailsItsGate) {
+// NaN positions are a wrong answer, never a measurement (issue 28): failed, with the count and the
+// first sample, the accuracy still recorded (the error infinite, null in JSON), and every gate on
+// the strategy violated.
+TEST(Isolation, NanIsFailedWithCountAndFirstSampleAndFailsItsGate) {
   TempDir tmp;
   const FaultRun run = run_with_fault("cpu-bezier:read_back:nan", issue_run(), tmp);
-  expect_only_faulty(run, kStrategies, kScenes, "cpu-bezier", "ok", {});
+  expect_only_faulty(run, kStrategies, kScenes, "cpu-bezier", "failed",
+                     {"256 of 256 samples are not finite", "the first at surface 0 (u, v) = ("});
   for (const std::string& scene : kScenes) {
     const json& r = run.records.at("cpu-bezier " + scene);
     EXPECT_EQ(r["accuracy"]["non_finite"], 256) << r.dump();
@@ -81,7 +83,28 @@ TEST(Isolation, NanIsOkWithInfiniteErrorAndFailsItsGate) {
   const CliResult check =
       run_cli({"check", "--gates", gates, "--results", (tmp.path() / "results").string()});
   EXPECT_EQ(check.exit_code, 1) << check.out << check.err;
-  EXPECT_NE(check.out.find("max_abs = inf exceeds 1"), std::string::npos) << check.out;
+  EXPECT_NE(check.out.find("max_abs <= 1 not measured: failed: 256 of 256 samples are not finite"),
+            std::string::npos)
+      << check.out;
+}
+
+// eval writes the points it got (they are what to look at) and exits 1 naming the first NaN.
+TEST(Isolation, EvalWithNanExitsOneAndNamesTheFirstSample) {
+  TempDir tmp;
+  const std::string out = tmp / "points.csv";
+  ::setenv("NURBSBENCH_INJECT_FAULT", "cpu-bezier:read_back:nan", 1);
+  const CliResult r = run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-bezier",
+                               "--samples", "4x4", "--out", out});
+  ::unsetenv("NURBSBENCH_INJECT_FAULT");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("nurbsbench: cpu-bezier on patch144: 16 of 16 samples are not finite"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("the first at surface 0 (u, v) = (0, 0)"), std::string::npos) << r.err;
+  EXPECT_EQ(split_lines(read_text(out)).size(), 17u) << "header and 16 points";
+  const CliResult clean = run_cli({"eval", "--scene", "patch144", "--strategy", "cpu-bezier",
+                                   "--samples", "4x4", "--out", out});
+  EXPECT_EQ(clean.exit_code, 0) << clean.err;
 }
 
 TEST(Isolation, CheckTreatsCrashedAndTimedOutAsViolations) {

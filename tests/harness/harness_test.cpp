@@ -1,5 +1,6 @@
 // Metrics, timing statistics, records and gates, on hand-made inputs whose answers are known.
 #include <gtest/gtest.h>
+#include <fmt/format.h>
 
 #include <cfloat>
 #include <cmath>
@@ -82,6 +83,32 @@ TEST(Metrics, NormalAngles) {
   const Accuracy acc = measure_accuracy(scene, result, reference);
   ASSERT_TRUE(acc.max_normal_angle_deg);
   EXPECT_NEAR(*acc.max_normal_angle_deg, a * 180 / M_PI, 1e-15);
+}
+
+// A NaN normal beside a right position is a failed sample too (a zero-length normal normalised).
+TEST(Metrics, NaNNormalIsNonFinite) {
+  const Scene scene = flat_scene();
+  std::vector<ReferenceSurface> reference(1);
+  reference[0].positions = {{0, 0, 0}, {1, 1, 0}};
+  reference[0].normals = {{0, 0, 1}, {0, 0, 1}};
+  EvalResult result = result_with({{0, 0, 0}, {1, 1, 0}}, Precision::f32);
+  result.surfaces[0].normals = PointArray(Precision::f32, 2);
+  result.surfaces[0].normals.set(0, std::array<double, 3>{0, 0, 1});
+  result.surfaces[0].normals.set(1, std::array<double, 3>{NAN, NAN, NAN});
+  const Accuracy acc = measure_accuracy(scene, result, reference);
+  EXPECT_EQ(acc.max_abs, 0);
+  EXPECT_EQ(acc.non_finite, 1u);
+  EXPECT_EQ(acc.first_non_finite.surface, 0);
+  EXPECT_EQ(acc.first_non_finite.u, result.surfaces[0].samples.u_of(1));
+  EXPECT_EQ(non_finite_failure(acc, 2),
+            fmt::format("1 of 2 samples are not finite (NaN/Inf position or normal); the first at "
+                        "surface 0 (u, v) = ({:.17g}, {:.17g})",
+                        result.surfaces[0].samples.u_of(1), result.surfaces[0].samples.v_of(1)));
+  EXPECT_EQ(non_finite_failure(measure_accuracy(scene, result_with({{0, 0, 0}, {1, 1, 0}},
+                                                                   Precision::f32),
+                                                reference),
+                               2),
+            "");
 }
 
 TEST(Timing, MedianMinMax) {

@@ -120,7 +120,14 @@ TEST(TrimMetrics, ErrorsAreOverTheInsideSamplesOnly) {
   EXPECT_DOUBLE_EQ(acc.rms_abs, std::sqrt(1e-6 / kInside));
   EXPECT_EQ(acc.worst_u, 0.125);
   EXPECT_EQ(acc.worst_v, 0.5);
-  EXPECT_EQ(acc.non_finite, 0u) << "the NaN lies outside the face";
+  // Outside the face no error counts, but a NaN anywhere is a failed evaluation (issue 28).
+  EXPECT_EQ(acc.non_finite, 2u);
+  EXPECT_EQ(acc.first_non_finite.surface, 0);
+  EXPECT_EQ(acc.first_non_finite.u, samples.u_of(index_of(samples, 4, 4)));
+  EXPECT_EQ(acc.first_non_finite.v, samples.v_of(index_of(samples, 4, 4)));
+  EXPECT_NE(non_finite_failure(acc, samples.count()).find("2 of 81 samples are not finite"),
+            std::string::npos)
+      << non_finite_failure(acc, samples.count());
   ASSERT_TRUE(acc.trim);
   EXPECT_EQ(acc.trim->inside, kInside);
   EXPECT_EQ(acc.trim->boundary, 0u) << "default band 1e-7: no sample that near";

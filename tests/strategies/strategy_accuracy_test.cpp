@@ -3,6 +3,7 @@
 // explicit samples in f32 and f64, and must agree with the extended-precision reference:
 // f32 within 32 float32 ulps of the scene's largest coordinate (the foundation issue's bound),
 // f64 within 64 double ulps of it.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cfloat>
@@ -17,6 +18,7 @@
 #include "reference/tmesh.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
+#include "tests/reference/random_nurbs.h"
 #include "tests/tspline/tspline_meshes.h"
 
 namespace nurbs {
@@ -204,6 +206,75 @@ TEST_P(StrategyAccuracy, ResultCarriesTheRequestedSamples) {
     EXPECT_EQ(result.surfaces[i].samples.v, expected[i].v);
     EXPECT_EQ(result.surfaces[i].positions.size(), 35u);
     EXPECT_TRUE(result.surfaces[i].normals.empty());
+  }
+}
+
+// Surfaces whose domain ends no float can hold (issue 28: real models' knots; the first is the
+// linkrods.step domain start that turned vk-ksquad's tessellator parameters into NaN). A float
+// parameter rounded outward leaves the domain: every strategy must clamp it, or evaluate in the
+// span the reference uses, and never return NaN or a point off the surface.
+Surface with_domain(Surface s, double u0, double u1, double v0, double v1) {
+  const auto remap = [](std::vector<double>& knots, double lo, double hi) {
+    const double k0 = knots.front(), k1 = knots.back();
+    for (double& k : knots) k = k == k1 ? hi : lo + (k - k0) * ((hi - lo) / (k1 - k0));
+  };
+  remap(s.knots_u, u0, u1);
+  remap(s.knots_v, v0, v1);
+  return s;
+}
+
+Scene unrepresentable_ends_scene(bool far) {
+  test::Rng rng(far ? 11 : 7);
+  Surface s = test::random_surface(rng, 3, 3, 6, 5, test::Ends::clamped, !far);
+  s.name = far ? "far-parameters" : "unrepresentable-ends";
+  s = far ? with_domain(s, 1e5 + 1.0 / 7, 1e5 + 1.0 / 7 + 2.5, -1.0 / 3, 0.80939816339744830)
+          : with_domain(s, -0.80939816339744830, 1.0 / 3, 1.0 / 3, 1 + 1.0 / 7);
+  return Scene{s.name, "domain ends not representable in float", {s}};
+}
+
+TEST_P(StrategyAccuracy, FloatRoundedDomainEndsStayOnTheSurface) {
+  const StrategyEntry& entry = *find_strategy(GetParam());
+  if (!entry.probe().available) GTEST_SKIP() << "unavailable";
+  for (bool far : {false, true}) {
+    const Scene nurbs_scene = unrepresentable_ends_scene(far);
+    const Surface& surface = nurbs_scene.surfaces[0];
+    ASSERT_NE(static_cast<double>(static_cast<float>(surface.u_min())), surface.u_min());
+    ASSERT_NE(static_cast<double>(static_cast<float>(surface.v_max())), surface.v_max());
+    const std::optional<SceneForStrategy> for_entry = scene_for(entry, nurbs_scene);
+    if (!for_entry) continue;
+    const Scene& scene = for_entry->scene;
+    // The control net's box: a NURBS surface with positive weights lies in its convex hull.
+    Point3 lo = surface.points[0], hi = surface.points[0];
+    for (const Point3& p : surface.points)
+      for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+    for (const Sampling& sampling : samplings(nurbs_scene))
+      for (Precision precision : {Precision::f32, Precision::f64}) {
+        const bool normals = entry.capabilities().normals && for_entry->normals_comparable;
+        const EvalRequest request{sampling, precision, normals};
+        if (refusal_reason(entry.capabilities(), scene, request)) continue;
+        const std::string where = fmt::format("{} on {} ({}, {})", entry.name, nurbs_scene.name,
+                                              to_string(precision), sampling.label());
+        auto strategy = entry.create(StrategyOptions{});
+        strategy->prepare(scene, request);
+        strategy->evaluate();
+        const EvalResult result = strategy->read_back();
+        const Accuracy acc = measure_accuracy(
+            scene, result, evaluate_reference(scene, result_samples(result), normals));
+        EXPECT_EQ(acc.non_finite, 0u) << where << ": " << non_finite_failure(acc, 0);
+        const PointArray& points = result.surfaces[0].positions;
+        std::size_t off_hull = 0;
+        for (std::size_t k = 0; k < points.size(); ++k)
+          for (int c = 0; c < 3; ++c)
+            off_hull += points[k][c] < lo[c] - 1e-4 || points[k][c] > hi[c] + 1e-4 ? 1 : 0;
+        EXPECT_EQ(off_hull, 0u) << where << ": coordinates outside the control net's box";
+        // Parameters near 1e5 cannot be resolved in float (its spacing there is 2^-7 of a domain
+        // 2.5 wide): only f64, or the nearby domain, holds the accuracy budget.
+        if (far && precision == Precision::f32) continue;
+        const double bound_ulp = precision == Precision::f32 ? f32_ulp_budget(entry.name)
+                                                             : 64.0 * DBL_EPSILON / FLT_EPSILON;
+        EXPECT_LE(acc.max_ulp, bound_ulp) << where << ": worst at u=" << acc.worst_u
+                                          << " v=" << acc.worst_v;
+      }
   }
 }
 
