@@ -41,7 +41,8 @@ inline Scene high_degree_trim_scene(int degree) {
       const double r = end ? 0.3 : 0.3 + (i % 2 ? 0.1 : -0.1);
       // The ends exactly on the axis, so the two arcs meet without a gap.
       const double y = end ? 0.5 : 0.5 + r * std::sin(angle);
-      const double x = end ? 0.5 + ((i == 0) == (arc == 0) ? 0.3 : -0.3) : 0.5 + r * std::cos(angle);
+      const double x =
+          end ? 0.5 + ((i == 0) == (arc == 0) ? 0.3 : -0.3) : 0.5 + r * std::cos(angle);
       c.points.push_back({x, y});
       c.weights.push_back(0.5 + 1.5 * ((i * 5 + arc) % 7) / 6.0);
     }

@@ -147,7 +147,8 @@ TEST(GlPingPongLod, DrawsTheTrimmedDuckWithoutItsTrimmedAwayParts) {
     for (std::size_t k = 0; k < r.positions.size(); ++k) {
       const auto p = gl_pingpong::project_to_pixels(camera, r.positions[k]);
       ASSERT_TRUE(p);
-      const int x = static_cast<int>(std::floor((*p)[0])), y = static_cast<int>(std::floor((*p)[1]));
+      const int x = static_cast<int>(std::floor((*p)[0])),
+                y = static_cast<int>(std::floor((*p)[1]));
       if (r.inside[k] == 0 && r.trim_distance[k] > band) {
         if (x >= 0 && x < kWidth && y >= 0 && y < kHeight) outside_pixels.push_back({x, y});
         continue;
@@ -170,15 +171,17 @@ TEST(GlPingPongLod, DrawsTheTrimmedDuckWithoutItsTrimmedAwayParts) {
     ++checked;
     if (covered(with_trim, x, y)) {
       ++drawn_with_trim;
-      ADD_FAILURE() << "pixel (" << x << ", " << y << ") drawn; only trimmed-away parts project there";
+      ADD_FAILURE() << "pixel (" << x << ", " << y
+                    << ") drawn; only trimmed-away parts project there";
     }
   }
   std::size_t duck = 0;
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x) duck += covered(with_trim, x, y);
-  std::printf("trimmed duck: %zu pixels only trimmed-away parts project to, %zu of them drawn "
-              "without the trim; %zu of those drawn with it; %zu pixels drawn in all\n",
-              only_outside, checked, drawn_with_trim, duck);
+  std::printf(
+      "trimmed duck: %zu pixels only trimmed-away parts project to, %zu of them drawn "
+      "without the trim; %zu of those drawn with it; %zu pixels drawn in all\n",
+      only_outside, checked, drawn_with_trim, duck);
   EXPECT_GE(checked, 100u);
   EXPECT_GE(checked, only_outside * 3 / 4);
   EXPECT_EQ(drawn_with_trim, 0u);

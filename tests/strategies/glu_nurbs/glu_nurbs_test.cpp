@@ -1,12 +1,11 @@
 // glu-nurbs: where GLU samples and what it returns, checked against values computed here.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <set>
 #include <utility>
-
-#include <fmt/format.h>
 
 #include "harness/runner.h"
 #include "reference/trim_classify.h"
@@ -197,8 +196,8 @@ TEST(GluNurbsTrims, TrimCurvesUpToDegree7AndRefusesHigherBeforeGluCrashes) {
   ASSERT_EQ(r.surfaces.size(), 1u);
   const SurfaceResult& drawn = r.surfaces[0];
   ASSERT_GT(drawn.samples.count(), 500u);
-  const TrimClassification exact = classify_trim_samples(*seven.surfaces[0].trim, drawn.samples,
-                                                         true, TrimScalar::long_double);
+  const TrimClassification exact =
+      classify_trim_samples(*seven.surfaces[0].trim, drawn.samples, true, TrimScalar::long_double);
   std::size_t outside = 0;
   for (std::size_t k = 0; k < drawn.samples.count(); ++k)
     outside += exact.inside[k] == 0 && exact.distance[k] > 0.01;
