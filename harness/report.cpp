@@ -1369,8 +1369,9 @@ ReportSection trim_texture_section(const std::vector<ResultSet>& sets, const Lab
                    "R", classify_share, points_text, rate_text));
   s.notes.push_back(
       "A sample is misclassified only within d = (1/2 + 2^-(s+1)) x texel diagonal + tolerance of "
-      "the exact boundary (s = GL_SUBPIXEL_BITS; tests/strategies/gl_pingpong/"
-      "trim_texture_test.cpp), so the rate falls about as 1/R until the tessellation tolerance "
+      "the exact boundary (s = GL_SUBPIXEL_BITS; trim_texture::misclassification_distance, "
+      "asserted per sample by tests/strategies/gl_pingpong/trim_texture_test.cpp), so the rate "
+      "falls about as 1/R until the tessellation tolerance "
       "dominates. GL on llvmpipe: times are CPU times.");
   return s;
 }

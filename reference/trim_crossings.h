@@ -58,21 +58,25 @@ enum class RootRefinement { bisection, newton };
 
 namespace trim_detail {
 
+// The helpers below take `Capacity`, the most coefficients they hold (n < Capacity): kMaxOrder
+// for the pieces and their line polynomials; direct trimming's extrema (the derivative numerator
+// x'w - xw' of a degree-15 piece has degree 29) isolate roots with 2 * kMaxDegree.
+
 // Bernstein coefficients c[0..n] evaluated at s (de Casteljau; stable for s in [0, 1]).
-template <typename T>
+template <typename T, int Capacity = kMaxOrder>
 T bernstein_value(const T* c, int n, T s) {
-  T work[kMaxOrder] = {};
-  for (int i = 0; i <= n && i < kMaxOrder; ++i) work[i] = c[i];
+  T work[Capacity] = {};
+  for (int i = 0; i <= n && i < Capacity; ++i) work[i] = c[i];
   for (int r = 1; r <= n; ++r)
     for (int i = 0; i <= n - r; ++i) work[i] = (T(1) - s) * work[i] + s * work[i + 1];
   return work[0];
 }
 
 // The coefficients of the halves [0, 1/2] and [1/2, 1]; left[n] == right[0] == value at 1/2.
-template <typename T>
+template <typename T, int Capacity = kMaxOrder>
 void bernstein_halves(const T* c, int n, T* left, T* right) {
-  T work[kMaxOrder] = {};
-  for (int i = 0; i <= n && i < kMaxOrder; ++i) work[i] = c[i];
+  T work[Capacity] = {};
+  for (int i = 0; i <= n && i < Capacity; ++i) work[i] = c[i];
   left[0] = work[0];
   right[n] = work[n];
   for (int r = 1; r <= n; ++r) {
@@ -111,14 +115,14 @@ int sign_near_zero(const T* c) {
 
 // The one sign-changing root of c on (0, 1) when sign_variations(c) == 1, by bisection until the
 // interval cannot shrink in T.
-template <typename T>
+template <typename T, int Capacity = kMaxOrder>
 T bisect_single_root(const T* c, int n) {
   const int sign_low = sign_near_zero(c);
   T lo = 0, hi = 1;
   for (int iteration = 0; iteration < 200; ++iteration) {
     const T mid = (lo + hi) / T(2);
     if (!(mid > lo && mid < hi)) break;
-    const int s = sign_of(bernstein_value(c, n, mid));
+    const int s = sign_of(bernstein_value<T, Capacity>(c, n, mid));
     if (s == 0) return mid;
     (s == sign_low ? lo : hi) = mid;
   }
@@ -128,7 +132,7 @@ T bisect_single_root(const T* c, int n) {
 // The same root as bisect_single_root (sign_variations(c) == 1), by Newton steps from the chord's
 // root; a step that leaves the bracket, or a flat derivative, bisects instead. Stops when a step
 // moves t by under a few ulps or the bracket cannot shrink.
-template <typename T>
+template <typename T, int Capacity = kMaxOrder>
 T newton_single_root(const T* c, int n) {
   const int sign_low = sign_near_zero(c);
   const T step_limit = T(4) * std::numeric_limits<T>::epsilon();
@@ -137,7 +141,7 @@ T newton_single_root(const T* c, int n) {
   if (!(t > lo && t < hi)) t = T(0.5);
   for (int iteration = 0; iteration < 200; ++iteration) {
     // Value and derivative from one de Casteljau pass: the last level's two points.
-    T work[kMaxOrder];
+    T work[Capacity];
     for (int i = 0; i <= n; ++i) work[i] = c[i];
     for (int r = 1; r < n; ++r)
       for (int i = 0; i <= n - r; ++i) work[i] = (T(1) - t) * work[i] + t * work[i + 1];
@@ -164,14 +168,14 @@ T newton_single_root(const T* c, int n) {
 inline constexpr int kMaxIsolationDepth = 48;
 
 // Candidate roots of c on the open interval (t0, t1), in increasing order.
-template <typename T>
+template <typename T, int Capacity = kMaxOrder>
 void isolate_roots(const T* c, int n, T t0, T t1, int depth, std::vector<T>& roots,
                    RootRefinement refinement = RootRefinement::bisection) {
   const int variations = sign_variations(c, n);
   if (variations == 0) return;
   if (variations == 1) {
-    const T root =
-        refinement == RootRefinement::newton ? newton_single_root(c, n) : bisect_single_root(c, n);
+    const T root = refinement == RootRefinement::newton ? newton_single_root<T, Capacity>(c, n)
+                                                        : bisect_single_root<T, Capacity>(c, n);
     roots.push_back(t0 + (t1 - t0) * root);
     return;
   }
@@ -180,11 +184,11 @@ void isolate_roots(const T* c, int n, T t0, T t1, int depth, std::vector<T>& roo
     roots.push_back(mid);
     return;
   }
-  T left[kMaxOrder], right[kMaxOrder];
-  bernstein_halves(c, n, left, right);
-  isolate_roots(left, n, t0, mid, depth + 1, roots, refinement);
+  T left[Capacity], right[Capacity];
+  bernstein_halves<T, Capacity>(c, n, left, right);
+  isolate_roots<T, Capacity>(left, n, t0, mid, depth + 1, roots, refinement);
   if (left[n] == T(0)) roots.push_back(mid);  // a root exactly at the split point
-  isolate_roots(right, n, mid, t1, depth + 1, roots, refinement);
+  isolate_roots<T, Capacity>(right, n, mid, t1, depth + 1, roots, refinement);
 }
 
 template <typename T>

@@ -84,10 +84,6 @@ int camera_path_command(const CameraPathOptions& options) {
         throw InputError(
             fmt::format("--scenes: '{}' surface '{}' is a T-spline; gl-pingpong evaluates NURBS",
                         name, s.name));
-      if (s.trim)
-        throw InputError(fmt::format(
-            "--scenes: '{}' surface '{}' is trimmed; the camera path draws whole surfaces", name,
-            s.name));
     }
     scenes.push_back(std::move(scene));
   }

@@ -7,7 +7,10 @@
 // Trimmed surfaces (000 §4) also carry each vertex's (u, v) in trim-texture coordinates, fetched
 // from the sample table row 0 (u) and row 1 (v), for the fragment shader's trim lookup.
 uniform mat4 mvp;
+// Vertex k is b * nu + a; with v_major set it is a * nu + b and `nu` holds nv (000 §3.2's device
+// copies, whose rows are the output texture's: only the trim lookup needs (a, b) then).
 uniform int nu;
+uniform int v_major;
 #if VERTEX_FETCH
 uniform sampler2D points;
 uniform ivec2 origin;
@@ -23,7 +26,8 @@ out vec3 clip_position;  // for the fragment stage's facet normal
 
 void main() {
   int k = gl_VertexID;
-  int a = k % nu, b = k / nu;
+  int a = v_major != 0 ? k / nu : k % nu;
+  int b = v_major != 0 ? k % nu : k / nu;
 #if VERTEX_FETCH
   ivec2 texel = u_along_x != 0 ? ivec2(a, b) : ivec2(b, a);
   vec3 position = texelFetch(points, origin + texel, 0).xyz;

@@ -57,14 +57,15 @@ GridRenderer::Variant GridRenderer::variant(bool fetch) {
       fetch ? "#define VERTEX_FETCH 1\n" : "#define VERTEX_FETCH 0\n",
       fetch ? "grid_render.vert (vertex texture fetch)" : "grid_render.vert (vertex buffer)");
   const GLint mvp = program->uniform("mvp"), nu = program->uniform("nu"),
-              trimmed = program->uniform("trimmed"), first = program->uniform("first_sample");
+              v_major = program->uniform("v_major"), trimmed = program->uniform("trimmed"),
+              first = program->uniform("first_sample");
   const Functions& gl = context_.gl();
   gl.UseProgram(program->id());
   if (fetch) gl.Uniform1i(program->uniform("points"), kPointsUnit);
   gl.Uniform1i(program->uniform("trim"), kTrimUnit);
   gl.Uniform1i(program->uniform("parameters"), kParametersUnit);
   gl.UseProgram(0);
-  return {std::move(program), mvp, nu, trimmed, first};
+  return {std::move(program), mvp, nu, v_major, trimmed, first};
 }
 
 GridRenderer::GridRenderer(Context& context, int width, int height)
@@ -138,11 +139,13 @@ void GridRenderer::begin_frame() {
   gl.BindVertexArray(vertex_array_);
 }
 
-void GridRenderer::set_common(const Variant& v, const float mvp[16], int nu, const GridTrim* trim) {
+void GridRenderer::set_common(const Variant& v, const float mvp[16], int nu, const GridTrim* trim,
+                              bool v_major) {
   const Functions& gl = context_.gl();
   gl.UseProgram(v.program->id());
   gl.UniformMatrix4fv(v.mvp, 1, GL_FALSE, mvp);
   gl.Uniform1i(v.nu, nu);
+  gl.Uniform1i(v.v_major, v_major ? 1 : 0);
   gl.Uniform1i(v.trimmed, trim ? 1 : 0);
   if (trim) {
     trim->trim->bind_to_unit(kTrimUnit);
@@ -188,11 +191,11 @@ void GridRenderer::draw(const float* xyz, int nu, int nv, const float mvp[16],
 }
 
 std::uint64_t GridRenderer::draw_device_points(GLuint vertex_buffer, int nu, int nv,
-                                               const float mvp[16]) {
+                                               const float mvp[16], const GridTrim* trim) {
   if (nu < 2 || nv < 2) return 0;
   const Functions& gl = context_.gl();
-  // `nu` of the shader only indexes the trim table, which an untrimmed draw does not read.
-  set_common(traditional_, mvp, nv, nullptr);
+  // Vertex k = a * nv + b: the shader's v-major indexing, for the trim lookup.
+  set_common(traditional_, mvp, nv, trim, true);
   gl.BindVertexArray(vertex_array_);
   gl.BindBuffer(GL_ARRAY_BUFFER, vertex_buffer);
   gl.EnableVertexAttribArray(0);

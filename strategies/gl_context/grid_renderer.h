@@ -59,9 +59,10 @@ class GridRenderer {
   void draw(const float* xyz, int nu, int nv, const float mvp[16], const GridTrim* trim);
   // 000 §3.2: the evaluated points copied on the device into `vertex_buffer` (RGBA32F texels, the
   // grid's sample (a, b) at texel a * nv + b: a u x v output texture read row by row into a
-  // pixel-pack buffer), drawn as a vertex buffer without passing through the host. Returns the
-  // triangles drawn.
-  std::uint64_t draw_device_points(GLuint vertex_buffer, int nu, int nv, const float mvp[16]);
+  // pixel-pack buffer), drawn as a vertex buffer without passing through the host. `trim` null:
+  // the whole grid. Returns the triangles drawn (before any fragment is discarded).
+  std::uint64_t draw_device_points(GLuint vertex_buffer, int nu, int nv, const float mvp[16],
+                                   const GridTrim* trim);
   void end_frame(std::string_view where);
 
   // The steps of a draw from host points that Krishnamurthy's LOD repeats at every change of
@@ -81,10 +82,11 @@ class GridRenderer {
  private:
   struct Variant {
     std::unique_ptr<Program> program;
-    GLint mvp, nu, trimmed, first_sample;
+    GLint mvp, nu, v_major, trimmed, first_sample;
   };
   Variant variant(bool fetch);
-  void set_common(const Variant& v, const float mvp[16], int nu, const GridTrim* trim);
+  void set_common(const Variant& v, const float mvp[16], int nu, const GridTrim* trim,
+                  bool v_major = false);
   GLsizei index_buffer(int nu, int nv);  // built once per size, then reused; binds it
 
   Context& context_;

@@ -212,21 +212,23 @@ class GlPingPong final : public Strategy {
   }
 
   // 000 §3.2: surface i evaluated at new samples from the next evaluate on; only what depends on
-  // the samples is made again (parameters, first-span indices, basis and sum targets). Trims are
-  // not re-sampled: the LOD path takes untrimmed scenes (make_lod_renderer).
+  // the samples is made again (parameters, first-span indices, basis and sum targets, and a
+  // trimmed surface's sample table: its trim texture depends on the loops alone).
   void resample(std::size_t i, const SurfaceSamples& samples) {
     context_->make_current();
     samples_[i] = samples;
     tile_count_ -= surfaces_[i].tiles.size();
     make_grid(surfaces_[i], samples);
+    trims_->resample(i, samples);
     context_->check("gl-pingpong resample");
   }
 
   // 000 §3.2's rendering: every surface evaluated, its output copied on the device into a vertex
   // buffer of its own (glReadPixels into a pixel-pack buffer: the output texture's row a is the
   // samples (a, 0..nv-1), so the buffer is in SurfaceSamples order), which is then drawn as the
-  // array buffer into a width x height image. Nothing is read back to the host. Grids must fit
-  // one tile (the caller's limit). Returns the triangles drawn.
+  // array buffer into a width x height image, a trimmed surface's outside discarded by its trim
+  // texture (000 §4, as render() does). Nothing is read back to the host. Grids must fit one tile
+  // (the caller's limit). Returns the triangles drawn.
   std::uint64_t draw_from_device_copies(const std::array<float, 16>& mvp) {
     context_->make_current();
     const gl::Functions& gl = context_->gl();
@@ -255,8 +257,12 @@ class GlPingPong final : public Strategy {
     }
     std::uint64_t triangles = 0;
     renderer().begin_frame();
-    for (const DeviceCopy& c : copies_)
-      triangles += renderer().draw_device_points(c.buffer, c.nu, c.nv, mvp.data());
+    for (std::size_t i = 0; i < copies_.size(); ++i) {
+      const DeviceCopy& c = copies_[i];
+      const auto trim = trims_->grid_trim(i);
+      triangles +=
+          renderer().draw_device_points(c.buffer, c.nu, c.nv, mvp.data(), trim ? &*trim : nullptr);
+    }
     renderer().end_frame("gl-pingpong LOD frame");
     context_->finish("gl-pingpong LOD frame");
     return triangles;
@@ -452,11 +458,6 @@ class PingPongLodRenderer final : public gl_pingpong::LodRenderer {
       : scene_(scene),
         strategy_(gl::platform_option(options), false, 0,
                   trim_texture::parse_options(options, "gl-pingpong")) {
-    for (const Surface& s : scene.surfaces)
-      if (s.trim)
-        throw RefusedError(fmt::format(
-            "surface '{}' is trimmed; the LOD path draws whole surfaces (no trim texture)",
-            s.name));
     strategy_.set_render_size(width, height);
     EvalRequest request;
     request.sampling.grid_u = request.sampling.grid_v = 2;

@@ -40,9 +40,11 @@ class LodRenderer {
   virtual RenderedImage picture() = 0;
 };
 
-// Every surface starts on a 2x2 grid. Throws std::runtime_error("unavailable: ...") without a GL
-// context, RefusedError for a scene gl-pingpong cannot evaluate (T-splines, degree or net beyond
-// its limits) and for a trimmed one (this path draws whole surfaces).
+// Every surface starts on a 2x2 grid; a trimmed surface is drawn with its outside discarded by
+// gl-pingpong's trim texture (000 §4, built once here; options trim-resolution/trim-tolerance),
+// whose sample table follows each new grid. Throws std::runtime_error("unavailable: ...") without
+// a GL context, RefusedError for a scene gl-pingpong cannot evaluate (T-splines, degree or net
+// beyond its limits).
 std::unique_ptr<LodRenderer> make_lod_renderer(const Scene& scene, int width, int height,
                                                const StrategyOptions& options);
 

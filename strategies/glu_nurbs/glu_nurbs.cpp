@@ -132,6 +132,30 @@ std::vector<TrimLoop> glu_oriented_loops(const Trim& trim) {
   return loops;
 }
 
+// GLU tessellates a trim curve of degree >= 2 by converting each of its Bézier arcs to the power
+// basis through a constant table of Bernstein-to-power matrices for orders 1 to 8 (Mesa libGLU,
+// libnurbs/internals/arctess.cc: ArcTessellator::gl_Bernstein, read as gl_Bernstein[order - 1] by
+// trim_power_coeffs, unchecked). An arc of order 9 or more reads past the table: garbage or
+// SIGSEGV in gluEndSurface, never a GLU error (bearing.iges face-163, a degree-8 p-curve, crashed
+// this way). Degree-1 curves take the linear path and surfaces another one; neither uses it.
+constexpr int kGluMaxTrimDegree = 7;
+
+// RefusedError naming the first trim curve GLU cannot tessellate, if any.
+void refuse_trims_beyond_glu(const Scene& scene) {
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+    const Surface& s = scene.surfaces[i];
+    if (!s.trim) continue;
+    for (std::size_t l = 0; l < s.trim->loops.size(); ++l)
+      for (std::size_t k = 0; k < s.trim->loops[l].curves.size(); ++k)
+        if (const int degree = s.trim->loops[l].curves[k].degree; degree > kGluMaxTrimDegree)
+          throw RefusedError(fmt::format(
+              "surface '{}' (#{}): trim.loops[{}].curves[{}].degree = {}: GLU tessellates trim "
+              "curves up to degree {} (libnurbs' Bernstein-to-power table ends at order {}; a "
+              "higher order reads past it and crashes)",
+              s.name, i, l, k, degree, kGluMaxTrimDegree, kGluMaxTrimDegree + 1));
+  }
+}
+
 GluTrimCurve make_glu_trim_curve(const TrimCurve& c) {
   GluTrimCurve g;
   const bool rational =
@@ -242,6 +266,7 @@ class GluNurbsStrategy final : public Strategy {
 
   void prepare(const Scene& scene, const EvalRequest& request) override {
     refuse_unsupported(name(), capabilities(), scene, request);
+    refuse_trims_beyond_glu(scene);
     request_ = request;
     surfaces_.clear();
     for (const Surface& s : scene.surfaces)

@@ -14,7 +14,8 @@
 // area, so that GLU keeps the scene's even-odd face. GLU tessellates only the face and classifies
 // nothing: its records say "untrimmed" (no per-sample classification, no misclassification
 // figure), their errors over its vertices the reference puts inside, and its timing is that of
-// the trimmed tessellation (000's Fig 8 baseline).
+// the trimmed tessellation (000's Fig 8 baseline). Trim curves above degree 7 are refused: GLU's
+// trim tessellator reads past a table of orders 1..8 for them and crashes (glu_nurbs.cpp).
 #pragma once
 
 #include "strategies/registry.h"

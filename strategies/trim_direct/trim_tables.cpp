@@ -45,10 +45,15 @@ void bernstein_product(const double* p, int a, const double* q, int b, double* o
       out[i + j] += choose(a, i) * choose(b, j) / choose(a + b, i + j) * p[i] * q[j];
 }
 
+// Coefficients of x'w - xw' for a piece of degree n <= kMaxDegree: 2n of them.
+constexpr int kNumeratorCapacity = 2 * kMaxDegree;
+
 // The parameters in (0, 1) where coordinate c (0: u, 1: v) of the piece has an extremum: roots of
-// x'w - xw' (degree 2n - 1 in Bernstein form).
+// x'w - xw' (degree 2n - 1 in Bernstein form), by the reference's Bernstein root isolation sized
+// for that degree (up to 29 at trim degree 15).
 void extrema(const Homogeneous& h, int n, int c, std::vector<double>& roots) {
-  double x[kMaxOrder], w[kMaxOrder], dx[kMaxOrder], dw[kMaxOrder], a[kMaxOrder], b[kMaxOrder];
+  double x[kMaxOrder], w[kMaxOrder], dx[kMaxOrder], dw[kMaxOrder];
+  double a[kNumeratorCapacity], b[kNumeratorCapacity];
   for (int i = 0; i <= n; ++i) {
     x[i] = h[i][c];
     w[i] = h[i][2];
@@ -60,7 +65,7 @@ void extrema(const Homogeneous& h, int n, int c, std::vector<double>& roots) {
   bernstein_product(dx, n - 1, w, n, a);
   bernstein_product(x, n, dw, n - 1, b);
   for (int i = 0; i <= 2 * n - 1; ++i) a[i] -= b[i];
-  trim_detail::isolate_roots(a, 2 * n - 1, 0.0, 1.0, 0, roots);
+  trim_detail::isolate_roots<double, kNumeratorCapacity>(a, 2 * n - 1, 0.0, 1.0, 0, roots);
 }
 
 // de Casteljau split of homogeneous points at t: `left` on [0, t], `h` becomes [t, 1].
@@ -82,18 +87,14 @@ MonotonePiece cartesian(const Homogeneous& h, int n) {
 }  // namespace
 
 std::vector<MonotonePiece> monotone_pieces(const Trim& trim, double origin_u, double origin_v) {
-  // 2n - 1 < kMaxOrder: the derivative numerator fits the reference's root isolation.
-  constexpr int kMaxPieceDegree = kMaxOrder / 2;
   std::vector<MonotonePiece> out;
   std::vector<double> roots, scratch;
   for (const auto& loop : trim_pieces<double>(trim).loops) {
     std::vector<MonotonePiece> pieces;
     for (const TrimPiece<double>& piece : loop) {
+      // Validation (reference/trim_validation.cpp) holds trim degrees to kMaxDegree; the
+      // device side's arrays hold TD_MAX_ORDER = kMaxOrder points.
       const int n = piece.degree;
-      if (n > kMaxPieceDegree)
-        throw RefusedError(
-            fmt::format("direct trimming: a trim curve of degree {} (at most {} supported)", n,
-                        kMaxPieceDegree));
       Homogeneous h{};
       for (int i = 0; i <= n; ++i)
         h[i] = {piece.h[i][0] - origin_u * piece.h[i][2], piece.h[i][1] - origin_v * piece.h[i][2],

@@ -100,8 +100,11 @@ std::vector<std::vector<Point2>> trim_polygons(const Trim& trim, double toleranc
   return polygons;
 }
 
-double misclassification_distance(double du, double dv, int resolution, double tolerance_uv) {
-  return 0.5 * std::hypot(du / resolution, dv / resolution) + tolerance_uv;
+double misclassification_distance(double du, double dv, int resolution, double tolerance_uv,
+                                  int subpixel_bits) {
+  return (0.5 + std::ldexp(1.0, -(subpixel_bits + 1))) *
+             std::hypot(du / resolution, dv / resolution) +
+         tolerance_uv;
 }
 
 }  // namespace nurbs::trim_texture

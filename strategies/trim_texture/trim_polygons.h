@@ -36,9 +36,15 @@ Options parse_options(const StrategyOptions& options, std::string_view strategy)
 std::vector<std::vector<Point2>> trim_polygons(const Trim& trim, double tolerance);
 
 // How far from the exact trim boundary a sample must lie for the texture to classify it
-// correctly: half a texel diagonal (the sample reads the nearest texel centre, whose polygon
-// parity rasterization decided) plus the chordal tolerance (a point whose parity differs between
-// polygon and curves is within the tolerance of the curves). `du`, `dv`: the domain's extent.
-double misclassification_distance(double du, double dv, int resolution, double tolerance_uv);
+// correctly, d = (1/2 + 2^-(s+1)) * texel diagonal + tolerance_uv: half a texel diagonal (the
+// sample reads the nearest texel centre, whose polygon parity rasterization decided), the
+// rasterizer's snapping of polygon vertices to 2^-s of a texel (s = GL_SUBPIXEL_BITS: a vertex
+// moves at most 2^-(s+1) of a texel per axis, so an edge at most 2^-(s+1) of the diagonal), and
+// the chordal tolerance (a point whose parity differs between polygon and curves is within the
+// tolerance of the curves). `du`, `dv`: the domain's extent, in (u, v) units like tolerance_uv.
+// The one definition of d: the trim-texture test asserts it per sample, the README and the
+// report's trim_texture_resolution note state it.
+double misclassification_distance(double du, double dv, int resolution, double tolerance_uv,
+                                  int subpixel_bits);
 
 }  // namespace nurbs::trim_texture

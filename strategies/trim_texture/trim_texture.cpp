@@ -21,6 +21,8 @@ struct TrimTextures::Surface {
   gl::Texture parameters;  // max(nu, nv) x 2, RG32F: texel index, trim-texture coordinate
   gl::Texture mask;        // nv x nu, R8: texel (b, a) is sample a * nv + b
   int nu = 0, nv = 0;
+  double u_min = 0, u_max = 0, v_min = 0, v_max = 0;  // the domain the texture spans
+  std::string name;
 };
 
 TrimTextures::TrimTextures(gl::Context& context, const Options& options, std::string strategy)
@@ -101,11 +103,48 @@ void TrimTextures::draw_trim(const std::vector<std::vector<Point2>>& polygons,
   gl.BindVertexArray(0);
 }
 
+// The sample table: per u (row 0) and v (row 1) sample its texel, floor((u - u0) / du * R)
+// clamped to [0, R-1] (the texel whose centre is nearest), and its trim-texture coordinate for the
+// renderer's interpolated lookup; and the mask the lookup pass writes, one texel per sample.
+void TrimTextures::make_sample_table(Surface& s, const SurfaceSamples& grid) {
+  const int limit = std::min(context_.max_texture_size(), context_.max_viewport());
+  const int r = options_.resolution;
+  s.nu = static_cast<int>(grid.u.size());
+  s.nv = static_cast<int>(grid.v.size());
+  if (std::max(s.nu, s.nv) > limit)
+    throw RefusedError(fmt::format(
+        "{}: surface '{}' is sampled {}x{}; the trim mask is one texture, limited to {} per side",
+        strategy_, s.name, s.nu, s.nv, limit));
+  const int width = std::max(s.nu, s.nv);
+  std::vector<float> table(static_cast<std::size_t>(width) * 2 * 4, 0.0f);
+  auto fill = [&](const std::vector<double>& values, double lo, double hi, int row) {
+    for (std::size_t k = 0; k < values.size(); ++k) {
+      const double t = (values[k] - lo) / (hi - lo);
+      const int texel = std::clamp(static_cast<int>(std::floor(t * r)), 0, r - 1);
+      float* texel_out = &table[(static_cast<std::size_t>(row) * width + k) * 4];
+      texel_out[0] = static_cast<float>(texel) + 0.5f;  // exact; int() in the shader floors
+      texel_out[1] = static_cast<float>(t);
+    }
+  };
+  fill(grid.u, s.u_min, s.u_max, 0);
+  fill(grid.v, s.v_min, s.v_max, 1);
+  s.parameters = gl::Texture(context_, GL_RG32F, width, 2, false);
+  s.parameters.upload(GL_RGBA, GL_FLOAT, table.data(), sizeof(float) * 4);
+  s.mask = gl::Texture(context_, GL_R8, s.nv, s.nu, true);
+}
+
+void TrimTextures::resample(std::size_t surface, const SurfaceSamples& grid) {
+  if (surface >= surfaces_.size() || !surfaces_[surface]) return;
+  context_.make_current();
+  make_sample_table(*surfaces_[surface], grid);
+  classified_ = false;
+  context_.check(fmt::format("{} trim sample table", strategy_));
+}
+
 void TrimTextures::prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples) {
   surfaces_.clear();
   polygon_vertices_ = 0;
   classified_ = false;
-  const int limit = std::min(context_.max_texture_size(), context_.max_viewport());
   const int r = options_.resolution;
   for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
     const nurbs::Surface& surface = scene.surfaces[i];
@@ -113,39 +152,18 @@ void TrimTextures::prepare(const Scene& scene, const std::vector<SurfaceSamples>
       surfaces_.push_back(nullptr);
       continue;
     }
-    const SurfaceSamples& grid = samples[i];
     auto s = std::make_unique<Surface>();
-    s->nu = static_cast<int>(grid.u.size());
-    s->nv = static_cast<int>(grid.v.size());
-    if (std::max(s->nu, s->nv) > limit)
-      throw RefusedError(fmt::format(
-          "{}: surface '{}' is sampled {}x{}; the trim mask is one texture, limited to {} per side",
-          strategy_, surface.name, s->nu, s->nv, limit));
+    s->u_min = surface.u_min();
+    s->u_max = surface.u_max();
+    s->v_min = surface.v_min();
+    s->v_max = surface.v_max();
+    s->name = surface.name;
+    make_sample_table(*s, samples[i]);
     const std::vector<std::vector<Point2>> polygons =
         trim_polygons(*surface.trim, options_.tolerance * domain_diagonal(surface));
     for (const auto& p : polygons) polygon_vertices_ += p.size();
     s->trim = gl::Texture(context_, GL_R8, r, r, true);
     draw_trim(polygons, surface, s->trim);
-
-    // The sample table: per u (row 0) and v (row 1) sample its texel, floor((u - u0) / du * R)
-    // clamped to [0, R-1] (the texel whose centre is nearest), and its trim-texture coordinate
-    // for the renderer's interpolated lookup.
-    const int width = std::max(s->nu, s->nv);
-    std::vector<float> table(static_cast<std::size_t>(width) * 2 * 4, 0.0f);
-    auto fill = [&](const std::vector<double>& values, double lo, double hi, int row) {
-      for (std::size_t k = 0; k < values.size(); ++k) {
-        const double t = (values[k] - lo) / (hi - lo);
-        const int texel = std::clamp(static_cast<int>(std::floor(t * r)), 0, r - 1);
-        float* texel_out = &table[(static_cast<std::size_t>(row) * width + k) * 4];
-        texel_out[0] = static_cast<float>(texel) + 0.5f;  // exact; int() in the shader floors
-        texel_out[1] = static_cast<float>(t);
-      }
-    };
-    fill(grid.u, surface.u_min(), surface.u_max(), 0);
-    fill(grid.v, surface.v_min(), surface.v_max(), 1);
-    s->parameters = gl::Texture(context_, GL_RG32F, width, 2, false);
-    s->parameters.upload(GL_RGBA, GL_FLOAT, table.data(), sizeof(float) * 4);
-    s->mask = gl::Texture(context_, GL_R8, s->nv, s->nu, true);
     surfaces_.push_back(std::move(s));
   }
   context_.bind_framebuffer(0);

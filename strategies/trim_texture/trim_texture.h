@@ -29,6 +29,10 @@ class TrimTextures {
   // grids); drops any previous classification. Throws RefusedError when a grid side exceeds
   // GL_MAX_TEXTURE_SIZE (the mask is one texture per surface).
   void prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples);
+  // 000 §3.2 with §4: surface `surface` sampled at a new grid; its sample table and mask are made
+  // anew, the trim texture (which depends only on the loops) stays. Nothing for an untrimmed
+  // surface; the same limits as prepare().
+  void resample(std::size_t surface, const SurfaceSamples& grid);
   // The lookup pass of every trimmed surface (Strategy::classify()); returns true when the device
   // is done.
   bool classify();
@@ -49,6 +53,7 @@ class TrimTextures {
   struct Surface;
   void draw_trim(const std::vector<std::vector<Point2>>& polygons, const nurbs::Surface& surface,
                  const gl::Texture& target);
+  void make_sample_table(Surface& s, const SurfaceSamples& grid);
 
   gl::Context& context_;
   Options options_;

@@ -2,7 +2,7 @@
 // glsl-deboor), against the reference's exact classification (reference/trim_classify.h, long
 // double), the oracle: on trimmed-plate and hammer,
 //  - every misclassified sample outside the band lies within the derived distance d of the exact
-//    boundary (strategies/trim_texture/trim_polygons.h):
+//    boundary (trim_texture::misclassification_distance, strategies/trim_texture/trim_polygons.h):
 //      d = (1/2 + 2^-(s+1)) * sqrt(h_u^2 + h_v^2) + tol,   h_u = du / R, h_v = dv / R,
 //    half a texel diagonal (a sample reads the texel whose centre is nearest, and that texel holds
 //    the polygon's parity at its centre), the rasterizer's vertex snapping to 2^-s of a texel
@@ -105,9 +105,9 @@ Outcome measure(const std::string& strategy_name, const std::string& scene_name,
     }
     const double du = surface.u_max() - surface.u_min(), dv = surface.v_max() - surface.v_min();
     const double diagonal = domain_diagonal(surface);
-    const double texel_diagonal = std::hypot(du / resolution, dv / resolution);
-    const double d =
-        (0.5 + std::ldexp(1.0, -(subpixel_bits + 1))) * texel_diagonal + tolerance * diagonal;
+    // The bound itself is held to hand-computed values in trim_polygons_test.
+    const double d = trim_texture::misclassification_distance(du, dv, resolution,
+                                                              tolerance * diagonal, subpixel_bits);
     // trim_classify.h: the distance is within 1% (and 1e-12 of the loops' extent).
     const double d_checked = d * 1.01 + 1e-12 * diagonal;
     const TrimClassification& exact = truth.surfaces[i];

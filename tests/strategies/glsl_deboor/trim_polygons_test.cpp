@@ -58,9 +58,13 @@ TEST(TrimTextureOptions, trim_defaults_and_values) {
   EXPECT_THROW(trim_texture::parse_options(o, "s"), std::invalid_argument);
 }
 
-TEST(TrimTextureOptions, trim_distance_is_half_a_texel_diagonal_plus_tolerance) {
-  EXPECT_DOUBLE_EQ(trim_texture::misclassification_distance(1, 1, 64, 0), 0.5 * std::sqrt(2) / 64);
-  EXPECT_DOUBLE_EQ(trim_texture::misclassification_distance(4, 3, 100, 0.01), 0.025 + 0.01);
+// d = (1/2 + 2^-(s+1)) x texel diagonal + tolerance, by hand: a 64-texel unit square has texel
+// diagonal sqrt(2)/64; a 4 x 3 domain at R = 100 has texels 0.04 x 0.03, diagonal 0.05.
+TEST(TrimTextureOptions, trim_distance_is_half_a_texel_diagonal_and_snapping_plus_tolerance) {
+  EXPECT_DOUBLE_EQ(trim_texture::misclassification_distance(1, 1, 64, 0, 8),
+                   (0.5 + 1.0 / 512) * std::sqrt(2) / 64);
+  EXPECT_DOUBLE_EQ(trim_texture::misclassification_distance(4, 3, 100, 0.01, 4),
+                   0.05 * (0.5 + 1.0 / 32) + 0.01);
 }
 
 }  // namespace

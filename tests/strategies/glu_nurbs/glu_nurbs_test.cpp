@@ -1,4 +1,5 @@
 // glu-nurbs: where GLU samples and what it returns, checked against values computed here.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,9 +8,11 @@
 #include <utility>
 
 #include "harness/runner.h"
+#include "reference/trim_classify.h"
 #include "scenes/builtin_scenes.h"
 #include "scenes/trimmed_plate.h"
 #include "strategies/registry.h"
+#include "tests/scenes/high_degree_trim.h"
 #include "tests/scenes/trimmed_plate_closed_form.h"
 
 namespace nurbs {
@@ -179,6 +182,43 @@ TEST(GluNurbsTrims, TessellationOfTheTrimmedPlateKeepsOutOfTheHoleAndTheCorners)
   for (std::size_t k = 0; k < b.samples.count(); ++k)
     uv_b.insert({b.samples.u_of(k), b.samples.v_of(k)});
   EXPECT_EQ(uv_a, uv_b);
+}
+
+// GLU's trim tessellator converts each Bézier arc to the power basis through a table of orders
+// 1..8 and reads past it for a degree-8 curve (bearing.iges face-163: SIGSEGV in evaluate).
+// Degree 7, the last order of the table, tessellates and keeps the face: no vertex lies clearly
+// outside the loop by the reference classifier (GLU's chords cut inside arcs, never far out);
+// degree 8 is refused in prepare, naming the curve and the limit, before GLU sees it.
+TEST(GluNurbsTrims, TrimCurvesUpToDegree7AndRefusesHigherBeforeGluCrashes) {
+  if (!glu().probe().available) GTEST_SKIP() << glu().probe().reason;
+  const Scene seven = test::high_degree_trim_scene(7);
+  const EvalResult r = run(seven, 64, 64);
+  ASSERT_EQ(r.surfaces.size(), 1u);
+  const SurfaceResult& drawn = r.surfaces[0];
+  ASSERT_GT(drawn.samples.count(), 500u);
+  const TrimClassification exact =
+      classify_trim_samples(*seven.surfaces[0].trim, drawn.samples, true, TrimScalar::long_double);
+  std::size_t outside = 0;
+  for (std::size_t k = 0; k < drawn.samples.count(); ++k)
+    outside += exact.inside[k] == 0 && exact.distance[k] > 0.01;
+  EXPECT_EQ(outside, 0u);
+
+  for (int degree : {8, 15}) {
+    auto strategy = glu().create(StrategyOptions{});
+    Sampling grid;
+    grid.grid_u = grid.grid_v = 16;
+    try {
+      strategy->prepare(test::high_degree_trim_scene(degree),
+                        EvalRequest{grid, Precision::f32, false});
+      ADD_FAILURE() << "degree " << degree << " not refused";
+    } catch (const RefusedError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(fmt::format("trim.loops[0].curves[0].degree = {}", degree)),
+                std::string::npos)
+          << what;
+      EXPECT_NE(what.find("up to degree 7"), std::string::npos) << what;
+    }
+  }
 }
 
 TEST(GluNurbsTrims, RecordsSayUntrimmedAndScoreTheTrimmedTessellation) {

@@ -16,12 +16,11 @@
 
 namespace nurbs::test {
 
-inline void expect_strategy_trims_exactly(const std::string& strategy,
+inline void expect_strategy_trims_exactly(const std::string& strategy, const Scene& scene,
                                           const std::string& scene_name, const Sampling& sampling,
                                           Precision precision,
                                           const StrategyOptions& options = {}) {
   SCOPED_TRACE(strategy + " on " + scene_name);
-  const Scene scene = *make_builtin_scene(scene_name);
   auto s = find_strategy(strategy)->create(options);
   ASSERT_TRUE(s->capabilities().trims);
   s->prepare(scene, EvalRequest{sampling, precision, false});
@@ -59,6 +58,14 @@ inline void expect_strategy_trims_exactly(const std::string& strategy,
       "mean %.2f max %d (bound %d)\n",
       strategy.c_str(), scene_name.c_str(), total.misclassified, total.compared, total.in_band,
       mean_reads, max_reads, bound);
+}
+
+inline void expect_strategy_trims_exactly(const std::string& strategy,
+                                          const std::string& scene_name, const Sampling& sampling,
+                                          Precision precision,
+                                          const StrategyOptions& options = {}) {
+  expect_strategy_trims_exactly(strategy, *make_builtin_scene(scene_name), scene_name, sampling,
+                                precision, options);
 }
 
 // Every invalid trim-epsilon / trim-iterations is refused by `create` (a strategy's factory, or

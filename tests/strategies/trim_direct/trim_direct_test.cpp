@@ -6,16 +6,19 @@
 // selects them.
 #include <gtest/gtest.h>
 
+#include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/trim_direct/trim_tables.h"
+#include "tests/scenes/high_degree_trim.h"
 #include "tests/strategies/trim_direct/strategy_trim_check.h"
 
 namespace nurbs {
 namespace {
 
 template <typename T>
-void expect_exact_on(const std::string& scene_name, const Sampling& sampling) {
-  const std::optional<Scene> scene = make_builtin_scene(scene_name);
+void expect_exact_on(const std::string& scene_name, const Sampling& sampling,
+                     std::optional<Scene> scene = std::nullopt) {
+  if (!scene) scene = make_builtin_scene(scene_name);
   ASSERT_TRUE(scene);
   const trim_direct::Settings settings;
   const auto tables = trim_direct::build_tables<T>(*scene, settings);
@@ -55,8 +58,19 @@ TEST(trim_direct, HammerFloatAndDouble) {
   expect_exact_on<double>("hammer", trim_grid(33));
 }
 
-TEST(trim_direct, PiecesAreMonotone) {
-  const Scene scene = *make_builtin_scene("hammer");
+// Trim curves of degree 9 to 15 (kMaxDegree), rational, several pieces each: the same gate.
+TEST(trim_direct, TrimCurvesUpToDegree15) {
+  for (int degree = 9; degree <= kMaxDegree; ++degree) {
+    const Scene scene = test::high_degree_trim_scene(degree);
+    validate_scene(scene, "high_degree_trim_scene");
+    expect_exact_on<float>(scene.surfaces[0].name, trim_grid(65), scene);
+    expect_exact_on<double>(scene.surfaces[0].name, trim_grid(65), scene);
+    for (const auto& piece : trim_direct::monotone_pieces(*scene.surfaces[0].trim, 0, 0))
+      EXPECT_TRUE(piece.degree == degree || piece.degree == 1) << piece.degree;
+  }
+}
+
+void expect_monotone_pieces(const Scene& scene) {
   for (const Surface& s : scene.surfaces) {
     const auto pieces = trim_direct::monotone_pieces(*s.trim, 0, 0);
     ASSERT_FALSE(pieces.empty());
@@ -87,6 +101,12 @@ TEST(trim_direct, PiecesAreMonotone) {
       }
     }
   }
+}
+
+TEST(trim_direct, PiecesAreMonotone) {
+  expect_monotone_pieces(*make_builtin_scene("hammer"));
+  for (int degree = 9; degree <= kMaxDegree; degree += 3)
+    expect_monotone_pieces(test::high_degree_trim_scene(degree));
 }
 
 // The gate can fail: stopping the bisection at 5% of the diagonal misclassifies samples well
