@@ -43,6 +43,9 @@
 //   SB_R        + s * SB_MAX_DEG + t   r[s][t] = 1 / (x_{i+1+t} - x_{i-s}), s, t = 0..p-1
 //   SB_COLUMN   + c, c = 0..p          A_c (A_0 = 1)
 //   SB_DIAGONAL + d, d = 0..p          B_d (B_0 = 1)
+// (stair_basis regroups A_c and B_d with the powers they divide, from r, so that float neither
+// overflows nor underflows there; A and B stay in the layout as the paper's constants, and
+// overflow to inf in float on short spans of high degree without harm.)
 
 #if defined(__cplusplus)
 // The includer defines SB_REAL (float, double or long double).
@@ -135,13 +138,14 @@ SB_FN void stair_basis(SB_CONSTS c, int degree, SB_REAL u, SB_OUT_ARRAY(basis), 
   SB_REAL diag[SB_MAX_ORDER];
   col[0] = SB_TO_REAL(1);
   diag[0] = SB_TO_REAL(1);
-  SB_REAL pow_l = SB_TO_REAL(1);
-  SB_REAL pow_r = SB_TO_REAL(1);
+  // As running products of the ratios (u - x_i) / (x_i+m - x_i) and (x_i+1 - u) / (x_i+1 -
+  // x_i+1-m), each in [0, 1] on the span, not as the paper's (u - x_i)^m * A_m: at a high degree
+  // over short spans A_m overflows float while the power underflows, and 0 * inf is NaN
+  // (linkrods.step's face 20: degree 10, spans of 2e-6 near v = 3.6, 333 NaN points from
+  // vk-ksquad). Same factors as A_m and B_m (SB_COLUMN, SB_DIAGONAL), regrouped.
   for (int m = 1; m <= p; ++m) {
-    pow_l *= dl[0];
-    pow_r *= dr[0];
-    col[m] = pow_l * SB_C(c, SB_COLUMN + m);
-    diag[m] = pow_r * SB_C(c, SB_DIAGONAL + m);
+    col[m] = col[m - 1] * (dl[0] * SB_RS(c, 0, m - 1));
+    diag[m] = diag[m - 1] * (dr[0] * SB_RS(c, m - 1, 0));
   }
   basis[p] = col[p];   // k = 0: N_{i,p}
   basis[0] = diag[p];  // k = p: N_{i-p,p}
