@@ -10,7 +10,8 @@
 //    build of the same function (vk-constants=host, kept to compare), and read from a storage
 //    buffer; KSQuads sharing a span share its constants. They depend on the knots alone, so a
 //    deforming frame never recomputes them.
-//  * Uniform mode (003 §4's uniform mapping): the levels of a patch are the segment counts of its
+//  * Uniform mode (vk-mode=uniform, our mapping for the harness's requested grids and span grids;
+//    003 §4's mapping that "obtains a uniform result" is the adaptive one below): the levels of a patch are the segment counts of its
 //    u and v runs. Span grid T: the tessellator chooses the samples -- its (T+1)x(T+1) lattice
 //    per KSQuad (DESIGN.md's span grid), the parameter blended from the span's knots by
 //    gl_TessCoord (ksquad.tese span_parameter) and returned with the position, so the samples
@@ -23,7 +24,8 @@
 //  * Capture: storage-buffer writes from the evaluation stage (vertexPipelineStoresAndAtomics),
 //    rasterization discarded; transform feedback would need a vertex order the tessellator does
 //    not specify.
-//  * Adaptive mode (003 §3.1, local area average): the KSQuad corners S(x_k, y_l), one table
+//  * Adaptive mode (003 §4's second mapping, the one the paper calls uniform; §3.1's local area
+//    average, eq. 3): the KSQuad corners S(x_k, y_l), one table
 //    shared by the KSQuads meeting there, evaluated on the device by a compute pass before the
 //    draws of every evaluate()/render() (vk-corners=device, the default: 003 §1's "whole NURBS
 //    equation in the GPU without any precomputation on the CPU"; each corner once, with the span
@@ -175,6 +177,8 @@ VkKsquad::VkKsquad(int device_index, const KsquadSettings& settings,
   if (settings_.adaptive) {
     record_.details["vk_mode"] = settings_.nonuniform ? "nonuniform" : "adaptive";
     record_.details["vk_corners"] = settings_.device_corners ? "device" : "host";
+    record_.details["vk_eq3"] = settings_.eq3_literal ? "literal" : "edge";
+    record_.details["vk_thresholds"] = settings_.surface_thresholds ? "surface" : "global";
   }
   if (settings_.nonuniform) {
     record_.details["vk_epsilon"] = fmt::format("{}", settings_.epsilon);
@@ -314,6 +318,7 @@ void VkKsquad::set_mode(const Scene& scene) {
   mode_.mu =
       static_cast<float>(settings_.nonuniform ? settings_.mu * (1 << kNuDepth) : settings_.mu);
   mode_.nonuniform = settings_.nonuniform ? 1 : 0;
+  mode_.eq3_literal = settings_.eq3_literal ? 1 : 0;
   mode_.epsilon = static_cast<float>(settings_.epsilon);
   mode_.eta = static_cast<float>(settings_.eta);
   mode_.viewport[0] = static_cast<float>(settings_.viewport[0]);
@@ -330,6 +335,13 @@ void VkKsquad::build_tables(const Scene& scene) {
     const std::vector<int> friendless = vk_ksquad::friendless_sides(scene);
     for (std::size_t i = 0; i < friendless.size(); ++i)
       tables_.surfaces[i * kSurfaceInts + vk_ksquad::kSurfaceFriendless] = friendless[i];
+  }
+  if (settings_.adaptive && settings_.surface_thresholds) {
+    const std::vector<double> scales = vk_ksquad::surface_threshold_scales(
+        scene, vk_ksquad::scene_camera(scene, settings_), settings_.viewport);
+    for (std::size_t i = 0; i < scales.size(); ++i)
+      tables_.surfaces[i * kSurfaceInts + vk_ksquad::kSurfaceThresholdScale] =
+          std::bit_cast<int>(static_cast<float>(scales[i]));
   }
   tables_.patches.clear();
   tables_.constants.clear();
