@@ -403,8 +403,27 @@ void VkKsquad::build_tables(const Scene& scene) {
       corner_jobs_.insert(corner_jobs_.end(),
                           {surface * kSurfaceInts, span_u, span_v, constants(surface, 0, span_u),
                            constants(surface, 1, span_v), end_u, end_v, 0});
-  for (const ksquad::KSQuad& q : quads) {
+  // A knot span non-empty in double but empty in float (knots closer than a float ulp:
+  // linkrods.step's face 33, 1.8e-8 apart near v = -3.61) has stair constants 1 / 0. Every
+  // parameter of it rounds to the one float x_i, which A2.1 on the float knots puts in a span
+  // non-empty in float -- the one the reference's search takes for that float: the uniform
+  // mapping evaluates there, at that span's start (share 0, 0) or, at the domain's end, its end
+  // (1, 1). (Grids never land there: ksquad::runs_of_grid searches the float knots. Adaptive
+  // mode keeps the span: its tessellator spans the whole KSQuad.)
+  const auto in_float = [&](const Surface& s, int direction, int span) {
+    const std::vector<double>& k = direction == 0 ? s.knots_u : s.knots_v;
+    const std::vector<float> kf(k.begin(), k.end());
+    if (settings_.adaptive || kf[span] < kf[span + 1]) return std::make_pair(span, -1.0f);
+    const int t = find_span(direction == 0 ? s.degree_u : s.degree_v,
+                            direction == 0 ? s.count_u : s.count_v, kf.data(), kf[span]);
+    return std::make_pair(t, kf[span] == kf[t] ? 0.0f : 1.0f);
+  };
+  for (ksquad::KSQuad q : quads) {
     const Surface& s = scene.surfaces[q.surface];
+    const auto [float_u, share_u] = in_float(s, 0, q.u.span);
+    const auto [float_v, share_v] = in_float(s, 1, q.v.span);
+    q.u.span = float_u;
+    q.v.span = float_v;
     const int cu = constants(q.surface, 0, q.u.span), cv = constants(q.surface, 1, q.v.span);
     int c[4] = {0, 0, 0, 0};
     if (settings_.adaptive)
@@ -428,8 +447,10 @@ void VkKsquad::build_tables(const Scene& scene) {
       for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, piece_cap))
         for (int piece = 0; piece < pieces; ++piece) {
           const int lu = vk_ksquad::run_level(a), lv = vk_ksquad::run_level(b);
-          const auto [u_lo, u_hi] = vk_ksquad::piece_share(q.u, a);
-          const auto [v_lo, v_hi] = vk_ksquad::piece_share(q.v, b);
+          auto [u_lo, u_hi] = vk_ksquad::piece_share(q.u, a);
+          auto [v_lo, v_hi] = vk_ksquad::piece_share(q.v, b);
+          if (share_u >= 0) u_lo = u_hi = share_u;
+          if (share_v >= 0) v_lo = v_hi = share_v;
           const int row[kPatchInts] = {q.surface,
                                        q.u.span,
                                        q.v.span,
