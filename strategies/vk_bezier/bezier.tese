@@ -105,9 +105,11 @@ void main() {
     v = params[surfaces[s + 6] + b];
   }
   // The Bézier patch's own parameters (cpu-bezier's axis_sample): the span's knots map to 0, 1.
+  // A span non-empty in double but empty in float (knots closer than a float ulp: linkrods.step's
+  // face 33) has one float parameter, its start: t = 0 (not 0 / 0), the patch's exact corner row.
   float bu[BEZIER_MAX_ORDER], bv[BEZIER_MAX_ORDER];
-  all_bernstein(p, (u - x0) / (x1 - x0), bu);
-  all_bernstein(q, (v - y0) / (y1 - y0), bv);
+  all_bernstein(p, x1 > x0 ? (u - x0) / (x1 - x0) : 0.0, bu);
+  all_bernstein(q, y1 > y0 ? (v - y0) / (y1 - y0) : 0.0, bv);
   const int first = patches[row + 3];
   vec4 sum = vec4(0.0);
   for (int i = 0; i <= p; ++i) {

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <utility>
 
 #include "reference/nurbs_math.h"
 #include "strategies/vk_ksquad/nonuniform_mapping.h"
+#include "strategies/vk_ksquad/patches.h"
 #include "strategies/vk_ksquad/vk_ksquad_class.h"
 
 namespace nurbs::vk_ksquad {
@@ -64,20 +66,56 @@ int Corners::at(const Surface& s, int surface, int a, int b) const {
 }
 
 KsquadStatistics adaptive_statistics(KsquadStatistics st, const HostTables& tables,
-                                     const std::vector<float>& levels, int most_level) {
+                                     const std::vector<float>& levels, int most_level,
+                                     bool nonuniform) {
   st.implied_vertices = 0;
+  st.tessellated_triangles = 0;
   st.max_level = 0;
   const float most = static_cast<float>(most_level);
+  // per KSQuad (surface, span_u, span_v): the segments of its four outer edges
+  std::map<std::array<int, 3>, std::array<float, 4>> edge_segments;
   for (std::size_t k = 0; k < tables.patch_count(); ++k) {
     const float* o = &levels[8 * k];
-    if (tables.patches[kPatchInts * k + kPatchPiece] == 0)  // once per KSQuad
-      for (int e = 0; e < 4; ++e) st.capped_edges += o[4 + e] > most;
+    const int* row = &tables.patches[kPatchInts * k];
+    if (row[kPatchPiece] == 0) {  // once per KSQuad
+      std::array<float, 4> segments{};
+      for (int e = 0; e < 4; ++e) {
+        st.capped_edges += o[4 + e] > most;
+        // adaptive: the KSQuad edge's level (its pieces share it out); nonuniform: one piece,
+        // whose outer levels are its lattice's
+        segments[e] = nonuniform ? o[e] : std::min(o[4 + e], most);
+      }
+      edge_segments[{row[0], row[1], row[2]}] = segments;
+    }
     if (o[0] <= 0) continue;  // a piece the KSQuad did not need: discarded
     const int i0 = static_cast<int>(std::max({o[1], o[3], 2.0f}));
     const int i1 = static_cast<int>(std::max({o[0], o[2], 2.0f}));
     st.implied_vertices += static_cast<std::uint64_t>(o[0] + o[1] + o[2] + o[3]) +
                            static_cast<std::uint64_t>(i0 - 1) * (i1 - 1);
+    // the inner levels as the control stage set them (ksquad.tesc)
+    st.tessellated_triangles += quad_domain_triangles(o, i0, i1);
     for (int e = 0; e < 4; ++e) st.max_level = std::max(st.max_level, static_cast<int>(o[e]));
+  }
+  // A KSQuad's edge u = x_i+1 (2) is the next KSQuad's in u edge u = x_i (0) -- every non-empty
+  // span pair is a KSQuad here, so the next u span is the first key past (surface, span_u, max) --
+  // and v likewise (3 against 1).
+  st.shared_edges = st.cracked_edges = 0;
+  for (auto it = edge_segments.begin(); it != edge_segments.end(); ++it) {
+    const auto& [key, segments] = *it;
+    const auto after =
+        edge_segments.upper_bound({key[0], key[1], std::numeric_limits<int>::max()});
+    if (after != edge_segments.end() && after->first[0] == key[0])
+      if (const auto next_u = edge_segments.find({key[0], after->first[1], key[2]});
+          next_u != edge_segments.end()) {
+        ++st.shared_edges;
+        st.cracked_edges += next_u->second[0] != segments[2];
+      }
+    const auto next_v = std::next(it);  // same surface and u span: the next v span
+    if (next_v != edge_segments.end() && next_v->first[0] == key[0] &&
+        next_v->first[1] == key[1]) {
+      ++st.shared_edges;
+      st.cracked_edges += next_v->second[1] != segments[3];
+    }
   }
   return st;
 }
@@ -188,7 +226,7 @@ constexpr std::uint32_t kCornerGroup = 64;  // ksquad_corners.comp: local_size_x
 KsquadStatistics VkKsquad::statistics() const {
   if (!settings_.adaptive || patch_count_ == 0) return stats_;
   const KsquadStatistics st = vk_ksquad::adaptive_statistics(
-      stats_, tables_, read_levels(), settings_.max_level * settings_.pieces);
+      stats_, tables_, read_levels(), settings_.max_level * settings_.pieces, settings_.nonuniform);
   return settings_.nonuniform ? vk_ksquad::nonuniform_statistics(st, ksdice()) : st;
 }
 
@@ -215,10 +253,21 @@ std::vector<float> VkKsquad::read_slots() const {
 }
 
 EvalResult VkKsquad::read_back_adaptive() {
+  record_eq3_details(statistics());
   std::vector<float> slot_normals(request_.normals ? patch_count_ * region_ * 3 : 0);
   if (!slot_normals.empty())
     normals_.read(slot_normals.data(), slot_normals.size() * sizeof(float));
   return vk_ksquad::adaptive_result(tables_, read_slots(), slot_normals, region_, surface_count_);
+}
+
+// What eq. 3's reading (vk-eq3) and thresholds gave, for the record (the runner reads device()
+// after read_back()).
+void VkKsquad::record_eq3_details(const KsquadStatistics& st) {
+  record_.details["eq3_shared_edges"] = std::to_string(st.shared_edges);
+  record_.details["eq3_cracked_edges"] = std::to_string(st.cracked_edges);
+  record_.details["eq3_max_level"] = std::to_string(st.max_level);
+  if (!settings_.nonuniform)
+    record_.details["tessellated_triangles"] = std::to_string(st.tessellated_triangles);
 }
 
 // vk-corners=device: the corner pass, then a barrier so the control stage reads its corners.

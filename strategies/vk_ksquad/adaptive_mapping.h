@@ -28,9 +28,10 @@ struct Corners {
 Corners corner_table(const Scene& scene, bool on_host);
 
 // The statistics implied by the levels buffer (8 floats per patch: 4 set, 4 wanted); edges past
-// `most_level` counted as capped.
+// `most_level` counted as capped; shared and cracked KSQuad edges (`nonuniform`: by the lattice).
 KsquadStatistics adaptive_statistics(KsquadStatistics st, const HostTables& tables,
-                                     const std::vector<float>& levels, int most_level);
+                                     const std::vector<float>& levels, int most_level,
+                                     bool nonuniform);
 std::vector<PatchLevels> adaptive_patch_levels(const HostTables& tables,
                                                const std::vector<float>& levels);
 // Every captured vertex on each KSQuad's four edges (`region` slots per patch).

@@ -15,7 +15,13 @@
 //    fixed order, from one shared corner table), so the KSQuads on both sides of an edge compute
 //    the same float operations on the same data and choose the same level: no cracks. Inner
 //    levels are the larger of the two opposite edges' (at least 2, so interior vertices sit on
-//    the inner lattice even when both edges are 1).
+//    the inner lattice even when both edges are 1). This per-edge reading departs from the
+//    printed quantifiers "k, m in {i, i+1} and k < m, l, n in {j, j+1} and l < n": read
+//    literally they leave the one pair (x_i, y_j)-(x_i+1, y_j+1), the KSQuad's diagonal, and one
+//    tau for the whole KSQuad. vk-eq3=literal (mode.eq3_literal) does that -- every edge's level
+//    from the diagonal -- so the two readings can be measured against each other (neighbours then
+//    choose different levels on a shared edge: cracks, counted by the host).
+//    vk-thresholds=surface: mu times the surface's threshold_scale (ksquad_tables.glsl).
 layout(vertices = 1) out;
 // Adaptive: this patch's corners in its KSQuad's (fu, fv), (0,0) (1,0) (0,1) (1,1) of the
 // tessellator's domain; the row of the Info-KSQuad table (the evaluation stage reads it from here:
@@ -30,13 +36,27 @@ vec2 project(int corner) {
   return c.xy / c.w * 0.5 * mode.viewport;
 }
 
-// The level an edge wants (before the cap): +inf when a corner is behind the eye.
-float wanted_level(int a, int b) {
+// The level the corner pair (a, b) wants (before the cap): +inf when a corner is behind the eye.
+float wanted_level(int a, int b, float mu) {
   const int first = min(a, b), second = max(a, b);
   const vec4 ca = mode.view_projection * vec4(corners[first].xyz, 1.0);
   const vec4 cb = mode.view_projection * vec4(corners[second].xyz, 1.0);
   if (ca.w <= 0.0 || cb.w <= 0.0) return 1.0 / 0.0;
-  return floor(distance(project(first), project(second)) / mode.mu) + 1.0;
+  return floor(distance(project(first), project(second)) / mu) + 1.0;
+}
+
+// Eq. 3's levels of the four outer edges (u = x_i, v = y_j, u = x_i+1, v = y_j+1) of the KSQuad
+// whose table row starts at `row`: per edge, or (vk-eq3=literal) all from the diagonal pair.
+float[4] wanted_levels(int row) {
+  const int c00 = patches[row + 12], c10 = patches[row + 13], c01 = patches[row + 14],
+            c11 = patches[row + 15];
+  const float mu = mode.mu * threshold_scale(patches[row] * SURFACE_INTS);
+  if (mode.eq3_literal != 0) {
+    const float tau = wanted_level(c00, c11, mu);
+    return float[4](tau, tau, tau, tau);
+  }
+  return float[4](wanted_level(c00, c01, mu), wanted_level(c00, c10, mu),
+                  wanted_level(c10, c11, mu), wanted_level(c01, c11, mu));
 }
 
 // The index of the vertex where cut k of `cuts` cuts an edge of `level` segments, as a fraction
@@ -83,10 +103,7 @@ void main() {
     // geometry stage's deepest subdivision of a KSDie gives back vk-mu pixels. A KSDie is a
     // rectangle (003 §3.1: one δx, one δy), so the KSQuad's lattice is regular: each direction takes
     // the larger of its two edges' levels, capped at vk-max-level (the host counts what was cut).
-    const int c00 = patches[row + 12], c10 = patches[row + 13], c01 = patches[row + 14],
-              c11 = patches[row + 15];
-    const float wanted[4] = float[4](wanted_level(c00, c01), wanted_level(c00, c10),
-                                     wanted_level(c10, c11), wanted_level(c01, c11));
+    const float wanted[4] = wanted_levels(row);
     const float cap = float(mode.max_level);
     const float level_u = min(max(wanted[1], wanted[3]), cap);
     const float level_v = min(max(wanted[0], wanted[2]), cap);
@@ -98,10 +115,7 @@ void main() {
       levels[8 * PATCH + 4 + e] = wanted[e];
     }
   } else {
-    const int c00 = patches[row + 12], c10 = patches[row + 13], c01 = patches[row + 14],
-              c11 = patches[row + 15];
-    const float wanted[4] = float[4](wanted_level(c00, c01), wanted_level(c00, c10),
-                                     wanted_level(c10, c11), wanted_level(c01, c11));
+    const float wanted[4] = wanted_levels(row);
     // A KSQuad's edge past the cap is cut, not capped (003 §4 leaves levels past the tessellator's
     // 64 open): the KSQuad is drawn as mode.pieces^2 patches (row + 11: this one's index), of
     // which the first n_u x n_v are used, n_u = ceil(max(L1, L3) / cap) (n_v from L0, L2); each

@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Evaluation stage (003 §4's domain shader): evaluates the KSQuad at the tessellator's vertex
 // with the stair basis and writes the result to a storage buffer.
-//  * uniform (003 §4's uniform mapping): the levels are the segment counts of the patch's runs
+//  * uniform (vk-mode=uniform; not 003 §4's "uniform" mapping, which is our adaptive mode: eq.
+//    3's levels): the requested lattice, the levels are the segment counts of the patch's runs
 //    (ksquad.tesc), and the slot of a vertex is its lattice index (a, b), so a vertex evaluated
 //    twice writes the same value to the same place. The parameter:
 //     - span grid: the tessellator chooses it: span_parameter() of gl_TessCoord over the patch's
@@ -13,7 +14,8 @@
 //       its samples. gl_TessCoord picks the lattice vertex (a, b) of the patch's runs and the
 //       parameter is the requested one (the float rounding of sample_parameters), so results
 //       are measured at exactly the requested (u, v).
-//  * adaptive: (u, v) = span_parameter() of gl_TessCoord over the KSQuad, captured with (u, v) in
+//  * adaptive (003 §4's second mapping, the one the paper says "obtains a uniform result"):
+//    (u, v) = span_parameter() of gl_TessCoord over the KSQuad, captured with (u, v) in
 //    the patch's region of slots: one per vertex of each outer edge, then the inner lattice; a
 //    slot again depends only on the vertex.
 //  * raster (specialization constant 0 = 1; the render() path, 003 §4's pipeline end to end): in

@@ -24,8 +24,9 @@ struct ModeConstants {
   std::int32_t adaptive, max_level, region, normals, patch_base, span_grid, pieces;
   float epsilon, eta;
   std::int32_t nonuniform;
+  std::int32_t eq3_literal;
 };
-static_assert(sizeof(ModeConstants) == 116);
+static_assert(sizeof(ModeConstants) == 120);
 
 // ksquad_nonuniform.glsl: the nonuniform mapping's geometry stage subdivides a KSDie at most
 // kNuDepth times (a kNuLattice^2 lattice), writes kNuKsdieInts per KSDie and kNuVertexFloats per
@@ -39,6 +40,8 @@ inline constexpr int kKsdieEmitted = 1, kKsdieFrustumCulled = 2, kKsdieBackCulle
 // the surface table's row: the mask of the domain sides shared with a surface that is not a
 // friend (003 §3.1's boundary-region test), the row's first pad int
 inline constexpr int kSurfaceFriendless = 9;
+// the surface table's row: the factor of its μ, ε, η (float bits; 1 unless vk-thresholds=surface)
+inline constexpr int kSurfaceThresholdScale = 10;
 
 // Host copies of the surface table, the Info-KSQuad table and the stair constants.
 struct HostTables {

@@ -16,9 +16,14 @@
 //     uniform inside the KSDie, the depth the larger of:
 //     - eq. 4, the linear-approximation test: at depth d the KSDie is 2^d x 2^d cells; a cell
 //       passes when at its centre and at its four edge midpoints |p(S(u, v)) - p(S'(u, v))| < ε,
-//       S' the bilinear interpolation of the cell's four corners in world space (the point the
-//       unsubdivided cell would render there); the depth is the smallest d whose cells all pass
-//       (003 takes the max over the whole cell; we sample it at those five points), else NU_DEPTH;
+//       S' the point the unsubdivided cell renders at (u, v): the cell is drawn as the two
+//       triangles of step 3's strip, (0,0) (0,1) (1,0) and (0,1) (1,0) (1,1), so an edge midpoint
+//       renders at the mean of its edge's two corners and the centre, on the shared diagonal
+//       (0,1)-(1,0), at the mean of those two corners -- not at the bilinear mean of all four,
+//       which no drawn triangle passes through (the rasterizer interpolates the world-space
+//       triangle, so p(S') is the projection of that barycentric point); the depth is the smallest
+//       d whose cells all pass (003 takes the max over the whole cell; we sample it at those five
+//       points), else NU_DEPTH;
 //     - eq. 5, the boundary-region test, on the sides the f tag marks: the smallest d at which
 //       every one of the 2^d pieces of each marked side projects shorter than η, else NU_DEPTH.
 //     f (003 §3.1's 4-bit tag): bit e set when side e of the KSDie (0 u = lo, 1 v = lo, 2 u = hi,
@@ -47,6 +52,7 @@ layout(location = 1) flat out int trim_surface;
 
 vec3 lattice[NU_LATTICE][NU_LATTICE];
 vec2 screen[NU_LATTICE][NU_LATTICE];
+float epsilon, eta;  // mode's, times the surface's threshold_scale (vk-thresholds=surface)
 
 // eq. 4 for the cell with corner (a, b) and `step` lattice steps a side.
 bool linear_cell_passes(int a, int b, int step) {
@@ -55,10 +61,11 @@ bool linear_cell_passes(int a, int b, int step) {
              c11 = lattice[a + step][b + step];
   const ivec2 at[5] = ivec2[5](ivec2(a + h, b + h), ivec2(a + h, b), ivec2(a, b + h),
                                ivec2(a + step, b + h), ivec2(a + h, b + step));
-  const vec3 linear[5] = vec3[5](0.25 * (c00 + c10 + c01 + c11), 0.5 * (c00 + c10),
+  // the centre lies on the strip's diagonal (0,1)-(1,0) (main: the emission order)
+  const vec3 linear[5] = vec3[5](0.5 * (c01 + c10), 0.5 * (c00 + c10),
                                  0.5 * (c00 + c01), 0.5 * (c10 + c11), 0.5 * (c01 + c11));
   for (int k = 0; k < 5; ++k)
-    if (!(distance(screen[at[k].x][at[k].y], pixels(linear[k])) < mode.epsilon)) return false;
+    if (!(distance(screen[at[k].x][at[k].y], pixels(linear[k])) < epsilon)) return false;
   return true;
 }
 
@@ -82,12 +89,12 @@ int boundary_depth(int f) {
     bool pass = true;
     for (int k = 0; k < last; k += step) {
       // side 0: u = lo (a = 0), 1: v = lo (b = 0), 2: u = hi, 3: v = hi
-      if ((f & 1) != 0) pass = pass && distance(screen[0][k], screen[0][k + step]) < mode.eta;
-      if ((f & 2) != 0) pass = pass && distance(screen[k][0], screen[k + step][0]) < mode.eta;
+      if ((f & 1) != 0) pass = pass && distance(screen[0][k], screen[0][k + step]) < eta;
+      if ((f & 2) != 0) pass = pass && distance(screen[k][0], screen[k + step][0]) < eta;
       if ((f & 4) != 0)
-        pass = pass && distance(screen[last][k], screen[last][k + step]) < mode.eta;
+        pass = pass && distance(screen[last][k], screen[last][k + step]) < eta;
       if ((f & 8) != 0)
-        pass = pass && distance(screen[k][last], screen[k + step][last]) < mode.eta;
+        pass = pass && distance(screen[k][last], screen[k + step][last]) < eta;
     }
     if (pass) return d;
   }
@@ -137,6 +144,8 @@ void main() {
   if (i == level_u - 1 && SB_KNOT(cu, pu) == surface_knot_u(s, 1)) sides |= 4;
   if (j == level_v - 1 && SB_KNOT(cv, pv) == surface_knot_v(s, 1)) sides |= 8;
   const int f = sides & surfaces[s + 9];
+  epsilon = mode.epsilon * threshold_scale(s);
+  eta = mode.eta * threshold_scale(s);
   const int cull = culled();
   ksdice[record + 3] = f;
   if (cull != 0) {

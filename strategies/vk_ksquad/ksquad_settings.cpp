@@ -97,6 +97,20 @@ KsquadSettings ksquad_settings(const StrategyOptions& options) {
     a.adaptive = it->second == "adaptive" || a.nonuniform;
     a.gs = it->second == "gs";
   }
+  const auto choice = [&](const char* key, const char* first, const char* second) {
+    const auto it = options.extra.find(key);
+    if (it == options.extra.end() || it->second.empty()) return false;
+    if (it->second != first && it->second != second)
+      throw std::invalid_argument(fmt::format("vk-ksquad option {} = '{}': must be {} or {}", key,
+                                              it->second, first, second));
+    return it->second == second;
+  };
+  a.eq3_literal = choice("vk-eq3", "edge", "literal");
+  a.surface_thresholds = choice("vk-thresholds", "global", "surface");
+  for (const char* key : {"vk-eq3", "vk-thresholds"})
+    if (!a.adaptive && options.extra.count(key))
+      throw std::invalid_argument(fmt::format(
+          "vk-ksquad: {} applies to vk-mode=adaptive and vk-mode=nonuniform only", key));
   if (auto it = options.extra.find("vk-corners");
       it != options.extra.end() && !it->second.empty()) {
     if (it->second != "device" && it->second != "host")
@@ -171,6 +185,47 @@ std::array<float, 16> scene_camera(const Scene& scene, const KsquadSettings& set
   const double near = std::max(distance - 1.5 * radius, 1e-4 * far);
   return view_projection(eye, center, settings.fov, settings.viewport[0] / settings.viewport[1],
                          near, far);
+}
+
+std::vector<double> surface_threshold_scales(const Scene& scene, const std::array<float, 16>& camera,
+                                             const std::vector<double>& viewport) {
+  struct Box {
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    bool behind = false;
+    double diagonal() const {
+      return behind || lo[0] > hi[0] ? 0 : std::hypot(hi[0] - lo[0], hi[1] - lo[1]);
+    }
+  };
+  Box all;
+  std::vector<Box> boxes(scene.surfaces.size());
+  for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
+    for (const auto& p : scene.surfaces[i].points) {
+      double c[4];
+      for (int r = 0; r < 4; ++r)
+        c[r] = camera[r] * p[0] + camera[4 + r] * p[1] + camera[8 + r] * p[2] + camera[12 + r];
+      if (!(c[3] > 0)) {
+        boxes[i].behind = true;
+        continue;
+      }
+      const double px[2] = {c[0] / c[3] * 0.5 * viewport[0], c[1] / c[3] * 0.5 * viewport[1]};
+      for (int k = 0; k < 2; ++k) {
+        boxes[i].lo[k] = std::min(boxes[i].lo[k], px[k]);
+        boxes[i].hi[k] = std::max(boxes[i].hi[k], px[k]);
+      }
+    }
+  // the scene's box: of the surfaces wholly in front of the eye
+  for (const Box& b : boxes)
+    if (!b.behind)
+      for (int k = 0; k < 2; ++k) {
+        all.lo[k] = std::min(all.lo[k], b.lo[k]);
+        all.hi[k] = std::max(all.hi[k], b.hi[k]);
+      }
+  std::vector<double> scales(scene.surfaces.size(), 1.0);
+  const double whole = all.diagonal();
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+    if (!boxes[i].behind && whole > 0)
+      scales[i] = std::clamp(boxes[i].diagonal() / whole, kSmallestThresholdScale, 1.0);
+  return scales;
 }
 
 }  // namespace nurbs::vk_ksquad

@@ -29,6 +29,9 @@ inline constexpr int kNonuniformMaxLevel = 16;
 // Nonuniform mode (vk-mode=nonuniform; adaptive's control stage and corner table, then a geometry
 // stage): vk-epsilon = pixels (eq. 4's ε, 0.5), vk-eta = pixels (eq. 5's η, 4), vk-max-level
 // (default 16: a KSQuad's lattice, KSDice stored per patch = its square), vk-pieces is 1.
+// Adaptive and nonuniform: vk-eq3 = edge|literal (how eq. 3 is read, ksquad.tesc; edge),
+// vk-thresholds = global|surface (μ, ε, η as given, or scaled per surface by
+// surface_threshold_scales; global).
 struct KsquadSettings {
   bool adaptive = false;  // also true in nonuniform mode, which shares its control stage
   bool nonuniform = false;
@@ -37,6 +40,12 @@ struct KsquadSettings {
   std::vector<double> eye, center, viewport;
   double fov = 45, mu = 4;
   int max_level = 0;
+  // vk-eq3=literal: eq. 3's printed quantifiers (k < m and l < n) leave one corner pair, the
+  // KSQuad's diagonal (x_i, y_j)-(x_i+1, y_j+1), so one tau for all four edges; edge (default):
+  // each edge's level from its own two corners (ksquad.tesc), what makes neighbours agree
+  bool eq3_literal = false;
+  // vk-thresholds=surface: 003 §3.1's "thresholds ... precomputed for each surface"
+  bool surface_thresholds = false;
   bool device_corners = true;  // adaptive: vk-corners = device (the corner pass) | host
   // Every mode: vk-constants = device (the per-span stair constants by ksquad_constants.comp,
   // once per prepare) | host (the C++ build of the same function, uploaded)
@@ -58,5 +67,17 @@ std::array<float, 16> view_projection(const std::array<double, 3>& eye,
 
 // The camera of the settings: given, or fitted to the scene's control-point bounding sphere.
 std::array<float, 16> scene_camera(const Scene& scene, const KsquadSettings& settings);
+
+// vk-thresholds=surface: per surface, the factor its μ, ε and η are multiplied by -- its size on
+// screen over the scene's, each the diagonal of the pixel bounding box of the projected control
+// points (which bound the surface: strong convex hull, 003 §2), clamped to
+// [kSmallestThresholdScale, 1]; 1 for a surface with a control point behind the eye (no finite
+// size; the scene's box is that of the other surfaces). The given thresholds thus hold for a surface as large on screen as the whole scene, and
+// every surface is approximated to the same fraction of its own size on screen (a quality level
+// per surface, where the pixel thresholds alone give small surfaces few, coarse KSDice). Computed
+// once per prepare with the camera (the paper's "precomputed").
+inline constexpr double kSmallestThresholdScale = 1.0 / 64;
+std::vector<double> surface_threshold_scales(const Scene& scene, const std::array<float, 16>& camera,
+                                             const std::vector<double>& viewport);
 
 }  // namespace nurbs::vk_ksquad

@@ -40,12 +40,14 @@ layout(push_constant) uniform Mode {
   float epsilon;         // nonuniform: the linear-approximation threshold, pixels (003 eq. 4)
   float eta;             // nonuniform: the boundary-region threshold, pixels (003 eq. 5)
   int nonuniform;        // 1: the nonuniform mapping (ksquad_nonuniform.tese, .geom)
+  int eq3_literal;       // adaptive: 1 = eq. 3's printed quantifiers (vk-eq3=literal, ksquad.tesc)
 } mode;
 // The patch's row in the Info-KSQuad table.
 #define PATCH (mode.patch_base + gl_PrimitiveID)
 
 // surfaces: degree_u, degree_v, count_u, count_v, first point, first u parameter,
-//           first v parameter, v parameters (nv), first output sample, 3 x pad,
+//           first v parameter, v parameters (nv), first output sample, the friendless sides
+//           (nonuniform), the factor of mode.mu, epsilon, eta (float bits), pad,
 //           the domain's ends u0, u1, v0, v1 as float bits
 #define SURFACE_INTS 16
 // patches: surface, span_u, span_v, u constants, v constants, u_begin, u_count, v_begin, v_count,
@@ -58,6 +60,9 @@ layout(push_constant) uniform Mode {
 #define SLOT_FLOATS 5
 
 float surface_knot_u(int s, int end) { return intBitsToFloat(surfaces[s + 12 + end]); }
+// vk-thresholds=surface: surface row s's factor of μ, ε, η (ksquad_settings.h
+// surface_threshold_scales); 1 otherwise.
+float threshold_scale(int s) { return intBitsToFloat(surfaces[s + 10]); }
 float surface_knot_v(int s, int end) { return intBitsToFloat(surfaces[s + 14 + end]); }
 
 // Uniform mapping, shared with vk-bezier's evaluation stage (bezier.tese):

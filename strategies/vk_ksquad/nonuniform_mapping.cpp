@@ -149,6 +149,7 @@ std::vector<KsdieRecord> VkKsquad::ksdice() const {
 // reads device() after read_back()).
 EvalResult VkKsquad::read_back_nonuniform() {
   const KsquadStatistics st = statistics();
+  record_eq3_details(st);
   record_.details["nu_ksdice"] = std::to_string(st.ksdice);
   record_.details["nu_subdivided_linear"] = std::to_string(st.subdivided_linear);
   record_.details["nu_subdivided_boundary"] = std::to_string(st.subdivided_boundary);

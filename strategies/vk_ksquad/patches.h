@@ -85,6 +85,21 @@ inline std::uint64_t quad_domain_vertices(int lu, int lv) {
          (i0 - 1) * (i1 - 1);
 }
 
+// Triangles the Vulkan tessellator makes for a quad patch with outer levels o (o[0], o[2] along
+// v, o[1], o[3] along u) and inner levels i0 (along u), i1 (along v), equal spacing (Vulkan spec,
+// "Quad Tessellation"): one quad (2 triangles) when the first inner and all outer levels are 1;
+// otherwise an inner level of 1 is raised to 2, the inner rectangle holds 2 (i0 - 2)(i1 - 2)
+// triangles and the ring between each outer edge of o segments and the inner edge facing it
+// (i - 2 segments) o + i - 2.
+inline std::uint64_t quad_domain_triangles(const float o[4], int i0, int i1) {
+  if (o[0] <= 0 || o[1] <= 0 || o[2] <= 0 || o[3] <= 0) return 0;  // discarded
+  if (i0 <= 1 && o[0] == 1 && o[1] == 1 && o[2] == 1 && o[3] == 1) return 2;
+  const std::uint64_t a = static_cast<std::uint64_t>(std::max(i0, 2)) - 2,
+                      b = static_cast<std::uint64_t>(std::max(i1, 2)) - 2;
+  return 2 * a * b + static_cast<std::uint64_t>(o[1] + o[3]) + 2 * a +
+         static_cast<std::uint64_t>(o[0] + o[2]) + 2 * b;
+}
+
 // One vkCmdDraw: rows [first, first + count) of the patch table, all of one degree pair (the
 // evaluation stage's specialization constants: one pipeline per pair).
 struct Draw {

@@ -30,7 +30,7 @@ SurfaceTable surface_table(const Scene& scene, const std::vector<SurfaceSamples>
                                    static_cast<int>(sm.v.size()),
                                    static_cast<int>(out.total),
                                    0,
-                                   0,
+                                   std::bit_cast<int>(1.0f),  // threshold scale
                                    0,
                                    std::bit_cast<int>(static_cast<float>(s.u_min())),
                                    std::bit_cast<int>(static_cast<float>(s.u_max())),
@@ -87,7 +87,8 @@ SurfaceSamples chosen_samples(const SurfaceSamples& requested, const float* uv) 
 // ksquad.frag's per-surface trim row (VkKsquad::trim_surface_rows)
 constexpr int kTrimSurfaceInts = 5;
 
-// VkKsquad's uniform mapping (003 §4's uniform: levels from the runs; direct trimming).
+// VkKsquad's uniform mapping (the requested lattice -- not 003 §4's "uniform" mapping, which is
+// the adaptive one: levels from the runs; direct trimming).
 
 // Direct trimming (uniform mode): one compute dispatch per trimmed surface; the masks stay on
 // the device until read_back(). On a span grid the samples are the tessellator's (16.16 fixed

@@ -1,4 +1,5 @@
-// vk-ksquad's uniform mapping (003 §4's uniform version: the levels are the request's run
+// vk-ksquad's uniform mapping (the harness's requested lattice; 003 §4's "uniform" version is our
+// adaptive mapping, eq. 3's levels: here the levels are the request's run
 // lengths): its host pieces. See ksquad.tese for which parameter the evaluation stage takes.
 #pragma once
 

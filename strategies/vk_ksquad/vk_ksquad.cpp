@@ -10,7 +10,8 @@
 //    build of the same function (vk-constants=host, kept to compare), and read from a storage
 //    buffer; KSQuads sharing a span share its constants. They depend on the knots alone, so a
 //    deforming frame never recomputes them.
-//  * Uniform mode (003 §4's uniform mapping): the levels of a patch are the segment counts of its
+//  * Uniform mode (vk-mode=uniform, our mapping for the harness's requested grids and span grids;
+//    003 §4's mapping that "obtains a uniform result" is the adaptive one below): the levels of a patch are the segment counts of its
 //    u and v runs. Span grid T: the tessellator chooses the samples -- its (T+1)x(T+1) lattice
 //    per KSQuad (DESIGN.md's span grid), the parameter blended from the span's knots by
 //    gl_TessCoord (ksquad.tese span_parameter) and returned with the position, so the samples
@@ -23,7 +24,8 @@
 //  * Capture: storage-buffer writes from the evaluation stage (vertexPipelineStoresAndAtomics),
 //    rasterization discarded; transform feedback would need a vertex order the tessellator does
 //    not specify.
-//  * Adaptive mode (003 §3.1, local area average): the KSQuad corners S(x_k, y_l), one table
+//  * Adaptive mode (003 §4's second mapping, the one the paper calls uniform; §3.1's local area
+//    average, eq. 3): the KSQuad corners S(x_k, y_l), one table
 //    shared by the KSQuads meeting there, evaluated on the device by a compute pass before the
 //    draws of every evaluate()/render() (vk-corners=device, the default: 003 §1's "whole NURBS
 //    equation in the GPU without any precomputation on the CPU"; each corner once, with the span
@@ -175,6 +177,8 @@ VkKsquad::VkKsquad(int device_index, const KsquadSettings& settings,
   if (settings_.adaptive) {
     record_.details["vk_mode"] = settings_.nonuniform ? "nonuniform" : "adaptive";
     record_.details["vk_corners"] = settings_.device_corners ? "device" : "host";
+    record_.details["vk_eq3"] = settings_.eq3_literal ? "literal" : "edge";
+    record_.details["vk_thresholds"] = settings_.surface_thresholds ? "surface" : "global";
   }
   if (settings_.nonuniform) {
     record_.details["vk_epsilon"] = fmt::format("{}", settings_.epsilon);
@@ -314,6 +318,7 @@ void VkKsquad::set_mode(const Scene& scene) {
   mode_.mu =
       static_cast<float>(settings_.nonuniform ? settings_.mu * (1 << kNuDepth) : settings_.mu);
   mode_.nonuniform = settings_.nonuniform ? 1 : 0;
+  mode_.eq3_literal = settings_.eq3_literal ? 1 : 0;
   mode_.epsilon = static_cast<float>(settings_.epsilon);
   mode_.eta = static_cast<float>(settings_.eta);
   mode_.viewport[0] = static_cast<float>(settings_.viewport[0]);
@@ -330,6 +335,13 @@ void VkKsquad::build_tables(const Scene& scene) {
     const std::vector<int> friendless = vk_ksquad::friendless_sides(scene);
     for (std::size_t i = 0; i < friendless.size(); ++i)
       tables_.surfaces[i * kSurfaceInts + vk_ksquad::kSurfaceFriendless] = friendless[i];
+  }
+  if (settings_.adaptive && settings_.surface_thresholds) {
+    const std::vector<double> scales = vk_ksquad::surface_threshold_scales(
+        scene, vk_ksquad::scene_camera(scene, settings_), settings_.viewport);
+    for (std::size_t i = 0; i < scales.size(); ++i)
+      tables_.surfaces[i * kSurfaceInts + vk_ksquad::kSurfaceThresholdScale] =
+          std::bit_cast<int>(static_cast<float>(scales[i]));
   }
   tables_.patches.clear();
   tables_.constants.clear();
@@ -391,8 +403,27 @@ void VkKsquad::build_tables(const Scene& scene) {
       corner_jobs_.insert(corner_jobs_.end(),
                           {surface * kSurfaceInts, span_u, span_v, constants(surface, 0, span_u),
                            constants(surface, 1, span_v), end_u, end_v, 0});
-  for (const ksquad::KSQuad& q : quads) {
+  // A knot span non-empty in double but empty in float (knots closer than a float ulp:
+  // linkrods.step's face 33, 1.8e-8 apart near v = -3.61) has stair constants 1 / 0. Every
+  // parameter of it rounds to the one float x_i, which A2.1 on the float knots puts in a span
+  // non-empty in float -- the one the reference's search takes for that float: the uniform
+  // mapping evaluates there, at that span's start (share 0, 0) or, at the domain's end, its end
+  // (1, 1). (Grids never land there: ksquad::runs_of_grid searches the float knots. Adaptive
+  // mode keeps the span: its tessellator spans the whole KSQuad.)
+  const auto in_float = [&](const Surface& s, int direction, int span) {
+    const std::vector<double>& k = direction == 0 ? s.knots_u : s.knots_v;
+    const std::vector<float> kf(k.begin(), k.end());
+    if (settings_.adaptive || kf[span] < kf[span + 1]) return std::make_pair(span, -1.0f);
+    const int t = find_span(direction == 0 ? s.degree_u : s.degree_v,
+                            direction == 0 ? s.count_u : s.count_v, kf.data(), kf[span]);
+    return std::make_pair(t, kf[span] == kf[t] ? 0.0f : 1.0f);
+  };
+  for (ksquad::KSQuad q : quads) {
     const Surface& s = scene.surfaces[q.surface];
+    const auto [float_u, share_u] = in_float(s, 0, q.u.span);
+    const auto [float_v, share_v] = in_float(s, 1, q.v.span);
+    q.u.span = float_u;
+    q.v.span = float_v;
     const int cu = constants(q.surface, 0, q.u.span), cv = constants(q.surface, 1, q.v.span);
     int c[4] = {0, 0, 0, 0};
     if (settings_.adaptive)
@@ -416,8 +447,10 @@ void VkKsquad::build_tables(const Scene& scene) {
       for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, piece_cap))
         for (int piece = 0; piece < pieces; ++piece) {
           const int lu = vk_ksquad::run_level(a), lv = vk_ksquad::run_level(b);
-          const auto [u_lo, u_hi] = vk_ksquad::piece_share(q.u, a);
-          const auto [v_lo, v_hi] = vk_ksquad::piece_share(q.v, b);
+          auto [u_lo, u_hi] = vk_ksquad::piece_share(q.u, a);
+          auto [v_lo, v_hi] = vk_ksquad::piece_share(q.v, b);
+          if (share_u >= 0) u_lo = u_hi = share_u;
+          if (share_v >= 0) v_lo = v_hi = share_v;
           const int row[kPatchInts] = {q.surface,
                                        q.u.span,
                                        q.v.span,

@@ -88,6 +88,7 @@ class VkKsquad final : public Strategy {
   EvalResult read_back_nonuniform();
 
   EvalResult read_back_adaptive();
+  void record_eq3_details(const KsquadStatistics& st);
 
   void set_mode(const Scene& scene);
 

@@ -21,6 +21,13 @@ struct KsquadStatistics {
   int max_level = 0;                         // largest level set
   int level_cap = 0;  // per patch. uniform: maxTessellationGenerationLevel; adaptive: vk-max-level
   std::uint64_t capped_edges = 0;  // adaptive: KSQuad edges past vk-pieces x level_cap
+  // Adaptive and nonuniform: KSQuad edges inside a surface (two KSQuads share them), and those of
+  // them whose two sides chose different segment counts -- T-junctions, so cracks wherever the
+  // surface bends (adaptive: the KSQuad edge's level; nonuniform: its lattice's, before the
+  // geometry stage subdivides); 0 cracked under vk-eq3=edge in adaptive mode.
+  std::uint64_t shared_edges = 0, cracked_edges = 0;
+  // Adaptive: triangles the tessellator makes for the levels set (nonuniform: emitted, below).
+  std::uint64_t tessellated_triangles = 0;
   // Nonuniform mode (the geometry stage's records): KSDice the tessellator started, those
   // subdivided by the linear-approximation test (003 eq. 4) and by the boundary-region test (eq.
   // 5), those culled (Exact Visible Set: view frustum, back face), triangles emitted.

@@ -13,6 +13,7 @@
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
 #include "tests/reference/test_support.h"
+#include "tests/strategies/vk_ksquad/domain_ends.h"
 
 namespace nurbs {
 namespace {
@@ -190,6 +191,16 @@ TEST_F(VkBezierTest, DeviceRecordSaysCpuForASoftwareDevice) {
   const StrategyEntry& entry = *find_strategy("vk-bezier");
   EXPECT_EQ(entry.role, "baseline");
   EXPECT_TRUE(entry.capabilities().updates_control_points);
+}
+
+// Domain ends that are not floats (issue 28): every sample finite and on the surface, grid and
+// span grid (tests/strategies/vk_ksquad/domain_ends.h).
+TEST_F(VkBezierTest, UnrepresentableDomainEndsStayOnTheSurface) {
+  const Scene scene = test::unrepresentable_ends_scene();
+  for (const Sampling& sampling : {grid(17, 13), span_grid(5)}) {
+    const EvalResult result = run(*strategy_, scene, sampling);
+    EXPECT_GT(test::expect_on_surface(scene, result, 64, sampling.label()), 0u);
+  }
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <set>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include "reference/nurbs_math.h"
 #include "scenes/builtin_scenes.h"
@@ -141,6 +142,46 @@ TEST(vk_ksquad_levels, AdaptiveLevelsAreEquation3) {
                   << "), " << borderline << " borderline, " << st.evaluation_invocations
                   << " TES invocations\n";
       }
+}
+
+// eq. 3 read per edge (vk-eq3=edge) against its printed quantifiers (literal: one tau per KSQuad
+// from its diagonal): the cracks the record counts (shared KSQuad edges whose two sides chose
+// different levels) against those of the captured mesh -- an edge inside a surface whose two
+// copies hold different numbers of vertices -- counted here from the vertices alone.
+TEST(vk_ksquad_levels, LiteralEquation3CracksAreCounted) {
+  const Availability a = find_strategy("vk-ksquad")->probe();
+  if (!a.available) GTEST_SKIP() << "unavailable: " << a.reason;
+  for (const char* scene_name : {"patch144", "torus"})  // teapot: no edge inside a surface
+    for (const char* reading : {"edge", "literal"}) {
+      SCOPED_TRACE(testing::Message() << scene_name << " " << reading);
+      StrategyOptions options;
+      options.extra = {{"vk-mode", "adaptive"}, {"vk-mu", "3"}, {"vk-eq3", reading}};
+      auto strategy = make_vk_ksquad(options);
+      const Scene scene = *make_builtin_scene(scene_name);
+      strategy->prepare(scene, EvalRequest{Sampling{}, Precision::f32, false});
+      strategy->evaluate();
+      const KsquadStatistics st = ksquad_statistics(*strategy);
+      std::map<std::tuple<int, int, float, float, float>, std::vector<std::size_t>> copies;
+      for (const CapturedEdge& e : ksquad_captured_edges(*strategy))
+        copies[{e.surface, e.direction, e.fixed, e.lo, e.hi}].push_back(e.vertices.size());
+      std::size_t shared = 0, cracked = 0;
+      for (const auto& [key, sizes] : copies) {
+        if (sizes.size() != 2) continue;
+        ++shared;
+        cracked += sizes[0] != sizes[1];
+      }
+      EXPECT_EQ(st.shared_edges, shared);
+      EXPECT_EQ(st.cracked_edges, cracked);
+      if (std::string(reading) == "edge") {
+        EXPECT_EQ(cracked, 0u);
+      } else {
+        EXPECT_GT(cracked, 0u);
+      }
+      std::cout << scene_name << " eq. 3 " << reading << ": " << shared << " shared edges, "
+                << cracked << " cracked, levels up to " << st.max_level << ", "
+                << st.evaluation_invocations << " TES invocations, " << st.tessellated_triangles
+                << " triangles\n";
+    }
 }
 
 }  // namespace

@@ -99,6 +99,33 @@ std::vector<int> non_friend_sides(const Scene& scene, double tolerance) {
   return mask;
 }
 
+// The point a cell renders at the fraction (s, t) of its parameter rectangle, the cell not
+// subdivided further: the geometry stage emits each cell as a triangle strip of its lattice rows,
+// (0,0) (0,1) (1,0) (1,1) in (u, v) corner indices, i.e. the triangles (0,0) (0,1) (1,0) and
+// (0,1) (1,0) (1,1). The triangle holding (s, t) in the parameter rectangle, by its barycentric
+// coordinates there, weights that triangle's world-space corners: what the rasterizer draws at
+// (s, t) (it interpolates the projected triangle perspective-correctly, so p() of this point is
+// where (s, t) appears on screen). c[du][dv]: the corner at (du, dv).
+V3 rendered_point(const V3 c[2][2], double s, double t) {
+  const std::array<int, 2> triangles[2][3] = {{{0, 0}, {0, 1}, {1, 0}}, {{0, 1}, {1, 0}, {1, 1}}};
+  for (const auto& tri : triangles) {
+    const double x0 = tri[0][0], y0 = tri[0][1], x1 = tri[1][0], y1 = tri[1][1], x2 = tri[2][0],
+                 y2 = tri[2][1];
+    const double det = (y1 - y2) * (x0 - x2) + (x2 - x1) * (y0 - y2);
+    const double l0 = ((y1 - y2) * (s - x2) + (x2 - x1) * (t - y2)) / det;
+    const double l1 = ((y2 - y0) * (s - x2) + (x0 - x2) * (t - y2)) / det;
+    const double l2 = 1 - l0 - l1;
+    if (l0 < -1e-12 || l1 < -1e-12 || l2 < -1e-12) continue;
+    const double l[3] = {l0, l1, l2};
+    V3 p{0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) p[d] += l[k] * c[tri[k][0]][tri[k][1]][d];
+    return p;
+  }
+  ADD_FAILURE() << "(" << s << ", " << t << ") outside the cell";
+  return c[0][0];
+}
+
 struct Clip {
   double x, y, z, w;
 };
@@ -114,6 +141,40 @@ std::array<double, 2> pixels(const Clip& c, double width, double height) {
 }
 double pixel_distance(const std::array<double, 2>& a, const std::array<double, 2>& b) {
   return std::hypot(a[0] - b[0], a[1] - b[1]);
+}
+
+// vk-thresholds=surface, from its definition (ksquad_settings.h): per surface, the diagonal of
+// the pixel box of its projected control points over the scene's, within [1/64, 1]; 1 where a
+// control point is behind the eye. All 1 for vk-thresholds=global.
+std::vector<double> threshold_scales(const Scene& scene, const std::array<float, 16>& camera,
+                                     double width, double height, bool per_surface) {
+  std::vector<double> out(scene.surfaces.size(), 1.0);
+  if (!per_surface) return out;
+  std::vector<std::array<double, 4>> boxes;  // x lo, y lo, x hi, y hi; empty when behind
+  std::array<double, 4> scene_box{1e300, 1e300, -1e300, -1e300};
+  for (const Surface& s : scene.surfaces) {
+    std::array<double, 4> box{1e300, 1e300, -1e300, -1e300};
+    for (const auto& p : s.points) {
+      const Clip c = to_clip(camera, V3{p[0], p[1], p[2]});
+      if (!(c.w > 0)) {
+        box = {0, 0, -1, -1};
+        break;
+      }
+      const auto px = pixels(c, width, height);
+      box = {std::min(box[0], px[0]), std::min(box[1], px[1]), std::max(box[2], px[0]),
+             std::max(box[3], px[1])};
+    }
+    boxes.push_back(box);
+    if (box[2] >= box[0])
+      scene_box = {std::min(scene_box[0], box[0]), std::min(scene_box[1], box[1]),
+                   std::max(scene_box[2], box[2]), std::max(scene_box[3], box[3])};
+  }
+  const double whole = std::hypot(scene_box[2] - scene_box[0], scene_box[3] - scene_box[1]);
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+    if (boxes[i][2] >= boxes[i][0])
+      out[i] = std::clamp(std::hypot(boxes[i][2] - boxes[i][0], boxes[i][3] - boxes[i][1]) / whole,
+                          1.0 / 64, 1.0);
+  return out;
 }
 
 // A decision from values compared with a threshold: the smallest |value - threshold| seen, so a
@@ -156,11 +217,24 @@ std::vector<Case> cases() {
   return out;
 }
 
+// The decisions again under eq. 3's literal reading and per-surface thresholds (not emitted
+// vertices: those are the same code as above).
+std::vector<Case> decision_cases() {
+  std::vector<Case> out = cases();
+  out.push_back({"teapot literal, per-surface",
+                 *make_builtin_scene("teapot"),
+                 {{"vk-mode", "nonuniform"},
+                  {"vk-mu", "3"},
+                  {"vk-eq3", "literal"},
+                  {"vk-thresholds", "surface"}}});
+  return out;
+}
+
 TEST(vk_ksquad_nonuniform, DecisionsAreTheEquations) {
   const Availability a = find_strategy("vk-ksquad")->probe();
   if (!a.available) GTEST_SKIP() << "unavailable: " << a.reason;
   std::size_t crease_flagged = 0, g1_flagged = 0, all_linear = 0, all_culled = 0;
-  for (const Case& c : cases()) {
+  for (const Case& c : decision_cases()) {
     SCOPED_TRACE(c.label);
     const auto strategy = evaluated(c, false);
     const std::vector<PatchLevels> levels = ksquad_patch_levels(*strategy);
@@ -174,8 +248,13 @@ TEST(vk_ksquad_nonuniform, DecisionsAreTheEquations) {
     const vk_ksquad::KsquadSettings settings = vk_ksquad::ksquad_settings(options);
     const std::array<float, 16> camera = vk_ksquad::scene_camera(c.scene, settings);
     const double width = settings.viewport[0], height = settings.viewport[1];
-    const double mu = settings.mu * 4, cap = settings.max_level;
-    const double epsilon = settings.epsilon, eta = settings.eta;
+    const double cap = settings.max_level;
+    const auto literal = c.options.find("vk-eq3");
+    const bool eq3_literal = literal != c.options.end() && literal->second == "literal";
+    const auto thresholds = c.options.find("vk-thresholds");
+    const std::vector<double> scale =
+        threshold_scales(c.scene, camera, width, height,
+                         thresholds != c.options.end() && thresholds->second == "surface");
     const std::vector<int> friendless =
         non_friend_sides(c.scene, 1e-6 * c.scene.bounding_box_diagonal());
 
@@ -193,6 +272,9 @@ TEST(vk_ksquad_nonuniform, DecisionsAreTheEquations) {
     for (const PatchLevels& p : levels) {
       const Surface& s = c.scene.surfaces[p.surface];
       const SurfaceNet<double> net(s);
+      const double mu = settings.mu * 4 * scale[p.surface];
+      const double epsilon = settings.epsilon * scale[p.surface],
+                   eta = settings.eta * scale[p.surface];
       const double x0 = s.knots_u[p.span_u], x1 = s.knots_u[p.span_u + 1];
       const double y0 = s.knots_v[p.span_v], y1 = s.knots_v[p.span_v + 1];
       // eq. 3 per edge: u = x_i, v = y_j, u = x_i+1, v = y_j+1
@@ -201,10 +283,16 @@ TEST(vk_ksquad_nonuniform, DecisionsAreTheEquations) {
         for (int dv = 0; dv < 2; ++dv)
           corner[du][dv] = pixels(to_clip(camera, surface_point(net, du ? x1 : x0, dv ? y1 : y0)),
                                   width, height);
+      // literal: "k < m and l < n" leaves the diagonal pair, for every edge
       const std::array<double, 2>* ends[4][2] = {{&corner[0][0], &corner[0][1]},
                                                  {&corner[0][0], &corner[1][0]},
                                                  {&corner[1][0], &corner[1][1]},
                                                  {&corner[0][1], &corner[1][1]}};
+      if (eq3_literal)
+        for (auto& e : ends) {
+          e[0] = &corner[0][0];
+          e[1] = &corner[1][1];
+        }
       bool borderline_levels = false;
       double want[4];
       for (int e = 0; e < 4; ++e) {
@@ -294,7 +382,7 @@ TEST(vk_ksquad_nonuniform, DecisionsAreTheEquations) {
           continue;
         }
         // eq. 4: cells of depth d pass when |p(S) - p(S')| < ε at their centre and edge midpoints,
-        // S' the bilinear interpolation of the cell's corners
+        // S' the point the cell renders there if not subdivided (rendered_point)
         Margin linear_margin;
         int depth_linear = kDepth;
         for (int d = kDepth - 1; d >= 0; --d) {  // every depth's margins; the smallest pass wins
@@ -302,20 +390,16 @@ TEST(vk_ksquad_nonuniform, DecisionsAreTheEquations) {
           bool pass = true;
           for (int a = 0; a < kLattice - 1; a += step)
             for (int b = 0; b < kLattice - 1; b += step) {
-              const V3 &c00 = lattice[a][b], &c10 = lattice[a + step][b],
-                       &c01 = lattice[a][b + step], &c11 = lattice[a + step][b + step];
-              const auto half = [](const V3& p, const V3& q) {
-                return V3{(p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2};
-              };
-              const std::pair<std::array<int, 2>, V3> tests[5] = {
-                  {{a + h, b + h}, half(half(c00, c10), half(c01, c11))},
-                  {{a + h, b}, half(c00, c10)},
-                  {{a, b + h}, half(c00, c01)},
-                  {{a + step, b + h}, half(c10, c11)},
-                  {{a + h, b + step}, half(c01, c11)}};
-              for (const auto& [at, linear] : tests) {
-                const double dev = pixel_distance(screen[at[0]][at[1]],
-                                                  pixels(to_clip(camera, linear), width, height));
+              const V3 cell[2][2] = {{lattice[a][b], lattice[a][b + step]},
+                                     {lattice[a + step][b], lattice[a + step][b + step]}};
+              // the centre and the four edge midpoints, as fractions of the cell
+              const std::array<int, 2> at[5] = {
+                  {1, 1}, {1, 0}, {0, 1}, {2, 1}, {1, 2}};
+              for (const auto& half_steps : at) {
+                const V3 rendered = rendered_point(cell, half_steps[0] / 2.0, half_steps[1] / 2.0);
+                const double dev =
+                    pixel_distance(screen[a + h * half_steps[0]][b + h * half_steps[1]],
+                                   pixels(to_clip(camera, rendered), width, height));
                 linear_margin.saw(dev, epsilon);
                 pass = pass && dev < epsilon;
               }
