@@ -618,7 +618,6 @@ TEST(CliCameraPath, BadArgumentsLeaveNoOutputDirectory) {
       {{"--fixed-samples", "1x4"}, {"--fixed-samples", "'1x4'"}},
       {{"--scenes", "nosuch"}, {"'nosuch'", "neither a file nor a built-in scene"}},
       {{"--scenes", "tspline-tjunction"}, {"tspline-tjunction", "T-spline"}},
-      {{"--scenes", "trimmed-plate"}, {"trimmed-plate", "trimmed"}},
       {{"--images", tmp / "a-file"}, {"--images", "a-file"}},
   };
   write_text(fs::path(tmp / "a-file"), "not a directory");

@@ -140,7 +140,8 @@ TEST(stair_basis_cpp, EveryScalarMatchesTheReference) {
   d.print("C++ double");
   f.print("C++ float");
   EXPECT_LT(ld.basis, 1e-15);
-  EXPECT_LT(ld.derivative, 1e-16);
+  // 1.19e-16 measured since the closed forms are taken in the span's scale (one more product).
+  EXPECT_LT(ld.derivative, 2e-16);
   EXPECT_LT(d.basis, 1e-14);
   EXPECT_LT(d.derivative, 1e-14);
   EXPECT_LT(f.basis, 6e-6);
