@@ -7,8 +7,8 @@
 #include "harness/cli/commands.h"
 #include "harness/error_image.h"
 #include "harness/metrics.h"
-#include "harness/strategy_guard.h"
 #include "harness/runner.h"
+#include "harness/strategy_guard.h"
 #include "harness/uv_file.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
@@ -96,8 +96,9 @@ int eval_command(const EvalOptions& options) {
         fmt::format("strategy {} refuses scene {}: {}", entry->name, scene.name, *refused));
 
   // Guarded like run's strategies, so that NURBSBENCH_INJECT_FAULT reaches eval too.
-  std::unique_ptr<Strategy> strategy = create_guarded(*entry, StrategyOptions{
-      options.threads, backend_extra(options.gl, options.device, options.strategy_options)});
+  std::unique_ptr<Strategy> strategy = create_guarded(
+      *entry, StrategyOptions{options.threads,
+                              backend_extra(options.gl, options.device, options.strategy_options)});
   // The strategy's own classification of its samples, for the CSV's inside column.
   const bool classifies = entry->capabilities().trims && scene.has_trims();
   strategy->prepare(scene, request);

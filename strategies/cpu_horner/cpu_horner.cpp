@@ -33,7 +33,7 @@ struct PowerBasisTable {
   std::vector<T> knots;
   std::vector<double> exact_knots;  // as given: forward-difference seeds are formed from them
   horner::Origin origin_rule;
-  std::vector<T> origin;        // per span index
+  std::vector<T> origin;  // per span index
   // Per span index, (p+1)^2, see power_basis.h, in the span's own scale: about the span's left
   // knot they multiply ((u - u_s)/h)^j, h = u_{s+1} - u_s, and inverse_width is 1/h (about 0:
   // u^j, Macri's literal form, and 1). Unscaled, the t^j coefficient grows like 1/h^j and

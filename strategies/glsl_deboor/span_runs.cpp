@@ -9,8 +9,7 @@ std::vector<SpanRun> bin_into_spans(const std::vector<double>& parameters, int d
   const std::vector<float> rounded(knots.begin(), knots.end());
   std::vector<SpanRun> runs;
   for (std::size_t a = 0; a < parameters.size(); ++a) {
-    const int span =
-        find_span(degree, count, rounded.data(), static_cast<float>(parameters[a]));
+    const int span = find_span(degree, count, rounded.data(), static_cast<float>(parameters[a]));
     if (!runs.empty() && runs.back().span == span)
       ++runs.back().count;
     else

@@ -45,9 +45,8 @@ std::vector<SpanRun> runs_of_span_grid(const std::vector<double>& knots, int deg
   std::vector<SpanRun> runs;
   for (int s = degree; s < count; ++s)
     if (knots[s] < knots[s + 1]) {
-      const int span = rounded[s] < rounded[s + 1]
-                           ? s
-                           : find_span(degree, count, rounded.data(), rounded[s]);
+      const int span =
+          rounded[s] < rounded[s + 1] ? s : find_span(degree, count, rounded.data(), rounded[s]);
       runs.push_back({span, static_cast<int>(runs.size()) * (steps + 1), steps + 1});
     }
   return runs;
@@ -68,12 +67,12 @@ std::vector<KSQuad> build_ksquads(const Scene& scene, const std::vector<SurfaceS
     const Surface& s = scene.surfaces[i];
     const std::vector<T> ku(s.knots_u.begin(), s.knots_u.end());
     const std::vector<T> kv(s.knots_v.begin(), s.knots_v.end());
-    const auto ru = span_grid
-                        ? runs_of_span_grid<T>(s.knots_u, s.degree_u, s.count_u, sampling.span_steps)
-                        : runs_of_grid(samples[i].u, s.degree_u, s.count_u, ku);
-    const auto rv = span_grid
-                        ? runs_of_span_grid<T>(s.knots_v, s.degree_v, s.count_v, sampling.span_steps)
-                        : runs_of_grid(samples[i].v, s.degree_v, s.count_v, kv);
+    const auto ru =
+        span_grid ? runs_of_span_grid<T>(s.knots_u, s.degree_u, s.count_u, sampling.span_steps)
+                  : runs_of_grid(samples[i].u, s.degree_u, s.count_u, ku);
+    const auto rv =
+        span_grid ? runs_of_span_grid<T>(s.knots_v, s.degree_v, s.count_v, sampling.span_steps)
+                  : runs_of_grid(samples[i].v, s.degree_v, s.count_v, kv);
     for (const SpanRun& a : ru)
       for (const SpanRun& b : rv) quads.push_back({static_cast<int>(i), a, b});
   }

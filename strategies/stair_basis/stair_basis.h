@@ -120,8 +120,7 @@ SB_FN void stair_constants(int span, int degree, SB_KNOTS_IN knots, SB_CONSTS_OU
   // h/(x_{i+l} - x_i) and h/(x_{i+1} - x_{i+1-l}), each in (0, 1]
   const SB_REAL h = SB_C_OUT(c, SB_KNOTS + p) - SB_C_OUT(c, SB_KNOTS + p - 1);
   for (int l = 1; l <= p; ++l) {
-    SB_C_OUT(c, SB_COLUMN + l) =
-        SB_C_OUT(c, SB_COLUMN + l - 1) * (h * SB_C_OUT(c, SB_R + l - 1));
+    SB_C_OUT(c, SB_COLUMN + l) = SB_C_OUT(c, SB_COLUMN + l - 1) * (h * SB_C_OUT(c, SB_R + l - 1));
     SB_C_OUT(c, SB_DIAGONAL + l) =
         SB_C_OUT(c, SB_DIAGONAL + l - 1) * (h * SB_C_OUT(c, SB_R + (l - 1) * SB_MAX_DEG));
   }

@@ -102,8 +102,7 @@ KsquadStatistics adaptive_statistics(KsquadStatistics st, const HostTables& tabl
   st.shared_edges = st.cracked_edges = 0;
   for (auto it = edge_segments.begin(); it != edge_segments.end(); ++it) {
     const auto& [key, segments] = *it;
-    const auto after =
-        edge_segments.upper_bound({key[0], key[1], std::numeric_limits<int>::max()});
+    const auto after = edge_segments.upper_bound({key[0], key[1], std::numeric_limits<int>::max()});
     if (after != edge_segments.end() && after->first[0] == key[0])
       if (const auto next_u = edge_segments.find({key[0], after->first[1], key[2]});
           next_u != edge_segments.end()) {
@@ -111,8 +110,7 @@ KsquadStatistics adaptive_statistics(KsquadStatistics st, const HostTables& tabl
         st.cracked_edges += next_u->second[0] != segments[2];
       }
     const auto next_v = std::next(it);  // same surface and u span: the next v span
-    if (next_v != edge_segments.end() && next_v->first[0] == key[0] &&
-        next_v->first[1] == key[1]) {
+    if (next_v != edge_segments.end() && next_v->first[0] == key[0] && next_v->first[1] == key[1]) {
       ++st.shared_edges;
       st.cracked_edges += next_v->second[1] != segments[3];
     }

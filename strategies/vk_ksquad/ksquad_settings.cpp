@@ -187,7 +187,8 @@ std::array<float, 16> scene_camera(const Scene& scene, const KsquadSettings& set
                          near, far);
 }
 
-std::vector<double> surface_threshold_scales(const Scene& scene, const std::array<float, 16>& camera,
+std::vector<double> surface_threshold_scales(const Scene& scene,
+                                             const std::array<float, 16>& camera,
                                              const std::vector<double>& viewport) {
   struct Box {
     double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};

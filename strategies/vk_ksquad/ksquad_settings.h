@@ -72,12 +72,14 @@ std::array<float, 16> scene_camera(const Scene& scene, const KsquadSettings& set
 // screen over the scene's, each the diagonal of the pixel bounding box of the projected control
 // points (which bound the surface: strong convex hull, 003 §2), clamped to
 // [kSmallestThresholdScale, 1]; 1 for a surface with a control point behind the eye (no finite
-// size; the scene's box is that of the other surfaces). The given thresholds thus hold for a surface as large on screen as the whole scene, and
-// every surface is approximated to the same fraction of its own size on screen (a quality level
-// per surface, where the pixel thresholds alone give small surfaces few, coarse KSDice). Computed
-// once per prepare with the camera (the paper's "precomputed").
+// size; the scene's box is that of the other surfaces). The given thresholds thus hold for a
+// surface as large on screen as the whole scene, and every surface is approximated to the same
+// fraction of its own size on screen (a quality level per surface, where the pixel thresholds alone
+// give small surfaces few, coarse KSDice). Computed once per prepare with the camera (the paper's
+// "precomputed").
 inline constexpr double kSmallestThresholdScale = 1.0 / 64;
-std::vector<double> surface_threshold_scales(const Scene& scene, const std::array<float, 16>& camera,
+std::vector<double> surface_threshold_scales(const Scene& scene,
+                                             const std::array<float, 16>& camera,
                                              const std::vector<double>& viewport);
 
 }  // namespace nurbs::vk_ksquad

@@ -148,7 +148,8 @@ TEST(CliList, EachGpuApiNamesItsDeviceOrWhyNone) {
     }
     for (const json& f : api["driver_files"]) {
       EXPECT_TRUE(f["path"].is_string() && f["library"].is_string() && f["from"].is_string());
-      EXPECT_NE(text.out.find("    driver file " + f["path"].get<std::string>()), std::string::npos);
+      EXPECT_NE(text.out.find("    driver file " + f["path"].get<std::string>()),
+                std::string::npos);
     }
   }
   EXPECT_EQ(apis, (std::vector<std::string>{"Vulkan", "OpenGL (EGL)", "OpenCL"}));
@@ -158,8 +159,9 @@ TEST(CliList, DriverDirThatIsNoFolderIsRefused) {
   expect_usage_error(run_cli({"list", "--driver-dir", "/nonexistent-nurbsbench-driver"}),
                      {"--driver-dir '/nonexistent-nurbsbench-driver': not a folder"});
   TempDir empty;
-  expect_usage_error(run_cli({"--driver-dir", empty.path().string(), "list"}),
-                     {"--driver-dir '" + empty.path().string() + "': holds no Vulkan ICD manifest"});
+  expect_usage_error(
+      run_cli({"--driver-dir", empty.path().string(), "list"}),
+      {"--driver-dir '" + empty.path().string() + "': holds no Vulkan ICD manifest"});
 }
 
 // A Vulkan driver the loader cannot see (VK_DRIVER_FILES names nothing) is found through
@@ -176,7 +178,8 @@ TEST(CliList, DriverDirBringsADriverTheLoaderDoesNotSee) {
     GTEST_SKIP() << "no Vulkan device on this machine to hide and find again";
   TempDir driver;
   fs::create_directories(driver.path() / "share/vulkan/icd.d");
-  for (const fs::path& m : manifests) fs::copy_file(m, driver.path() / "share/vulkan/icd.d" / m.filename());
+  for (const fs::path& m : manifests)
+    fs::copy_file(m, driver.path() / "share/vulkan/icd.d" / m.filename());
   setenv("VK_DRIVER_FILES", "/nonexistent-nurbsbench.json", 1);
   const CliResult hidden = run_cli({"list", "--json"});
   const CliResult found = run_cli({"list", "--json", "--driver-dir", driver.path().string()});

@@ -1,6 +1,6 @@
 // Metrics, timing statistics, records and gates, on hand-made inputs whose answers are known.
-#include <gtest/gtest.h>
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <cfloat>
 #include <cmath>
@@ -104,11 +104,11 @@ TEST(Metrics, NaNNormalIsNonFinite) {
             fmt::format("1 of 2 samples are not finite (NaN/Inf position or normal); the first at "
                         "surface 0 (u, v) = ({:.17g}, {:.17g})",
                         result.surfaces[0].samples.u_of(1), result.surfaces[0].samples.v_of(1)));
-  EXPECT_EQ(non_finite_failure(measure_accuracy(scene, result_with({{0, 0, 0}, {1, 1, 0}},
-                                                                   Precision::f32),
-                                                reference),
-                               2),
-            "");
+  EXPECT_EQ(
+      non_finite_failure(
+          measure_accuracy(scene, result_with({{0, 0, 0}, {1, 1, 0}}, Precision::f32), reference),
+          2),
+      "");
 }
 
 TEST(Timing, MedianMinMax) {

@@ -272,8 +272,8 @@ TEST_P(StrategyAccuracy, FloatRoundedDomainEndsStayOnTheSurface) {
         if (far && precision == Precision::f32) continue;
         const double bound_ulp = precision == Precision::f32 ? f32_ulp_budget(entry.name)
                                                              : 64.0 * DBL_EPSILON / FLT_EPSILON;
-        EXPECT_LE(acc.max_ulp, bound_ulp) << where << ": worst at u=" << acc.worst_u
-                                          << " v=" << acc.worst_v;
+        EXPECT_LE(acc.max_ulp, bound_ulp)
+            << where << ": worst at u=" << acc.worst_u << " v=" << acc.worst_v;
       }
   }
 }

@@ -63,7 +63,8 @@ inline bool float_knots_hold(const Surface& s) {
   for (const std::vector<double>* k : {&s.knots_u, &s.knots_v})
     for (std::size_t i = 0; i < k->size(); ++i) {
       shift = std::max(shift, std::abs(static_cast<float>((*k)[i]) - (*k)[i]));
-      if (i + 1 < k->size() && (*k)[i] < (*k)[i + 1]) shortest = std::min(shortest, (*k)[i + 1] - (*k)[i]);
+      if (i + 1 < k->size() && (*k)[i] < (*k)[i + 1])
+        shortest = std::min(shortest, (*k)[i + 1] - (*k)[i]);
     }
   return shift <= 1e-4 * shortest;
 }

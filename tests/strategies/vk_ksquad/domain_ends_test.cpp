@@ -4,6 +4,8 @@
 // search; span grids and the tessellator's samples are per KSQuad by construction), so a float
 // parameter rounded outward at a domain end is evaluated in the end span, as the reference does,
 // within half a float ulp of the end.
+#include "tests/strategies/vk_ksquad/domain_ends.h"
+
 #include <gtest/gtest.h>
 
 #include <iostream>
@@ -13,7 +15,6 @@
 #include "strategies/registry.h"
 #include "strategies/vk_ksquad/vk_ksquad_strategy.h"
 #include "tests/reference/test_support.h"
-#include "tests/strategies/vk_ksquad/domain_ends.h"
 
 namespace nurbs {
 namespace {
@@ -26,8 +27,10 @@ TEST(vk_ksquad_domain_ends, EveryModeStaysOnTheSurface) {
     const char* mode;
     Sampling sampling;
   };
-  const Run runs[] = {{"uniform", test::grid(17, 13)}, {"uniform", test::span_grid(5)},
-                      {"gs", test::span_grid(4)},      {"adaptive", test::span_grid(1)},
+  const Run runs[] = {{"uniform", test::grid(17, 13)},
+                      {"uniform", test::span_grid(5)},
+                      {"gs", test::span_grid(4)},
+                      {"adaptive", test::span_grid(1)},
                       {"nonuniform", test::span_grid(1)}};
   for (const Run& run : runs) {
     const std::string label = std::string(run.mode) + " " + run.sampling.label();

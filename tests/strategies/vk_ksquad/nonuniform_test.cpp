@@ -393,8 +393,7 @@ TEST(vk_ksquad_nonuniform, DecisionsAreTheEquations) {
               const V3 cell[2][2] = {{lattice[a][b], lattice[a][b + step]},
                                      {lattice[a + step][b], lattice[a + step][b + step]}};
               // the centre and the four edge midpoints, as fractions of the cell
-              const std::array<int, 2> at[5] = {
-                  {1, 1}, {1, 0}, {0, 1}, {2, 1}, {1, 2}};
+              const std::array<int, 2> at[5] = {{1, 1}, {1, 0}, {0, 1}, {2, 1}, {1, 2}};
               for (const auto& half_steps : at) {
                 const V3 rendered = rendered_point(cell, half_steps[0] / 2.0, half_steps[1] / 2.0);
                 const double dev =
