@@ -405,25 +405,26 @@ void VkKsquad::build_tables(const Scene& scene) {
                            constants(surface, 1, span_v), end_u, end_v, 0});
   // A knot span non-empty in double but empty in float (knots closer than a float ulp:
   // linkrods.step's face 33, 1.8e-8 apart near v = -3.61) has stair constants 1 / 0. Every
-  // parameter of it rounds to the one float x_i, which A2.1 on the float knots puts in a span
-  // non-empty in float -- the one the reference's search takes for that float: the uniform
-  // mapping evaluates there, at that span's start (share 0, 0) or, at the domain's end, its end
-  // (1, 1). (Grids never land there: ksquad::runs_of_grid searches the float knots. Adaptive
-  // mode keeps the span: its tessellator spans the whole KSQuad.)
-  const auto in_float = [&](const Surface& s, int direction, int span) {
-    const std::vector<double>& k = direction == 0 ? s.knots_u : s.knots_v;
-    const std::vector<float> kf(k.begin(), k.end());
-    if (settings_.adaptive || kf[span] < kf[span + 1]) return std::make_pair(span, -1.0f);
-    const int t = find_span(direction == 0 ? s.degree_u : s.degree_v,
-                            direction == 0 ? s.count_u : s.count_v, kf.data(), kf[span]);
-    return std::make_pair(t, kf[span] == kf[t] ? 0.0f : 1.0f);
+  // parameter of it rounds to the one float x_i, and ksquad::runs_of_span_grid already gives its
+  // run the span A2.1 on the float knots finds for x_i (non-empty in float, the one the
+  // reference's search takes for that float). The uniform span-grid mapping must then not spread
+  // the run over that span: it evaluates all of it at x_i, the span's start (share 0) or, at the
+  // domain's end, its end (1); -1 = an ordinary run. (Grids are evaluated at their own
+  // parameters; adaptive mode tessellates the whole KSQuad of the span it is given.)
+  const bool collapsible = !settings_.adaptive && span_grid_samples();
+  const auto collapsed_share = [&](int surface, int direction, const ksquad::SpanRun& run) {
+    if (!collapsible || run.count < 2) return -1.0f;
+    const std::vector<double>& params = direction == 0 ? samples_[surface].u : samples_[surface].v;
+    const Surface& s = scene.surfaces[surface];
+    const std::vector<double>& knots = direction == 0 ? s.knots_u : s.knots_v;
+    const float first = static_cast<float>(params[run.begin]);
+    if (first != static_cast<float>(params[run.begin + run.count - 1])) return -1.0f;
+    return first == static_cast<float>(knots[run.span]) ? 0.0f : 1.0f;
   };
-  for (ksquad::KSQuad q : quads) {
+  for (const ksquad::KSQuad& q : quads) {
     const Surface& s = scene.surfaces[q.surface];
-    const auto [float_u, share_u] = in_float(s, 0, q.u.span);
-    const auto [float_v, share_v] = in_float(s, 1, q.v.span);
-    q.u.span = float_u;
-    q.v.span = float_v;
+    const float share_u = collapsed_share(q.surface, 0, q.u);
+    const float share_v = collapsed_share(q.surface, 1, q.v);
     const int cu = constants(q.surface, 0, q.u.span), cv = constants(q.surface, 1, q.v.span);
     int c[4] = {0, 0, 0, 0};
     if (settings_.adaptive)
