@@ -18,7 +18,7 @@
 #include "reference/tmesh.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
-#include "tests/reference/random_nurbs.h"
+#include "tests/strategies/domain_ends.h"
 #include "tests/tspline/tspline_meshes.h"
 
 namespace nurbs {
@@ -213,22 +213,14 @@ TEST_P(StrategyAccuracy, ResultCarriesTheRequestedSamples) {
 // linkrods.step domain start that turned vk-ksquad's tessellator parameters into NaN). A float
 // parameter rounded outward leaves the domain: every strategy must clamp it, or evaluate in the
 // span the reference uses, and never return NaN or a point off the surface.
-Surface with_domain(Surface s, double u0, double u1, double v0, double v1) {
-  const auto remap = [](std::vector<double>& knots, double lo, double hi) {
-    const double k0 = knots.front(), k1 = knots.back();
-    for (double& k : knots) k = k == k1 ? hi : lo + (k - k0) * ((hi - lo) / (k1 - k0));
-  };
-  remap(s.knots_u, u0, u1);
-  remap(s.knots_v, v0, v1);
-  return s;
-}
-
+// The surfaces of tests/strategies/domain_ends.h on these domains; the far one 2.5 wide, so that
+// f64 has room to be held to its budget.
 Scene unrepresentable_ends_scene(bool far) {
-  test::Rng rng(far ? 11 : 7);
-  Surface s = test::random_surface(rng, 3, 3, 6, 5, test::Ends::clamped, !far);
-  s.name = far ? "far-parameters" : "unrepresentable-ends";
-  s = far ? with_domain(s, 1e5 + 1.0 / 7, 1e5 + 1.0 / 7 + 2.5, -1.0 / 3, 0.80939816339744830)
-          : with_domain(s, -0.80939816339744830, 1.0 / 3, 1.0 / 3, 1 + 1.0 / 7);
+  const double a = 0.80939816339744830;
+  const Surface s = far ? test::unrepresentable_surface("far-parameters", 1e5 + 1.0 / 7,
+                                                        1e5 + 1.0 / 7 + 2.5, -1.0 / 3, a)
+                        : test::unrepresentable_surface("unrepresentable-ends", -a, 1.0 / 3,
+                                                        1.0 / 3, 1 + 1.0 / 7);
   return Scene{s.name, "domain ends not representable in float", {s}};
 }
 

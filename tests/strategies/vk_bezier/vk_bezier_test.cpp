@@ -13,7 +13,7 @@
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
 #include "tests/reference/test_support.h"
-#include "tests/strategies/vk_ksquad/domain_ends.h"
+#include "tests/strategies/domain_ends.h"
 
 namespace nurbs {
 namespace {
@@ -194,7 +194,7 @@ TEST_F(VkBezierTest, DeviceRecordSaysCpuForASoftwareDevice) {
 }
 
 // Domain ends that are not floats (issue 28): every sample finite and on the surface, grid and
-// span grid (tests/strategies/vk_ksquad/domain_ends.h).
+// span grid (tests/strategies/domain_ends.h).
 TEST_F(VkBezierTest, UnrepresentableDomainEndsStayOnTheSurface) {
   const Scene scene = test::unrepresentable_ends_scene();
   for (const Sampling& sampling : {grid(17, 13), span_grid(5)}) {

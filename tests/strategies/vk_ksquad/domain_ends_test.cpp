@@ -4,7 +4,7 @@
 // search; span grids and the tessellator's samples are per KSQuad by construction), so a float
 // parameter rounded outward at a domain end is evaluated in the end span, as the reference does,
 // within half a float ulp of the end.
-#include "tests/strategies/vk_ksquad/domain_ends.h"
+#include "tests/strategies/domain_ends.h"
 
 #include <gtest/gtest.h>
 

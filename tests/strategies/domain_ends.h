@@ -1,7 +1,7 @@
 // Surfaces whose domain ends (and knots) are not floats -- ±0.8093981633974483, 1/3, 4/3,
 // 1e5 + 1/7 -- and the check that a float strategy's samples there are finite and on the surface
 // (issue 28: a parameter rounded outward in float must not give NaN or a point off the surface).
-// Shared by vk-ksquad's and vk-bezier's tests.
+// Shared by the strategy accuracy suite and vk-ksquad's and vk-bezier's tests.
 #pragma once
 
 #include <gtest/gtest.h>
