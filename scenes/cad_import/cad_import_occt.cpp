@@ -4,6 +4,8 @@
 #include <BRepTools.hxx>
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Tool.hxx>
+#include <Bnd_Box2d.hxx>
+#include <BndLib_Add2dCurve.hxx>
 #include <Geom2dConvert.hxx>
 #include <Geom2d_BSplineCurve.hxx>
 #include <Geom2d_TrimmedCurve.hxx>
@@ -16,7 +18,9 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
+#include <gp_Vec2d.hxx>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -108,40 +112,298 @@ double clamp_change(const Geom2d_BSplineCurve& c, const Domain& domain, double t
   return std::min(diameter, 2 * excess);
 }
 
-// The converted face's surface, made non-periodic with its parameters kept, as a Surface; then
-// checked against OpenCASCADE's evaluation of the periodic original.
-Surface face_surface(const TopoDS_Face& face, double& deviation) {
-  Handle(Geom_Surface) geometry = BRep_Tool::Surface(face);  // with the face's location applied
+// A face's p-curves, one vector per wire (the outer wire first), each curve a non-periodic 2D
+// B-spline running in the wire's direction, before they are placed on the surface's domain.
+using Loops = std::vector<std::vector<Handle(Geom2d_BSplineCurve)>>;
+
+// The converted face's surface as OpenCASCADE evaluates it: a B-spline, periodic or not, with its
+// location applied.
+Handle(Geom_BSplineSurface) face_bspline(const TopoDS_Face& face) {
+  Handle(Geom_Surface) geometry = BRep_Tool::Surface(face);
   if (auto trimmed = Handle(Geom_RectangularTrimmedSurface)::DownCast(geometry))
     geometry = trimmed->BasisSurface();
   const auto bspline = Handle(Geom_BSplineSurface)::DownCast(geometry);
   if (bspline.IsNull())
     throw FaceSkip{"not a B-spline after conversion", geometry->DynamicType()->Name()};
-  double u0, u1, v0, v1;
-  bspline->Bounds(u0, u1, v0, v1);
-  // SetNotPeriodic keeps the parameters but leaves unclamped end knots; Segment over the same
-  // bounds clamps them (knot insertion: the surface and its parameters unchanged).
-  const auto flat = Handle(Geom_BSplineSurface)::DownCast(bspline->Copy());
-  if (flat->IsUPeriodic()) flat->SetUNotPeriodic();
-  if (flat->IsVPeriodic()) flat->SetVNotPeriodic();
-  if (bspline->IsUPeriodic() || bspline->IsVPeriodic()) flat->Segment(u0, u1, v0, v1);
-  Surface surface = to_surface(*flat);
+  return bspline;
+}
 
-  if (surface.u_min() != u0 || surface.u_max() != u1 || surface.v_min() != v0 ||
-      surface.v_max() != v1)
+// Where the face's loops go on its surface, per direction (0: u, 1: v): the domain the imported
+// surface will have, and how it was found. Every route is exact -- the surface on the new domain
+// is OpenCASCADE's own surface there, the p-curves are moved only by whole periods:
+// - a periodic direction: each loop is moved by whole periods into one period [s, s + T] that no
+//   loop crosses; s is the surface's own origin where the loops allow it, else a new seam
+//   ("seam moved"): Segment over [s, s + T] re-clamps the periodic surface there by knot
+//   insertion (the surface unchanged), its knots then shifted by a whole period to start at s.
+// - a non-periodic direction: a loop that runs past the domain by more than the (u, v)
+//   tolerance gets the domain extended to it ("domain extended"): OpenCASCADE evaluates a
+//   B-spline past its end knots by continuing the end span's polynomial, and so the model's
+//   edges were made on that continuation; extend_end writes the same polynomial over the longer
+//   span. Chosen over splitting the loop or clamping it, which would change the face.
+struct Placement {
+  double lo[2] = {0, 0}, hi[2] = {0, 0};
+  bool periodic[2] = {false, false};
+  std::vector<std::string> routes;  // for the summary, in the order found, each once
+  void add(const std::string& route) {
+    if (std::find(routes.begin(), routes.end(), route) == routes.end()) routes.push_back(route);
+  }
+};
+
+// The u (axis 0) or v (axis 1) range the curves actually cover (not their control polygons).
+std::pair<double, double> curve_range(const std::vector<Handle(Geom2d_BSplineCurve)>& curves,
+                                      int axis) {
+  Bnd_Box2d box;
+  for (const auto& c : curves)
+    BndLib_Add2dCurve::AddOptimal(c, c->FirstParameter(), c->LastParameter(), 0.0, box);
+  double x0, y0, x1, y1;
+  box.Get(x0, y0, x1, y1);
+  return axis == 0 ? std::pair{x0, x1} : std::pair{y0, y1};
+}
+
+void translate(const Handle(Geom2d_BSplineCurve)& curve, int axis, double by) {
+  curve->Translate(gp_Vec2d(axis == 0 ? by : 0.0, axis == 0 ? 0.0 : by));
+}
+
+// How far past a non-periodic end (of the domain's width) a loop must run to extend the domain;
+// closer, the control points are moved onto the edge (their change is in the figures).
+constexpr double kExtendPast = 1e-9;
+
+// How a non-periodic direction's domain may grow, tried in this order (import_cad_model): to the
+// loops' control points where the curves themselves leave the domain (to the curves alone would
+// leave them tangent to the new edge, their control points outside: moving those is not exact);
+// to the control points wherever they leave it (a circle touching the domain's edge); not at all
+// (the fallback when extending fails: a weight would not stay positive).
+enum class Extend { where_curves_leave, to_control_points, never };
+
+// The u (axis 0) or v (axis 1) range of the curves' control points.
+std::pair<double, double> pole_range(const std::vector<Handle(Geom2d_BSplineCurve)>& curves,
+                                     int axis) {
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (const auto& c : curves)
+    for (int i = 1; i <= c->NbPoles(); ++i) {
+      lo = std::min(lo, c->Pole(i).Coord(axis + 1));
+      hi = std::max(hi, c->Pole(i).Coord(axis + 1));
+    }
+  return {lo, hi};
+}
+
+// The loops' periodic placement is the same for every `extend`.
+Placement place_loops(const Geom_BSplineSurface& bspline, Loops& loops, double tolerance,
+                      Extend extend) {
+  Placement placed;
+  double bounds[4];
+  bspline.Bounds(bounds[0], bounds[1], bounds[2], bounds[3]);
+  for (int axis = 0; axis < 2; ++axis) {
+    const double first = bounds[2 * axis], last = bounds[2 * axis + 1];
+    placed.lo[axis] = first;
+    placed.hi[axis] = last;
+    const bool periodic = axis == 0 ? bspline.IsUPeriodic() : bspline.IsVPeriodic();
+    placed.periodic[axis] = periodic;
+    if (periodic) {
+      const double period = last - first;
+      bool moved = false;
+      // Within a loop, a curve that starts a whole period away from the previous curve's end
+      // follows it (seam edges stay where they are: their ends meet in the same period).
+      for (auto& loop : loops)
+        for (std::size_t c = 1; c < loop.size(); ++c) {
+          const double end = loop[c - 1]->EndPoint().Coord(axis + 1);
+          const double k = std::round((end - loop[c]->StartPoint().Coord(axis + 1)) / period);
+          if (k != 0) translate(loop[c], axis, k * period), moved = true;
+        }
+      std::vector<std::pair<double, double>> ranges;
+      for (std::size_t l = 0; l < loops.size(); ++l) {
+        ranges.push_back(curve_range(loops[l], axis));
+        if (ranges.back().second - ranges.back().first > period + tolerance)
+          throw FaceSkip{"loop longer than a period",
+                         fmt::format("loop {} spans {:.6g} in {} > period {:.6g}", l,
+                                     ranges.back().second - ranges.back().first, "uv"[axis],
+                                     period)};
+      }
+      // A seam no loop crosses: the surface's own first, else a loop's start (if any seam is
+      // free, moving it forward to the next loop start keeps it free).
+      auto shift_into = [&](double s, const std::pair<double, double>& r) -> std::optional<double> {
+        const double k = std::ceil((s - tolerance - r.first) / period);
+        if (r.second + k * period <= s + period + tolerance) return k;
+        return std::nullopt;
+      };
+      std::vector<double> seams{first};
+      for (const auto& r : ranges) seams.push_back(r.first);
+      std::optional<double> seam;
+      for (double s : seams)
+        if (std::all_of(ranges.begin(), ranges.end(),
+                        [&](const auto& r) { return shift_into(s, r).has_value(); })) {
+          seam = s;
+          break;
+        }
+      if (!seam)
+        throw FaceSkip{"every seam position is crossed by a loop",
+                       fmt::format("in {} (period {:.6g}): the loops would have to be split at "
+                                   "the seam",
+                                   "uv"[axis], period)};
+      for (std::size_t l = 0; l < loops.size(); ++l) {
+        const double k = *shift_into(*seam, ranges[l]);
+        if (k != 0) {
+          for (const auto& c : loops[l]) translate(c, axis, k * period);
+          moved = true;
+        }
+      }
+      if (moved) placed.add("moved by whole periods");
+      if (std::abs(*seam - first) > tolerance) {
+        placed.lo[axis] = *seam;
+        placed.hi[axis] = *seam + period;
+        placed.add("seam moved");
+      }
+    } else if (extend != Extend::never) {
+      double lo = first, hi = last, pole_lo = first, pole_hi = last;
+      for (const auto& loop : loops) {
+        const auto [a, b] = curve_range(loop, axis);
+        lo = std::min(lo, a);
+        hi = std::max(hi, b);
+        const auto [c, d] = pole_range(loop, axis);
+        pole_lo = std::min(pole_lo, c);
+        pole_hi = std::max(pole_hi, d);
+      }
+      const bool closed = axis == 0 ? bspline.IsUClosed() : bspline.IsVClosed();
+      if (closed && hi - lo > last - first + tolerance)
+        throw FaceSkip{"loop wraps around a closed surface",
+                       fmt::format("the loops span {:.6g} in {}, the surface closes after "
+                                   "{:.6g}: they would have to be split at its seam",
+                                   hi - lo, "uv"[axis], last - first)};
+      // Any excess past rounding: extending is exact, moving control points is not.
+      const double past = kExtendPast * (last - first);
+      if (extend == Extend::to_control_points || lo < first - past || hi > last + past) {
+        if (pole_lo < first - past) placed.lo[axis] = pole_lo;
+        if (pole_hi > last + past) placed.hi[axis] = pole_hi;
+      }
+      if (placed.lo[axis] != first || placed.hi[axis] != last) {
+        placed.add("domain extended");
+      }
+    }
+  }
+  return placed;
+}
+
+// Writes the end span's polynomial of a clamped, non-periodic B-spline over [new_first, ...]
+// (at_start) or [..., new_last] in u: knot insertion makes the end span a Bezier patch (the surface
+// unchanged), de Casteljau at the parameter past its end gives that polynomial's Bezier points
+// over the longer span, in homogeneous coordinates (Piegl & Tiller A5.6 read backwards).
+void extend_end(Geom_BSplineSurface& s, bool at_start, double to) {
+  const int p = s.UDegree();
+  const int inner = at_start ? 2 : s.NbUKnots() - 1;
+  if (s.NbUKnots() > 2 && s.UMultiplicity(inner) < p)
+    s.InsertUKnot(s.UKnot(inner), p, 0.0, Standard_False);
+  const double a = s.UKnot(at_start ? 1 : s.NbUKnots() - 1);
+  const double b = s.UKnot(at_start ? 2 : s.NbUKnots());
+  const double t = (to - a) / (b - a);  // < 0 at the start, > 1 at the end
+  const int base = at_start ? 1 : s.NbUPoles() - p;
+  for (int j = 1; j <= s.NbVPoles(); ++j) {
+    std::vector<std::array<double, 4>> h(p + 1);
+    for (int i = 0; i <= p; ++i) {
+      const gp_Pnt& q = s.Pole(base + i, j);
+      const double w = s.Weight(base + i, j);
+      h[i] = {q.X() * w, q.Y() * w, q.Z() * w, w};
+    }
+    // Level r of de Casteljau: the extended span's points are the first of each level (end) or
+    // the last of each level (start).
+    std::vector<std::array<double, 4>> out(p + 1);
+    out[at_start ? p : 0] = at_start ? h[p] : h[0];
+    for (int r = 1; r <= p; ++r) {
+      for (int i = 0; i <= p - r; ++i)
+        for (int c = 0; c < 4; ++c) h[i][c] = (1 - t) * h[i][c] + t * h[i + 1][c];
+      if (at_start)
+        out[p - r] = h[p - r];
+      else
+        out[r] = h[0];
+    }
+    for (int i = 0; i <= p; ++i) {
+      const double w = out[i][3];
+      if (!(w > 0))
+        throw FaceSkip{"extending the domain makes a weight non-positive",
+                       fmt::format("u to {:.6g}: weight {:.3g}", to, w)};
+      s.SetPole(base + i, j, gp_Pnt(out[i][0] / w, out[i][1] / w, out[i][2] / w), w);
+    }
+  }
+  s.SetUKnot(at_start ? 1 : s.NbUKnots(), to);
+}
+
+// The converted face's surface on the placed domain, non-periodic and clamped, as a Surface;
+// checked against OpenCASCADE's evaluation of the face's own surface over that whole domain
+// (periodic: in whatever period; past a non-periodic end: OpenCASCADE's continuation).
+Surface face_surface(const TopoDS_Face& face, const Geom_BSplineSurface& bspline,
+                     const Placement& placed, double& deviation) {
+  double u0, u1, v0, v1;
+  bspline.Bounds(u0, u1, v0, v1);
+  // Segment over the placed period clamps a periodic direction there (knot insertion: the
+  // surface and its parameters unchanged) -- in the period OpenCASCADE normalises to, so the
+  // knots are shifted back by whole periods after. A non-periodic direction keeps its bounds
+  // here and is extended below.
+  const auto flat = Handle(Geom_BSplineSurface)::DownCast(bspline.Copy());
+  const double s0 = placed.periodic[0] ? placed.lo[0] : u0;
+  const double s1 = placed.periodic[0] ? placed.hi[0] : u1;
+  const double t0 = placed.periodic[1] ? placed.lo[1] : v0;
+  const double t1 = placed.periodic[1] ? placed.hi[1] : v1;
+  if (placed.periodic[0] || placed.periodic[1]) {
+    flat->Segment(s0, s1, t0, t1);
+    double f0, f1, g0, g1;
+    if (flat->IsUPeriodic() || flat->IsVPeriodic()) {
+      // SetNotPeriodic keeps the parameters but leaves unclamped end knots; Segment over the same
+      // bounds clamps them.
+      if (flat->IsUPeriodic()) flat->SetUNotPeriodic();
+      if (flat->IsVPeriodic()) flat->SetVNotPeriodic();
+      flat->Bounds(f0, f1, g0, g1);
+      flat->Segment(f0, f1, g0, g1);
+    }
+    for (int axis = 0; axis < 2; ++axis) {
+      if (!placed.periodic[axis]) continue;
+      flat->Bounds(f0, f1, g0, g1);
+      const double now = axis == 0 ? f0 : g0, period = placed.hi[axis] - placed.lo[axis];
+      const double by = std::round((placed.lo[axis] - now) / period) * period;
+      if (by == 0) continue;
+      TColStd_Array1OfReal knots = axis == 0 ? flat->UKnots() : flat->VKnots();
+      for (double& k : knots) k += by;
+      if (axis == 0)
+        flat->SetUKnots(knots);
+      else
+        flat->SetVKnots(knots);
+    }
+  }
+  for (int axis = 0; axis < 2; ++axis) {
+    if (placed.periodic[axis]) continue;
+    if (axis == 1) flat->ExchangeUV();
+    double f0, f1, g0, g1;
+    flat->Bounds(f0, f1, g0, g1);
+    // Unclamped end knots (uniform B-splines from some files) clamped first: extend_end needs
+    // the end knot to be the domain's end.
+    if ((placed.lo[axis] < f0 || placed.hi[axis] > f1) &&
+        (flat->UKnot(1) != f0 || flat->UKnot(flat->NbUKnots()) != f1))
+      flat->Segment(f0, f1, g0, g1);
+    if (placed.lo[axis] < flat->UKnot(1)) extend_end(*flat, true, placed.lo[axis]);
+    if (placed.hi[axis] > flat->UKnot(flat->NbUKnots()))
+      extend_end(*flat, false, placed.hi[axis]);
+    if (axis == 1) flat->ExchangeUV();
+  }
+  Surface surface = to_surface(*flat);
+  // Shifting knots by a whole period rounds; the domain must be the placed one to an ulp or so.
+  const double slack = 1e-12 * std::max({1.0, std::abs(placed.lo[0]), std::abs(placed.hi[0]),
+                                         std::abs(placed.lo[1]), std::abs(placed.hi[1])});
+  if (std::abs(surface.u_min() - placed.lo[0]) > slack ||
+      std::abs(surface.u_max() - placed.hi[0]) > slack ||
+      std::abs(surface.v_min() - placed.lo[1]) > slack ||
+      std::abs(surface.v_max() - placed.hi[1]) > slack)
     throw FaceSkip{
         "parameters changed by the conversion",
-        fmt::format("domain [{}, {}] x [{}, {}] became [{}, {}] x [{}, {}]", u0, u1, v0, v1,
-                    surface.u_min(), surface.u_max(), surface.v_min(), surface.v_max())};
+        fmt::format("domain [{}, {}] x [{}, {}] became [{}, {}] x [{}, {}]", placed.lo[0],
+                    placed.hi[0], placed.lo[1], placed.hi[1], surface.u_min(), surface.u_max(),
+                    surface.v_min(), surface.v_max())};
   SurfaceSamples samples;
-  samples.u = grid_parameters(u0, u1, kCheckGrid);
-  samples.v = grid_parameters(v0, v1, kCheckGrid);
+  samples.u = grid_parameters(surface.u_min(), surface.u_max(), kCheckGrid);
+  samples.v = grid_parameters(surface.v_min(), surface.v_max(), kCheckGrid);
   Scene one{"check", "", {surface}};
   one.surfaces.front().name = "check";
   const ReferenceSurface ours = evaluate_reference(one, {samples}, false).front();
   double largest = 0;
   for (std::size_t k = 0; k < samples.count(); ++k) {
-    const gp_Pnt p = bspline->Value(samples.u_of(k), samples.v_of(k));
+    const gp_Pnt p = bspline.Value(samples.u_of(k), samples.v_of(k));
     const Point3& q = ours.positions[k];
     largest = std::max(largest, std::hypot(p.X() - q[0], p.Y() - q[1], p.Z() - q[2]));
   }
@@ -181,21 +443,48 @@ struct EdgeCurve {
   double change;
 };
 
-// The p-curve of `edge` on `face` as a non-periodic 2D B-spline running in the wire's direction.
+// The face's wires as loops of p-curves, the outer wire first, each edge's p-curve in wire order
+// as a non-periodic 2D B-spline running in the wire's direction (seam edges twice, once per
+// orientation; a degenerated edge's p-curve closes a pole).
+Loops face_loops(const TopoDS_Face& face) {
+  std::vector<TopoDS_Wire> wires;
+  const TopoDS_Wire outer = BRepTools::OuterWire(face);
+  if (!outer.IsNull()) wires.push_back(outer);
+  for (TopExp_Explorer e(face, TopAbs_WIRE); e.More(); e.Next())
+    if (!e.Current().IsSame(outer)) wires.push_back(TopoDS::Wire(e.Current()));
+  if (wires.empty()) throw FaceSkip{"face without wires", "no trimming loop"};
+  Loops loops;
+  for (const TopoDS_Wire& wire : wires) {
+    const int loop = static_cast<int>(loops.size());
+    int edges = 0;
+    for (TopExp_Explorer e(wire, TopAbs_EDGE); e.More(); e.Next()) ++edges;
+    std::vector<Handle(Geom2d_BSplineCurve)> curves;
+    for (BRepTools_WireExplorer e(wire, face); e.More(); e.Next()) {
+      const TopoDS_Edge& edge = e.Current();
+      double first = 0, last = 0;
+      const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(edge, face, first, last);
+      if (pcurve.IsNull())
+        throw FaceSkip{"edge without p-curve", fmt::format("loop {} edge {}", loop, curves.size())};
+      Handle(Geom2d_BSplineCurve) curve =
+          Geom2dConvert::CurveToBSplineCurve(new Geom2d_TrimmedCurve(pcurve, first, last));
+      if (curve->IsPeriodic()) curve->SetNotPeriodic();
+      if (edge.Orientation() == TopAbs_REVERSED) curve->Reverse();
+      curves.push_back(curve);
+    }
+    if (static_cast<int>(curves.size()) != edges)
+      throw FaceSkip{"wire not connected", fmt::format("loop {}: {} of its {} edges follow each other",
+                                                       loop, curves.size(), edges)};
+    loops.push_back(std::move(curves));
+  }
+  return loops;
+}
+
 // A curve inside the domain can have control points outside it (a circle's square of points):
-// knot insertion, which leaves the curve unchanged, pulls them onto the curve first.
-EdgeCurve edge_curve(const TopoDS_Edge& edge, const TopoDS_Face& face, const Domain& domain,
-                     double tolerance, double repair, int loop, int index) {
-  double first = 0, last = 0;
-  const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(edge, face, first, last);
-  if (pcurve.IsNull())
-    throw FaceSkip{"edge without p-curve", fmt::format("loop {} edge {}", loop, index)};
-  Handle(Geom2d_BSplineCurve) curve =
-      Geom2dConvert::CurveToBSplineCurve(new Geom2d_TrimmedCurve(pcurve, first, last));
-  if (curve->IsPeriodic()) curve->SetNotPeriodic();
-  if (edge.Orientation() == TopAbs_REVERSED) curve->Reverse();
-  // Refined while that pays: until the bound is within the tolerance, or stops shrinking (the
-  // curve itself runs outside), or the curve grows too long.
+// knot insertion, which leaves the curve unchanged, pulls them onto the curve. Refined while that
+// pays: until the bound is within the tolerance, or stops shrinking (the curve itself runs
+// outside), or the curve grows too long.
+EdgeCurve refine_into(Handle(Geom2d_BSplineCurve) curve, const Domain& domain, double tolerance,
+                      double repair) {
   double change = clamp_change(*curve, domain, tolerance);
   for (int round = 0;
        round < kMaxRefinements && change > tolerance && curve->NbPoles() < kMaxRefinedPoles;
@@ -212,44 +501,39 @@ EdgeCurve edge_curve(const TopoDS_Edge& edge, const TopoDS_Face& face, const Dom
   return {curve, change};
 }
 
-// The face's wires as trimming loops, the outer wire first, each edge's p-curve in wire order
-// (seam edges twice, once per orientation; a degenerated edge's p-curve closes a pole).
+// The face's (u, v) uncertainty from its 3D tolerance: OpenCASCADE's parameter resolution of it.
+double face_resolution(const TopoDS_Face& face) {
+  const GeomAdaptor_Surface adaptor(BRep_Tool::Surface(face));
+  const double tolerance_3d = face_tolerance_3d(face);
+  return std::max({adaptor.UResolution(tolerance_3d), adaptor.VResolution(tolerance_3d), 1e-12});
+}
+
+// The placed loops as the surface's trim.
 //
 // Each loop is closed by moving every curve's end onto the next curve's start -- never by a new
 // segment -- when the two ends are within the model's tolerance: their surface points within
 // twice the face's largest 3D vertex/edge tolerance (each end lies within it of the vertex they
-// share), and the (u, v) gap within kMaxUvRepair. Control
-// points outside the domain (after refinement: the curve itself runs outside, as OpenCASCADE
-// allows) are moved onto its edge when that changes the curve by at most kMaxUvRepair beyond its
-// retraction onto the domain (clamp_change; the curve refined first until it is within that), so
-// the trimmed region changes at most that close to where the curve leaves the domain.
+// share), and the (u, v) gap within kMaxUvRepair. Control points still outside the domain
+// (within the tolerance of its edge after placement, or a circle's square of points) are moved
+// onto its edge when that changes the curve by at most kMaxUvRepair beyond its retraction onto
+// the domain (clamp_change; the curve refined first until it is within that), so the trimmed
+// region changes at most that close to where the curve leaves the domain.
 // Trim::tolerance is the face's (u, v) uncertainty: the largest of OpenCASCADE's parameter
 // resolution of the 3D tolerance, the gaps closed and the distances moved.
-FaceTrimFigures face_trim(const TopoDS_Face& face, Surface& surface) {
+FaceTrimFigures face_trim(const TopoDS_Face& face, const Loops& loops, Surface& surface) {
   const double tolerance_3d = face_tolerance_3d(face);
+  // Evaluates the face's own surface: in any period, and past a non-periodic end as OpenCASCADE
+  // continues it -- the surface the placed curves lie on.
   const GeomAdaptor_Surface adaptor(BRep_Tool::Surface(face));
-  const double resolution =
-      std::max({adaptor.UResolution(tolerance_3d), adaptor.VResolution(tolerance_3d), 1e-12});
+  const double resolution = face_resolution(face);
   const double repair = kMaxUvRepair * domain_diagonal(surface);
   const Domain domain{surface.u_min(), surface.u_max(), surface.v_min(), surface.v_max()};
-  std::vector<TopoDS_Wire> wires;
-  const TopoDS_Wire outer = BRepTools::OuterWire(face);
-  if (!outer.IsNull()) wires.push_back(outer);
-  for (TopExp_Explorer e(face, TopAbs_WIRE); e.More(); e.Next())
-    if (!e.Current().IsSame(outer)) wires.push_back(TopoDS::Wire(e.Current()));
-  if (wires.empty()) throw FaceSkip{"face without wires", "no trimming loop"};
-
   Trim trim;
   FaceTrimFigures figures;
-  for (const TopoDS_Wire& wire : wires) {
-    const int loop = static_cast<int>(trim.loops.size());
-    int edges = 0;
-    for (TopExp_Explorer e(wire, TopAbs_EDGE); e.More(); e.Next()) ++edges;
+  for (std::size_t loop = 0; loop < loops.size(); ++loop) {
     TrimLoop out;
-    for (BRepTools_WireExplorer e(wire, face); e.More(); e.Next()) {
-      const int index = static_cast<int>(out.curves.size());
-      const auto [curve, change] =
-          edge_curve(e.Current(), face, domain, resolution, repair, loop, index);
+    for (std::size_t index = 0; index < loops[loop].size(); ++index) {
+      const auto [curve, change] = refine_into(loops[loop][index], domain, resolution, repair);
       if (!(change <= repair))
         throw FaceSkip{"p-curve outside the surface's domain",
                        fmt::format("loop {} curve {}: moving it onto the domain changes it by "
@@ -258,10 +542,6 @@ FaceTrimFigures face_trim(const TopoDS_Face& face, Surface& surface) {
       figures.largest_excess = std::max(figures.largest_excess, change);
       out.curves.push_back(to_trim_curve(*curve));
     }
-    if (static_cast<int>(out.curves.size()) != edges)
-      throw FaceSkip{"wire not connected",
-                     fmt::format("loop {}: {} of its {} edges follow each other", loop,
-                                 out.curves.size(), edges)};
     for (std::size_t c = 0; c < out.curves.size(); ++c) {
       Point2& end = out.curves[c].points.back();
       const Point2& start = out.curves[(c + 1) % out.curves.size()].points.front();
@@ -305,11 +585,32 @@ CadImport import_cad_model(const std::filesystem::path& path, const CadImportOpt
     Surface surface;
     double deviation = 0;
     FaceTrimFigures figures;
+    Placement placed;
     if (!skip) {
       const std::string failure = cad::run_guarded([&] {
         try {
-          surface = face_surface(converted.faces[k], deviation);
-          figures = face_trim(converted.faces[k], surface);
+          const TopoDS_Face& face = converted.faces[k];
+          const Handle(Geom_BSplineSurface) bspline = face_bspline(face);
+          Loops loops = face_loops(face);
+          // The first route that imports the face exactly wins; a skip names every route's
+          // reason.
+          std::optional<FaceSkip> failed;
+          for (const Extend extend :
+               {Extend::where_curves_leave, Extend::to_control_points, Extend::never}) {
+            placed = place_loops(*bspline, loops, face_resolution(face), extend);
+            try {
+              surface = face_surface(face, *bspline, placed, deviation);
+              figures = face_trim(face, loops, surface);
+              failed.reset();
+              break;
+            } catch (const FaceSkip& route) {
+              if (!failed)
+                failed = route;
+              else if (route.reason != failed->reason || route.detail != failed->detail)
+                failed->detail += "; then " + route.reason + ": " + route.detail;
+            }
+          }
+          if (failed) throw *failed;
           surface.name = name;
           validate_surface(surface, static_cast<int>(result.scene.surfaces.size()), report.file);
         } catch (const FaceSkip& face_skip) {
@@ -328,6 +629,7 @@ CadImport import_cad_model(const std::filesystem::path& path, const CadImportOpt
       continue;
     }
     ++report.faces_converted;
+    for (const std::string& route : placed.routes) ++report.placed[route];
     report.loops += static_cast<int>(surface.trim->loops.size());
     for (const TrimLoop& loop : surface.trim->loops)
       report.curves += static_cast<int>(loop.curves.size());
