@@ -75,14 +75,28 @@ inline PeerFigures check_against_occt(const std::filesystem::path& path, const C
         ++figures.in_band;
         continue;
       }
-      const TopAbs_State state = BRepClass_FaceClassifier(face, gp_Pnt2d(u, v), 1e-9).State();
+      // On a periodic surface the importer may have moved the loops by whole periods: the
+      // sample is classified in every period that puts it within the face's p-curves' box
+      // (OpenCASCADE's classifier works in the p-curves' own period), IN if any says so.
+      const double period_u = geometry->IsUPeriodic() ? geometry->UPeriod() : 0;
+      const double period_v = geometry->IsVPeriodic() ? geometry->VPeriod() : 0;
+      TopAbs_State state = TopAbs_OUT;
+      bool outside_box = true;
+      for (int ku = period_u > 0 ? -3 : 0; ku <= (period_u > 0 ? 3 : 0); ++ku)
+        for (int kv = period_v > 0 ? -3 : 0; kv <= (period_v > 0 ? 3 : 0); ++kv) {
+          const double uk = u + ku * period_u, vk = v + kv * period_v;
+          const bool outside = uk < box_u0 - band || uk > box_u1 + band ||
+                               vk < box_v0 - band || vk > box_v1 + band;
+          if (outside && (period_u > 0 || period_v > 0)) continue;
+          outside_box = outside;
+          const TopAbs_State s = BRepClass_FaceClassifier(face, gp_Pnt2d(uk, vk), 1e-9).State();
+          if (s == TopAbs_IN || (s == TopAbs_ON && state == TopAbs_OUT)) state = s;
+        }
       if (state == TopAbs_ON) {
         ++figures.in_band;
         continue;
       }
       ++figures.compared;
-      const bool outside_box =
-          u < box_u0 - band || u > box_u1 + band || v < box_v0 - band || v > box_v1 + band;
       if ((state == TopAbs_IN) == (reference[i].inside[n] == 1))
         ++figures.agreed;
       else if (outside_box && reference[i].inside[n] == 0)
