@@ -4,25 +4,28 @@
 #include <BRepTools.hxx>
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Tool.hxx>
-#include <Bnd_Box2d.hxx>
 #include <BndLib_Add2dCurve.hxx>
+#include <Bnd_Box2d.hxx>
 #include <Geom2dConvert.hxx>
 #include <Geom2d_BSplineCurve.hxx>
 #include <Geom2d_TrimmedCurve.hxx>
 #include <GeomAdaptor_Surface.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_RectangularTrimmedSurface.hxx>
+#include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
+#include <TColStd_Array2OfReal.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
-#include <gp_Vec2d.hxx>
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <gp_Vec2d.hxx>
 #include <optional>
 
 #include "reference/reference_evaluator.h"
@@ -140,10 +143,20 @@ Handle(Geom_BSplineSurface) face_bspline(const TopoDS_Face& face) {
 //   B-spline past its end knots by continuing the end span's polynomial, and so the model's
 //   edges were made on that continuation; extend_end writes the same polynomial over the longer
 //   span. Chosen over splitting the loop or clamping it, which would change the face.
+// - a loop longer than a period (a helical strip winding twice around a cylinder): the domain
+//   spans N whole periods ("unrolled over N periods"), the surface written as N copies of one
+//   clamped period side by side (unroll_periods) -- the same points, each period once more.
+// - a closed but non-periodic direction (a periodic surface OpenCASCADE converted to a clamped
+//   B-spline) whose loops run past its end by more than a period: its p-curves were made on the
+//   periodic surface, so the direction is wrapped like a periodic one ("closed direction
+//   wrapped"), with the surface's own origin as the seam; exact only where the end rows coincide
+//   as homogeneous points up to one factor (unroll_periods checks).
 struct Placement {
   double lo[2] = {0, 0}, hi[2] = {0, 0};
   bool periodic[2] = {false, false};
-  std::vector<std::string> routes;  // for the summary, in the order found, each once
+  bool wrapped[2] = {false, false};  // closed, non-periodic, treated as periodic
+  int periods[2] = {1, 1};           // whole periods the domain spans (periodic or wrapped)
+  std::vector<std::string> routes;   // for the summary, in the order found, each once
   void add(const std::string& route) {
     if (std::find(routes.begin(), routes.end(), route) == routes.end()) routes.push_back(route);
   }
@@ -160,13 +173,17 @@ std::pair<double, double> curve_range(const std::vector<Handle(Geom2d_BSplineCur
   return axis == 0 ? std::pair{x0, x1} : std::pair{y0, y1};
 }
 
-void translate(const Handle(Geom2d_BSplineCurve)& curve, int axis, double by) {
+void translate(const Handle(Geom2d_BSplineCurve) & curve, int axis, double by) {
   curve->Translate(gp_Vec2d(axis == 0 ? by : 0.0, axis == 0 ? 0.0 : by));
 }
 
 // How far past a non-periodic end (of the domain's width) a loop must run to extend the domain;
 // closer, the control points are moved onto the edge (their change is in the figures).
 constexpr double kExtendPast = 1e-9;
+
+// A loop winding around more often than this is refused rather than unrolled (the surface grows
+// by a copy of its period each time).
+constexpr int kMaxUnrolledPeriods = 16;
 
 // How a non-periodic direction's domain may grow, tried in this order (import_cad_model): to the
 // loops' control points where the curves themselves leave the domain (to the curves alone would
@@ -198,8 +215,20 @@ Placement place_loops(const Geom_BSplineSurface& bspline, Loops& loops, double t
     placed.lo[axis] = first;
     placed.hi[axis] = last;
     const bool periodic = axis == 0 ? bspline.IsUPeriodic() : bspline.IsVPeriodic();
+    const bool closed = axis == 0 ? bspline.IsUClosed() : bspline.IsVClosed();
     placed.periodic[axis] = periodic;
-    if (periodic) {
+    // A closed direction is wrapped only where no other reading is possible: loops longer than
+    // the surface (continuing its end polynomial past a whole period would not close it).
+    if (!periodic && closed) {
+      double lo = first, hi = last;
+      for (const auto& loop : loops) {
+        const auto [a, b] = curve_range(loop, axis);
+        lo = std::min(lo, a);
+        hi = std::max(hi, b);
+      }
+      placed.wrapped[axis] = hi - lo > last - first + tolerance;
+    }
+    if (periodic || placed.wrapped[axis]) {
       const double period = last - first;
       bool moved = false;
       // Within a loop, a curve that starts a whole period away from the previous curve's end
@@ -210,24 +239,32 @@ Placement place_loops(const Geom_BSplineSurface& bspline, Loops& loops, double t
           const double k = std::round((end - loop[c]->StartPoint().Coord(axis + 1)) / period);
           if (k != 0) translate(loop[c], axis, k * period), moved = true;
         }
+      // The domain spans as many whole periods as the longest loop needs (one, but for a loop
+      // winding more than once around).
       std::vector<std::pair<double, double>> ranges;
-      for (std::size_t l = 0; l < loops.size(); ++l) {
-        ranges.push_back(curve_range(loops[l], axis));
-        if (ranges.back().second - ranges.back().first > period + tolerance)
-          throw FaceSkip{"loop longer than a period",
-                         fmt::format("loop {} spans {:.6g} in {} > period {:.6g}", l,
-                                     ranges.back().second - ranges.back().first, "uv"[axis],
-                                     period)};
+      int periods = 1;
+      for (const auto& loop : loops) {
+        ranges.push_back(curve_range(loop, axis));
+        const double length = ranges.back().second - ranges.back().first;
+        periods = std::max(periods, static_cast<int>(std::ceil((length - tolerance) / period)));
       }
+      if (periods > kMaxUnrolledPeriods)
+        throw FaceSkip{"loop longer than a period",
+                       fmt::format("a loop winds {} times around in {} (period {:.6g}), more "
+                                   "than {}",
+                                   periods, "uv"[axis], period, kMaxUnrolledPeriods)};
+      const double window = periods * period;
       // A seam no loop crosses: the surface's own first, else a loop's start (if any seam is
-      // free, moving it forward to the next loop start keeps it free).
+      // free, moving it forward to the next loop start keeps it free). A wrapped direction keeps
+      // its own origin: its surface exists only from there.
       auto shift_into = [&](double s, const std::pair<double, double>& r) -> std::optional<double> {
         const double k = std::ceil((s - tolerance - r.first) / period);
-        if (r.second + k * period <= s + period + tolerance) return k;
+        if (r.second + k * period <= s + window + tolerance) return k;
         return std::nullopt;
       };
       std::vector<double> seams{first};
-      for (const auto& r : ranges) seams.push_back(r.first);
+      if (!placed.wrapped[axis])
+        for (const auto& r : ranges) seams.push_back(r.first);
       std::optional<double> seam;
       for (double s : seams)
         if (std::all_of(ranges.begin(), ranges.end(),
@@ -240,6 +277,18 @@ Placement place_loops(const Geom_BSplineSurface& bspline, Loops& loops, double t
                        fmt::format("in {} (period {:.6g}): the loops would have to be split at "
                                    "the seam",
                                    "uv"[axis], period)};
+      // Unrolled, a hole must lie within the outer loop's periods: one that leaves them crosses
+      // a seam edge of the outer loop, which unrolling does not split.
+      if (periods > 1)
+        for (std::size_t l = 1; l < loops.size(); ++l) {
+          const double k0 = *shift_into(*seam, ranges[0]), k = *shift_into(*seam, ranges[l]);
+          if (ranges[l].first + k * period < ranges[0].first + k0 * period - tolerance ||
+              ranges[l].second + k * period > ranges[0].second + k0 * period + tolerance)
+            throw FaceSkip{"every seam position is crossed by a loop",
+                           fmt::format("in {} (period {:.6g}): loop {} leaves the outer loop's "
+                                       "{} periods: the loops would have to be split at the seam",
+                                       "uv"[axis], period, l, periods)};
+        }
       for (std::size_t l = 0; l < loops.size(); ++l) {
         const double k = *shift_into(*seam, ranges[l]);
         if (k != 0) {
@@ -248,11 +297,13 @@ Placement place_loops(const Geom_BSplineSurface& bspline, Loops& loops, double t
         }
       }
       if (moved) placed.add("moved by whole periods");
-      if (std::abs(*seam - first) > tolerance) {
-        placed.lo[axis] = *seam;
-        placed.hi[axis] = *seam + period;
-        placed.add("seam moved");
-      }
+      const double origin = std::abs(*seam - first) > tolerance ? *seam : first;
+      if (origin != first) placed.add("seam moved");
+      placed.lo[axis] = origin;
+      placed.hi[axis] = origin + window;
+      placed.periods[axis] = periods;
+      if (periods > 1) placed.add(fmt::format("unrolled over {} periods", periods));
+      if (placed.wrapped[axis]) placed.add("closed direction wrapped");
     } else if (extend != Extend::never) {
       double lo = first, hi = last, pole_lo = first, pole_hi = last;
       for (const auto& loop : loops) {
@@ -263,12 +314,6 @@ Placement place_loops(const Geom_BSplineSurface& bspline, Loops& loops, double t
         pole_lo = std::min(pole_lo, c);
         pole_hi = std::max(pole_hi, d);
       }
-      const bool closed = axis == 0 ? bspline.IsUClosed() : bspline.IsVClosed();
-      if (closed && hi - lo > last - first + tolerance)
-        throw FaceSkip{"loop wraps around a closed surface",
-                       fmt::format("the loops span {:.6g} in {}, the surface closes after "
-                                   "{:.6g}: they would have to be split at its seam",
-                                   hi - lo, "uv"[axis], last - first)};
       // Any excess past rounding: extending is exact, moving control points is not.
       const double past = kExtendPast * (last - first);
       if (extend == Extend::to_control_points || lo < first - past || hi > last + past) {
@@ -326,6 +371,64 @@ void extend_end(Geom_BSplineSurface& s, bool at_start, double to) {
   s.SetUKnot(at_start ? 1 : s.NbUKnots(), to);
 }
 
+// `copies` periods of a clamped surface side by side in u, each shifted by its period: the
+// junction knots get multiplicity p (a C0 join in the representation; the surface is the
+// periodic one, however smooth), copy c's weights scaled by ratio^c so that the shared rows agree
+// as homogeneous points. Exact when the end rows are the same points and their weights differ by
+// one factor (a periodic surface clamped, or a closed one that was).
+Handle(Geom_BSplineSurface) unroll_periods(const Geom_BSplineSurface& s, int copies) {
+  const int p = s.UDegree(), n = s.NbUPoles(), m = s.NbVPoles(), knots = s.NbUKnots();
+  const double period = s.UKnot(knots) - s.UKnot(1);
+  const double ratio = s.Weight(n, 1) / s.Weight(1, 1);
+  for (int j = 1; j <= m; ++j) {
+    const double size = std::max(1.0, s.Pole(1, j).XYZ().Modulus());
+    if (s.Pole(1, j).Distance(s.Pole(n, j)) > 1e-12 * size ||
+        std::abs(s.Weight(n, j) - ratio * s.Weight(1, j)) > 1e-12 * s.Weight(n, j))
+      throw FaceSkip{
+          "closed surface's ends are not one period",
+          fmt::format("row {}: end points {:.3g} apart, weights {:.6g} and {:.6g}", j,
+                      s.Pole(1, j).Distance(s.Pole(n, j)), s.Weight(1, j), s.Weight(n, j))};
+  }
+  const int rows = copies * (n - 1) + 1, count = copies * (knots - 1) + 1;
+  TColgp_Array2OfPnt poles(1, rows, 1, m);
+  TColStd_Array2OfReal weights(1, rows, 1, m);
+  TColStd_Array1OfReal uknots(1, count);
+  TColStd_Array1OfInteger umults(1, count);
+  double scale = 1;
+  for (int c = 0; c < copies; ++c, scale *= ratio) {
+    for (int i = c == 0 ? 1 : 2; i <= n; ++i)
+      for (int j = 1; j <= m; ++j) {
+        poles(c * (n - 1) + i, j) = s.Pole(i, j);
+        weights(c * (n - 1) + i, j) = scale * s.Weight(i, j);
+      }
+    for (int k = c == 0 ? 1 : 2; k <= knots; ++k) {
+      uknots(c * (knots - 1) + k) = s.UKnot(k) + c * period;
+      umults(c * (knots - 1) + k) = s.UMultiplicity(k);
+    }
+    if (c > 0) umults(c * (knots - 1) + 1) = p;
+  }
+  TColStd_Array1OfReal vknots(1, s.NbVKnots());
+  TColStd_Array1OfInteger vmults(1, s.NbVKnots());
+  s.VKnots(vknots);
+  s.VMultiplicities(vmults);
+  return new Geom_BSplineSurface(poles, weights, uknots, vknots, umults, vmults, p, s.VDegree());
+}
+
+// The face's own surface at (u, v) as its p-curves read it: OpenCASCADE wraps a periodic
+// direction itself; a wrapped (closed, non-periodic) one is wrapped here.
+gp_Pnt face_point(const Geom_BSplineSurface& bspline, const Placement& placed, double u, double v) {
+  double b[4];
+  bspline.Bounds(b[0], b[1], b[2], b[3]);
+  double uv[2] = {u, v};
+  for (int axis = 0; axis < 2; ++axis)
+    if (placed.wrapped[axis]) {
+      const double first = b[2 * axis], period = b[2 * axis + 1] - first;
+      uv[axis] = std::clamp(uv[axis] - std::floor((uv[axis] - first) / period) * period, first,
+                            first + period);
+    }
+  return bspline.Value(uv[0], uv[1]);
+}
+
 // The converted face's surface on the placed domain, non-periodic and clamped, as a Surface;
 // checked against OpenCASCADE's evaluation of the face's own surface over that whole domain
 // (periodic: in whatever period; past a non-periodic end: OpenCASCADE's continuation).
@@ -338,10 +441,11 @@ Surface face_surface(const TopoDS_Face& face, const Geom_BSplineSurface& bspline
   // knots are shifted back by whole periods after. A non-periodic direction keeps its bounds
   // here and is extended below.
   const auto flat = Handle(Geom_BSplineSurface)::DownCast(bspline.Copy());
+  // One period here; unrolled over the rest below.
   const double s0 = placed.periodic[0] ? placed.lo[0] : u0;
-  const double s1 = placed.periodic[0] ? placed.hi[0] : u1;
+  const double s1 = placed.periodic[0] ? placed.lo[0] + (u1 - u0) : u1;
   const double t0 = placed.periodic[1] ? placed.lo[1] : v0;
-  const double t1 = placed.periodic[1] ? placed.hi[1] : v1;
+  const double t1 = placed.periodic[1] ? placed.lo[1] + (v1 - v0) : v1;
   if (placed.periodic[0] || placed.periodic[1]) {
     flat->Segment(s0, s1, t0, t1);
     double f0, f1, g0, g1;
@@ -356,7 +460,7 @@ Surface face_surface(const TopoDS_Face& face, const Geom_BSplineSurface& bspline
     for (int axis = 0; axis < 2; ++axis) {
       if (!placed.periodic[axis]) continue;
       flat->Bounds(f0, f1, g0, g1);
-      const double now = axis == 0 ? f0 : g0, period = placed.hi[axis] - placed.lo[axis];
+      const double now = axis == 0 ? f0 : g0, period = axis == 0 ? u1 - u0 : v1 - v0;
       const double by = std::round((placed.lo[axis] - now) / period) * period;
       if (by == 0) continue;
       TColStd_Array1OfReal knots = axis == 0 ? flat->UKnots() : flat->VKnots();
@@ -367,22 +471,28 @@ Surface face_surface(const TopoDS_Face& face, const Geom_BSplineSurface& bspline
         flat->SetVKnots(knots);
     }
   }
+  Handle(Geom_BSplineSurface) placed_surface = flat;
   for (int axis = 0; axis < 2; ++axis) {
-    if (placed.periodic[axis]) continue;
-    if (axis == 1) flat->ExchangeUV();
+    if (axis == 1) placed_surface->ExchangeUV();
     double f0, f1, g0, g1;
-    flat->Bounds(f0, f1, g0, g1);
-    // Unclamped end knots (uniform B-splines from some files) clamped first: extend_end needs
-    // the end knot to be the domain's end.
+    placed_surface->Bounds(f0, f1, g0, g1);
+    // Unclamped end knots (uniform B-splines from some files) clamped first: extend_end and
+    // unroll_periods need the end knots to be the domain's ends.
     if ((placed.lo[axis] < f0 || placed.hi[axis] > f1) &&
-        (flat->UKnot(1) != f0 || flat->UKnot(flat->NbUKnots()) != f1))
-      flat->Segment(f0, f1, g0, g1);
-    if (placed.lo[axis] < flat->UKnot(1)) extend_end(*flat, true, placed.lo[axis]);
-    if (placed.hi[axis] > flat->UKnot(flat->NbUKnots()))
-      extend_end(*flat, false, placed.hi[axis]);
-    if (axis == 1) flat->ExchangeUV();
+        (placed_surface->UKnot(1) != f0 || placed_surface->UKnot(placed_surface->NbUKnots()) != f1))
+      placed_surface->Segment(f0, f1, g0, g1);
+    if (placed.periodic[axis] || placed.wrapped[axis]) {
+      if (placed.periods[axis] > 1)
+        placed_surface = unroll_periods(*placed_surface, placed.periods[axis]);
+    } else {
+      if (placed.lo[axis] < placed_surface->UKnot(1))
+        extend_end(*placed_surface, true, placed.lo[axis]);
+      if (placed.hi[axis] > placed_surface->UKnot(placed_surface->NbUKnots()))
+        extend_end(*placed_surface, false, placed.hi[axis]);
+    }
+    if (axis == 1) placed_surface->ExchangeUV();
   }
-  Surface surface = to_surface(*flat);
+  Surface surface = to_surface(*placed_surface);
   // Shifting knots by a whole period rounds; the domain must be the placed one to an ulp or so.
   const double slack = 1e-12 * std::max({1.0, std::abs(placed.lo[0]), std::abs(placed.hi[0]),
                                          std::abs(placed.lo[1]), std::abs(placed.hi[1])});
@@ -390,11 +500,10 @@ Surface face_surface(const TopoDS_Face& face, const Geom_BSplineSurface& bspline
       std::abs(surface.u_max() - placed.hi[0]) > slack ||
       std::abs(surface.v_min() - placed.lo[1]) > slack ||
       std::abs(surface.v_max() - placed.hi[1]) > slack)
-    throw FaceSkip{
-        "parameters changed by the conversion",
-        fmt::format("domain [{}, {}] x [{}, {}] became [{}, {}] x [{}, {}]", placed.lo[0],
-                    placed.hi[0], placed.lo[1], placed.hi[1], surface.u_min(), surface.u_max(),
-                    surface.v_min(), surface.v_max())};
+    throw FaceSkip{"parameters changed by the conversion",
+                   fmt::format("domain [{}, {}] x [{}, {}] became [{}, {}] x [{}, {}]",
+                               placed.lo[0], placed.hi[0], placed.lo[1], placed.hi[1],
+                               surface.u_min(), surface.u_max(), surface.v_min(), surface.v_max())};
   SurfaceSamples samples;
   samples.u = grid_parameters(surface.u_min(), surface.u_max(), kCheckGrid);
   samples.v = grid_parameters(surface.v_min(), surface.v_max(), kCheckGrid);
@@ -403,7 +512,7 @@ Surface face_surface(const TopoDS_Face& face, const Geom_BSplineSurface& bspline
   const ReferenceSurface ours = evaluate_reference(one, {samples}, false).front();
   double largest = 0;
   for (std::size_t k = 0; k < samples.count(); ++k) {
-    const gp_Pnt p = bspline.Value(samples.u_of(k), samples.v_of(k));
+    const gp_Pnt p = face_point(bspline, placed, samples.u_of(k), samples.v_of(k));
     const Point3& q = ours.positions[k];
     largest = std::max(largest, std::hypot(p.X() - q[0], p.Y() - q[1], p.Z() - q[2]));
   }
@@ -472,8 +581,9 @@ Loops face_loops(const TopoDS_Face& face) {
       curves.push_back(curve);
     }
     if (static_cast<int>(curves.size()) != edges)
-      throw FaceSkip{"wire not connected", fmt::format("loop {}: {} of its {} edges follow each other",
-                                                       loop, curves.size(), edges)};
+      throw FaceSkip{
+          "wire not connected",
+          fmt::format("loop {}: {} of its {} edges follow each other", loop, curves.size(), edges)};
     loops.push_back(std::move(curves));
   }
   return loops;
@@ -520,11 +630,9 @@ double face_resolution(const TopoDS_Face& face) {
 // region changes at most that close to where the curve leaves the domain.
 // Trim::tolerance is the face's (u, v) uncertainty: the largest of OpenCASCADE's parameter
 // resolution of the 3D tolerance, the gaps closed and the distances moved.
-FaceTrimFigures face_trim(const TopoDS_Face& face, const Loops& loops, Surface& surface) {
+FaceTrimFigures face_trim(const TopoDS_Face& face, const Geom_BSplineSurface& bspline,
+                          const Placement& placed, const Loops& loops, Surface& surface) {
   const double tolerance_3d = face_tolerance_3d(face);
-  // Evaluates the face's own surface: in any period, and past a non-periodic end as OpenCASCADE
-  // continues it -- the surface the placed curves lie on.
-  const GeomAdaptor_Surface adaptor(BRep_Tool::Surface(face));
   const double resolution = face_resolution(face);
   const double repair = kMaxUvRepair * domain_diagonal(surface);
   const Domain domain{surface.u_min(), surface.u_max(), surface.v_min(), surface.v_max()};
@@ -546,8 +654,10 @@ FaceTrimFigures face_trim(const TopoDS_Face& face, const Loops& loops, Surface& 
       Point2& end = out.curves[c].points.back();
       const Point2& start = out.curves[(c + 1) % out.curves.size()].points.front();
       const double gap = std::hypot(end[0] - start[0], end[1] - start[1]);
-      const double gap_3d =
-          adaptor.Value(end[0], end[1]).Distance(adaptor.Value(start[0], start[1]));
+      // The face's own surface: in any period, and past a non-periodic end as OpenCASCADE
+      // continues it -- the surface the placed curves lie on.
+      const double gap_3d = face_point(bspline, placed, end[0], end[1])
+                                .Distance(face_point(bspline, placed, start[0], start[1]));
       if (!(gap <= repair && gap_3d <= 2 * tolerance_3d))
         throw FaceSkip{"loop not closed",
                        fmt::format("loop {} gap after curve {}: {:.3g} (u,v), {:.3g} in 3D > "
@@ -600,7 +710,7 @@ CadImport import_cad_model(const std::filesystem::path& path, const CadImportOpt
             placed = place_loops(*bspline, loops, face_resolution(face), extend);
             try {
               surface = face_surface(face, *bspline, placed, deviation);
-              figures = face_trim(face, loops, surface);
+              figures = face_trim(face, *bspline, placed, loops, surface);
               failed.reset();
               break;
             } catch (const FaceSkip& route) {
