@@ -27,6 +27,9 @@ std::string CadImportReport::summary() const {
   for (const auto& [reason, count] : skipped)
     reasons += fmt::format("{}{}: {}", reasons.empty() ? " (" : ", ", reason, count);
   if (!reasons.empty()) reasons += ")";
+  std::string routes;
+  for (const auto& [route, count] : placed)
+    routes += fmt::format("{}{}: {}", routes.empty() ? "" : ", ", route, count);
   std::string degree_list;
   for (const auto& [degree, count] : degrees)
     degree_list += fmt::format("{}{}: {}", degree_list.empty() ? "" : ", ", degree, count);
@@ -34,11 +37,13 @@ std::string CadImportReport::summary() const {
       "import {} ({}): faces read {}, converted {}, skipped {}{}\n"
       "  loops {} ({} curves), largest closure gap {:.3g} (u,v), largest change moving p-curves "
       "into the domain {:.3g} (u,v)\n"
+      "  p-curves placed exactly (faces): {}\n"
       "  largest surface deviation from OpenCASCADE {:.3g} (of the face's size)\n"
       "  surface degrees (u x v): {}\n"
       "  import time {:.3f} s\n",
       file, format, faces_read, faces_converted, faces_skipped(), reasons, loops, curves,
-      largest_closure_gap, largest_domain_excess, largest_surface_deviation,
+      largest_closure_gap, largest_domain_excess, routes.empty() ? "as read" : routes,
+      largest_surface_deviation,
       degree_list.empty() ? "none" : degree_list, seconds);
 }
 

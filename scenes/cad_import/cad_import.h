@@ -33,6 +33,9 @@ struct CadImportReport {
   int faces_read = 0;
   int faces_converted = 0;
   std::map<std::string, int> skipped;  // reason -> faces
+  // How faces whose p-curves lay in another period or past the domain were placed (exactly):
+  // "moved by whole periods", "seam moved", "domain extended" -> faces (cad_import_occt.cpp).
+  std::map<std::string, int> placed;
   std::vector<std::string> warnings;   // one line per skipped face
   int loops = 0;
   int curves = 0;

@@ -21,12 +21,15 @@ TEST_P(CadModel, ImportsAndAgreesWithOpenCascade) {
   std::printf(
       "%s  classification agrees with BRepClass_FaceClassifier on %ld of %ld samples "
       "outside the band (%ld in it; 32x32 per face), %ld where OpenCASCADE is wrong "
-      "(outside every p-curve); surface deviation %.3g\n",
+      "(outside its p-curves' box, or against its own p-curves as polygons); surface deviation "
+      "%.3g; trim on the model's edges %.3g of the "
+      "allowance\n",
       imported.report.summary().c_str(), f.agreed, f.compared, f.in_band, f.peer_wrong,
-      f.largest_deviation);
+      f.largest_deviation, f.largest_edge_ratio);
   EXPECT_GT(imported.report.faces_converted, 0);
   EXPECT_LE(f.largest_deviation, 1e-9);
   EXPECT_EQ(f.unexplained, 0) << f.first_unexplained;
+  EXPECT_LE(f.largest_edge_ratio, 1.0) << f.worst_edge;
 }
 
 INSTANTIATE_TEST_SUITE_P(OcctMisc, CadModel,
