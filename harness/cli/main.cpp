@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -14,6 +15,17 @@
 #include "reference/validation.h"
 
 namespace {
+
+// The exit codes every verb shares: 0 ok, 1 a verdict (a gate violated, non-finite output), 2 bad
+// input (a command line, a file, a path), 3 an internal error.
+constexpr int kExitBadInput = 2;
+constexpr int kExitInternalError = 3;
+
+// One line on stderr, whatever the message holds.
+void print_error(const char* kind, std::string message) {
+  std::replace(message.begin(), message.end(), '\n', ' ');
+  std::cerr << "nurbsbench: " << kind << ": " << message << "\n";
+}
 
 void add_isolation_options(CLI::App* verb, nurbs::cli::IsolationOptions& options) {
   verb->add_option("--isolation", options.isolation,
@@ -306,11 +318,19 @@ int main(int argc, char** argv) {
     if (*recommend_cmd) return recommend_command(recommend);
     if (*gbench_cmd) return gbench_command(gbench);
     if (*measure_server_cmd) return nurbs::measure_server(measure_server_fd);
+  } catch (const nurbs::InputError& e) {
+    print_error("error", e.what());
+    return kExitBadInput;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path the user named that cannot be read, created or written: theirs to fix, like bad
+    // input.
+    print_error("error", e.what());
+    return kExitBadInput;
   } catch (const std::exception& e) {
-    std::string message = e.what();
-    std::replace(message.begin(), message.end(), '\n', ' ');
-    std::cerr << "nurbsbench: error: " << message << "\n";
-    return 2;
+    // Anything else is ours: not "bad input" (exit 2 tells a CI script the command line or a
+    // file is wrong), so it says so and exits with its own code.
+    print_error("internal error", std::string(e.what()) + " (a bug in nurbsbench: please report it)");
+    return kExitInternalError;
   }
-  return 2;
+  return kExitBadInput;
 }
