@@ -329,7 +329,8 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     // Anything else is ours: not "bad input" (exit 2 tells a CI script the command line or a
     // file is wrong), so it says so and exits with its own code.
-    print_error("internal error", std::string(e.what()) + " (a bug in nurbsbench: please report it)");
+    print_error("internal error",
+                std::string(e.what()) + " (a bug in nurbsbench: please report it)");
     return kExitInternalError;
   }
   return kExitBadInput;

@@ -43,8 +43,7 @@ std::string CadImportReport::summary() const {
       "  import time {:.3f} s\n",
       file, format, faces_read, faces_converted, faces_skipped(), reasons, loops, curves,
       largest_closure_gap, largest_domain_excess, routes.empty() ? "as read" : routes,
-      largest_surface_deviation,
-      degree_list.empty() ? "none" : degree_list, seconds);
+      largest_surface_deviation, degree_list.empty() ? "none" : degree_list, seconds);
 }
 
 }  // namespace nurbs

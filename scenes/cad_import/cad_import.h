@@ -36,7 +36,7 @@ struct CadImportReport {
   // How faces whose p-curves lay in another period or past the domain were placed (exactly):
   // "moved by whole periods", "seam moved", "domain extended" -> faces (cad_import_occt.cpp).
   std::map<std::string, int> placed;
-  std::vector<std::string> warnings;   // one line per skipped face
+  std::vector<std::string> warnings;  // one line per skipped face
   int loops = 0;
   int curves = 0;
   // Largest gap between consecutive p-curve ends of a loop in (u, v), before it was closed.
