@@ -130,7 +130,7 @@ class PlainScene {
   nbe_scene scene_{};
 };
 
-// A loaded library: the handle (never closed) and a copy of its table, zero past the plugin's
+// A loaded library (its handle is never closed) and a copy of its table, zero past the plugin's
 // struct_size so that fields a newer header appends read as absent.
 struct Library {
   fs::path path;
@@ -339,11 +339,14 @@ std::string open_library(Library& library) {
   if (table->abi_version < 1 || table->abi_version > NBE_ABI_VERSION)
     return fmt::format("wrong ABI version {} (this harness loads 1..{})", table->abi_version,
                        NBE_ABI_VERSION);
-  // Version 1's table is the whole struct; a later header appends, so a larger size is fine.
-  if (table->struct_size < sizeof(nbe_evaluator))
+  // Version 1's table ends with release; a later header only appends, so an older plugin's
+  // smaller table is read up to its struct_size and the fields it lacks stay zero (absent).
+  constexpr std::size_t kVersion1Size = offsetof(nbe_evaluator, release) + sizeof(table->release);
+  if (table->struct_size < kVersion1Size)
     return fmt::format("wrong ABI version: struct_size {} is below version 1's {} bytes",
-                       table->struct_size, sizeof(nbe_evaluator));
-  std::memcpy(&library.table, table, sizeof(nbe_evaluator));
+                       table->struct_size, kVersion1Size);
+  std::memcpy(&library.table, table,
+              std::min<std::size_t>(table->struct_size, sizeof(nbe_evaluator)));
   const nbe_evaluator& t = library.table;
   std::vector<std::string> missing;
   if (!t.name) missing.push_back("name");
