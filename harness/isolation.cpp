@@ -23,6 +23,7 @@
 #include <thread>
 
 #include "harness/atomic_file.h"
+#include "harness/plugins/plugin.h"
 #include "harness/strategy_guard.h"
 #include "reference/validation.h"
 #include "scenes/scene_json.h"
@@ -145,6 +146,7 @@ Sampling sampling_from_json(const json& j) {
 
 json spec_to_json(const MeasurementSpec& spec) {
   return {{"strategy", spec.entry->name},
+          {"plugin", strategy_library(*spec.entry) ? strategy_library(*spec.entry)->path : ""},
           {"threads", spec.options.threads},
           {"extra", spec.options.extra},
           {"sampling", sampling_to_json(spec.request.sampling)},
@@ -167,7 +169,14 @@ json surface_extras(const Scene& scene) {
 
 MeasurementSpec spec_from_json(const json& j) {
   MeasurementSpec spec;
+  // A plugin is loaded here again, in the child that measures it: its load is part of what may
+  // crash, and the server that forked the child never loads one.
+  const std::string plugin = j.value("plugin", "");
   spec.entry = find_strategy(j.at("strategy").get<std::string>());
+  if (!spec.entry && !plugin.empty()) spec.entry = &load_plugin(plugin);
+  if (spec.entry && spec.entry->name != j.at("strategy").get<std::string>())
+    throw std::runtime_error(
+        fmt::format("{} no longer holds strategy {}", plugin, j.at("strategy").get<std::string>()));
   if (!spec.entry) throw std::runtime_error("measurement spec: unknown strategy");
   spec.options.threads = j.at("threads");
   spec.options.extra = j.at("extra").get<std::map<std::string, std::string>>();

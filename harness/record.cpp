@@ -135,6 +135,7 @@ json record_to_json(const Record& r) {
       {"status", to_string(r.status)},
       {"reason", r.reason}};
   if (!r.trimming.empty()) j["trimming"] = r.trimming;
+  if (!r.library.empty()) j["library"] = {{"path", r.library}, {"sha256", r.library_sha256}};
   if (r.device_evaluate_median_s) j["device_evaluate_median_s"] = *r.device_evaluate_median_s;
   if (!r.extra_phases.empty()) {
     json phases = json::object();
@@ -186,6 +187,10 @@ Record record_from_json(const json& j) {
   if (!parse_status(j.value("status", "failed"), r.status)) r.status = Status::failed;
   r.reason = j.value("reason", "");
   r.trimming = j.value("trimming", "");
+  if (j.contains("library") && j["library"].is_object()) {
+    r.library = j["library"].value("path", "");
+    r.library_sha256 = j["library"].value("sha256", "");
+  }
   return r;
 }
 

@@ -26,7 +26,10 @@ bool parse_status(std::string_view text, Status& out);
 struct Record {
   std::string scene;
   std::string strategy;
-  std::string role;  // strategy / baseline / peer / limit
+  std::string role;  // strategy / baseline / peer / limit / plugin
+  // A plugin's shared library as given to --plugin and the SHA-256 of its bytes (JSON only; the
+  // CSV's columns are fixed); empty for built-in strategies.
+  std::string library, library_sha256;
   DeviceInfo device;
   std::string precision;  // f32 / f64
   std::string sampling;   // grid / span_grid / explicit

@@ -35,6 +35,10 @@ Record skeleton(const StrategyEntry& entry, const Scene& scene, const EvalReques
   r.scene = scene.name;
   r.strategy = entry.name;
   r.role = entry.role;
+  if (const StrategyLibrary* library = strategy_library(entry)) {
+    r.library = library->path;
+    r.library_sha256 = library->sha256;
+  }
   r.precision = std::string(to_string(request.precision));
   r.sampling = sampling_mode_name(request.sampling.mode);
   r.samples = request.sampling.label();

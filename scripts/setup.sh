@@ -11,6 +11,8 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   # libraries the core uses
   nlohmann-json3-dev libcli11-dev libfmt-dev libgmp-dev
+  # SHA-256 of --plugin libraries for their records
+  nettle-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   # fuzzing (scripts/fuzz.sh): clang 14, its libFuzzer/sanitizer runtimes, its OpenMP
   clang libclang-rt-14-dev libomp-14-dev

@@ -1,5 +1,10 @@
 #include "strategies/registry.h"
 
+#include <fmt/format.h>
+
+#include <deque>
+#include <stdexcept>
+
 #include "strategies/cl_stair/cl_stair.h"
 #include "strategies/cl_tspline_bezier/cl_tspline_bezier.h"
 #include "strategies/cpu_bezier/cpu_bezier.h"
@@ -46,15 +51,48 @@ const std::vector<StrategyEntry>& strategy_registry() {
   return entries;
 }
 
+namespace {
+struct Added {
+  StrategyEntry entry;
+  StrategyLibrary library;
+};
+std::deque<Added>& added() {
+  static std::deque<Added> entries;
+  return entries;
+}
+}  // namespace
+
+const StrategyEntry& add_strategy(StrategyEntry entry, StrategyLibrary library) {
+  if (const StrategyEntry* taken = find_strategy(entry.name)) {
+    const StrategyLibrary* from = strategy_library(*taken);
+    throw std::invalid_argument(
+        fmt::format("'{}' is already a strategy ({})", entry.name, from ? from->path : "built in"));
+  }
+  return added().emplace_back(Added{std::move(entry), std::move(library)}).entry;
+}
+
+const StrategyLibrary* strategy_library(const StrategyEntry& entry) {
+  for (const Added& a : added())
+    if (&a.entry == &entry) return &a.library;
+  return nullptr;
+}
+
+std::vector<const StrategyEntry*> all_strategies() {
+  std::vector<const StrategyEntry*> all;
+  for (const StrategyEntry& e : strategy_registry()) all.push_back(&e);
+  for (const Added& a : added()) all.push_back(&a.entry);
+  return all;
+}
+
 const StrategyEntry* find_strategy(std::string_view name) {
-  for (const StrategyEntry& e : strategy_registry())
-    if (e.name == name) return &e;
+  for (const StrategyEntry* e : all_strategies())
+    if (e->name == name) return e;
   return nullptr;
 }
 
 std::vector<std::string> strategy_names() {
   std::vector<std::string> names;
-  for (const StrategyEntry& e : strategy_registry()) names.push_back(e.name);
+  for (const StrategyEntry* e : all_strategies()) names.push_back(e->name);
   return names;
 }
 

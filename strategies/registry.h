@@ -21,8 +21,22 @@ struct StrategyEntry {
   std::function<std::unique_ptr<Strategy>(const StrategyOptions&)> create;
 };
 
+// Where a strategy added at run time (role "plugin", harness/plugins) came from: the shared
+// library's absolute path and the SHA-256 of its bytes (hex), which its records carry.
+struct StrategyLibrary {
+  std::string path, sha256;
+};
+
+// The built-in strategies.
 const std::vector<StrategyEntry>& strategy_registry();
-// nullptr when no strategy has that name.
+// Adds `entry` (`--plugin`) after the built-in ones, kept where the addresses find_strategy hands
+// out stay valid as more are added; throws std::invalid_argument when its name is taken.
+const StrategyEntry& add_strategy(StrategyEntry entry, StrategyLibrary library);
+// The library an added strategy came from; nullptr for a built-in one.
+const StrategyLibrary* strategy_library(const StrategyEntry& entry);
+// Built-in then added: what `run --strategies all`, `list` and `recommend` go through.
+std::vector<const StrategyEntry*> all_strategies();
+// nullptr when no strategy (built-in or added) has that name.
 const StrategyEntry* find_strategy(std::string_view name);
 std::vector<std::string> strategy_names();
 

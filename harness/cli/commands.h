@@ -16,6 +16,7 @@
 namespace nurbs::cli {
 
 struct ListOptions {
+  std::vector<std::string> plugins;  // --plugin PATH (repeatable): harness/plugins/plugin.h
   bool json = false;
 };
 int list_command(const ListOptions& options);
@@ -34,6 +35,7 @@ struct ImportOptions {
 int import_command(const ImportOptions& options);
 
 struct EvalOptions {
+  std::vector<std::string> plugins;  // --plugin PATH (repeatable): harness/plugins/plugin.h
   std::string scene, strategy;
   std::string samples = "64x64";
   std::string span_samples;
@@ -61,6 +63,7 @@ struct IsolationOptions {
 };
 
 struct RunOptions {
+  std::vector<std::string> plugins;  // --plugin PATH (repeatable): harness/plugins/plugin.h
   std::string scenes = "default";
   std::string strategies = "all";
   std::string samples = "64x64,256x256";
@@ -133,7 +136,8 @@ struct ReportOptions {
 int report_command(const ReportOptions& options);
 
 struct RecommendOptions {
-  std::string results;  // empty: measure the workload here (a quick run)
+  std::vector<std::string> plugins;  // --plugin PATH (repeatable): harness/plugins/plugin.h
+  std::string results;               // empty: measure the workload here (a quick run)
   std::string scene, samples, precision, control_net, tolerance;
   int degree = -1, surfaces = -1;  // -1: not given
   bool deforming = false, json = false;

@@ -7,6 +7,7 @@
 #include "harness/cli/commands.h"
 #include "harness/error_image.h"
 #include "harness/metrics.h"
+#include "harness/plugins/plugin.h"
 #include "harness/runner.h"
 #include "harness/strategy_guard.h"
 #include "harness/uv_file.h"
@@ -58,6 +59,7 @@ std::string trim_summary(const TrimAccuracy& t) {
 
 int eval_command(const EvalOptions& options) {
   apply_thread_setting(options.threads);
+  load_plugins(options.plugins);
   const Scene scene = load_scene(options.scene);
   const StrategyEntry* entry = find_strategy(options.strategy);
   if (!entry)

@@ -5,6 +5,7 @@
 
 #include "harness/cli/commands.h"
 #include "harness/drivers.h"
+#include "harness/plugins/plugin.h"
 #include "harness/store_limit.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/gpu_devices.h"
@@ -62,11 +63,14 @@ nlohmann::json devices_json(std::string& text) {
     if (driver_files_here.empty()) text += "    driver files: none where the loader looks\n";
     for (const DriverFile& f : driver_files_here) {
       const std::string loaded = loaded_path(f, api.loaded_libraries);
-      files.push_back({{"path", f.path}, {"library", f.library}, {"from", f.from}, {"loaded", loaded}});
+      files.push_back(
+          {{"path", f.path}, {"library", f.library}, {"from", f.from}, {"loaded", loaded}});
       text += fmt::format("    driver file {} -> {}{} (from {})\n", f.path, f.library,
                           loaded.empty() ? "" : ", loaded: " + loaded, f.from);
     }
-    apis.push_back({{"api", api.api}, {"unavailable", api.unavailable}, {"devices", devices},
+    apis.push_back({{"api", api.api},
+                    {"unavailable", api.unavailable},
+                    {"devices", devices},
                     {"driver_files", files}});
   }
   return apis;
@@ -75,9 +79,11 @@ nlohmann::json devices_json(std::string& text) {
 }  // namespace
 
 int list_command(const ListOptions& options) {
+  load_plugins(options.plugins);
   nlohmann::json strategies = nlohmann::json::array();
   std::string text = "strategies:\n";
-  for (const StrategyEntry& e : strategy_registry()) {
+  for (const StrategyEntry* entry : all_strategies()) {
+    const StrategyEntry& e = *entry;
     const Availability a = e.probe();
     strategies.push_back({{"name", e.name},
                           {"available", a.available},
@@ -85,8 +91,14 @@ int list_command(const ListOptions& options) {
                           {"role", e.role},
                           {"source", e.source},
                           {"capabilities", capabilities_json(e.capabilities())}});
+    const StrategyLibrary* library = strategy_library(e);
+    if (library)
+      strategies.back()["library"] = {{"path", library->path}, {"sha256", library->sha256}};
     text += fmt::format("  {:<20} {:<9} {:<40} {}\n", e.name, e.role,
                         a.available ? "available" : "unavailable: " + a.reason, e.source);
+    if (library)
+      text +=
+          fmt::format("  {:<20} {:<9} {} (sha256 {})\n", "", "", library->path, library->sha256);
   }
   // Not strategies: machine ceilings `run` measures beside them (harness/store_limit.h).
   const std::string limit_description =
@@ -102,7 +114,9 @@ int list_command(const ListOptions& options) {
   }
   const nlohmann::json apis = devices_json(text);
   if (options.json)
-    std::cout << nlohmann::json{{"strategies", strategies}, {"limits", limits}, {"scenes", scenes},
+    std::cout << nlohmann::json{{"strategies", strategies},
+                                {"limits", limits},
+                                {"scenes", scenes},
                                 {"devices", apis}}
                      .dump(2)
               << "\n";

@@ -40,6 +40,14 @@ void add_isolation_options(CLI::App* verb, nurbs::cli::IsolationOptions& options
                    "strategy reports timed_out in that phase (default 60)");
 }
 
+void add_plugin_option(CLI::App* verb, std::vector<std::string>& plugins) {
+  verb->add_option("--plugin", plugins,
+                   "evaluator plugin: a shared library implementing "
+                   "include/nurbsbench/evaluator.h, measured as the strategy its table names "
+                   "(repeatable)")
+      ->type_name("PATH.so");
+}
+
 constexpr const char* kTrimBandHelp =
     "trimmed scenes: samples nearer the trim boundary than FRACTION of the surface's (u,v) domain "
     "diagonal are boundary samples, not scored for classification (default 1e-7; recorded)";
@@ -63,6 +71,7 @@ int main(int argc, char** argv) {
   auto* list_cmd =
       app.add_subcommand("list", "strategies (available / unavailable: why) and built-in scenes");
   list_cmd->add_flag("--json", list.json, "machine-readable output");
+  add_plugin_option(list_cmd, list.plugins);
 
   SceneOptions scene;
   auto* scene_cmd = app.add_subcommand("scene",
@@ -100,6 +109,7 @@ int main(int argc, char** argv) {
   eval_samples->excludes(eval_span)->excludes(eval_uv);
   eval_span->excludes(eval_uv);
   eval_cmd->add_flag("--normals", eval.normals, "also output unit normals");
+  add_plugin_option(eval_cmd, eval.plugins);
   eval_cmd->add_option("--precision", eval.precision, "f32 (default) or f64");
   eval_cmd->add_option("--reference", eval.reference, "long-double (default) or float128");
   eval_cmd->add_option("--threads", eval.threads, "threads for every backend (0: every core)");
@@ -156,6 +166,7 @@ int main(int argc, char** argv) {
                    "strategy that trims, DIR/<strategy>__<scene>__mask<surface>.png (PNG)")
       ->type_name("DIR");
   add_isolation_options(run_cmd, run.isolation);
+  add_plugin_option(run_cmd, run.plugins);
 
   LodOptions lod;
   auto* lod_cmd = app.add_subcommand(
@@ -264,6 +275,7 @@ int main(int argc, char** argv) {
   recommend_cmd->add_option("--threads", recommend.threads, "threads of the quick run (0: all)");
   recommend_cmd->add_flag("--json", recommend.json, "machine-readable output");
   add_isolation_options(recommend_cmd, recommend.isolation);
+  add_plugin_option(recommend_cmd, recommend.plugins);
 
   // Hidden (no group): the process that forks isolated measurements, started by run/recommend.
   int measure_server_fd = -1;

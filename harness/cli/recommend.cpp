@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/commands.h"
+#include "harness/plugins/plugin.h"
 #include "harness/results_writer.h"
 #include "harness/runner.h"
 #include "reference/validation.h"
@@ -60,11 +61,11 @@ std::vector<Record> measure_workload(const RecommendOptions& o, const Scene& sce
   const int threads = apply_thread_setting(o.threads);
   ReferenceCache references;
   std::vector<Record> records;
-  for (const StrategyEntry& entry : strategy_registry()) {
-    std::cerr << fmt::format("measuring {} on {} ({})...\n", entry.name, scene.name,
+  for (const StrategyEntry* entry : all_strategies()) {
+    std::cerr << fmt::format("measuring {} on {} ({})...\n", entry->name, scene.name,
                              sampling.label());
     records.push_back(measure_with(isolation,
-                                   {&entry, StrategyOptions{threads, {}},
+                                   {entry, StrategyOptions{threads, {}},
                                     EvalRequest{sampling, precision, false}, o.repetitions, 0},
                                    scene, references));
   }
@@ -74,6 +75,7 @@ std::vector<Record> measure_workload(const RecommendOptions& o, const Scene& sce
 }  // namespace
 
 int recommend_command(const RecommendOptions& o) {
+  load_plugins(o.plugins);
   Workload workload;
   workload.tolerance = parse_tolerance(o.tolerance);
   workload.deforming = o.deforming;

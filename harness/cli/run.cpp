@@ -8,6 +8,7 @@
 #include "harness/error_image.h"
 #include "harness/gates.h"
 #include "harness/machine.h"
+#include "harness/plugins/plugin.h"
 #include "harness/results_writer.h"
 #include "harness/runner.h"
 #include "harness/store_limit.h"
@@ -36,7 +37,7 @@ struct StrategySelection {
 StrategySelection strategy_list(const std::string& text) {
   StrategySelection out;
   if (text == "all") {
-    for (const StrategyEntry& e : strategy_registry()) out.entries.push_back(&e);
+    out.entries = all_strategies();
     out.store_limit = true;
     return out;
   }
@@ -77,6 +78,7 @@ int run_command(const RunOptions& options) {
   // Everything the run needs is checked before the output directory is touched.
   const IsolationSettings isolation = isolation_settings(options.isolation);
   const int threads = apply_thread_setting(options.threads);
+  load_plugins(options.plugins);
   if (options.repetitions < 1 || options.repetitions > 1000)
     throw InputError(fmt::format("--repetitions = {}: must be in 1..1000", options.repetitions));
   if (options.deforming < 0 || options.deforming > 100000)
