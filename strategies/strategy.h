@@ -105,6 +105,12 @@ class Strategy {
   virtual void prepare(const Scene& scene, const EvalRequest& request) = 0;
   virtual void evaluate() = 0;
   virtual EvalResult read_back() = 0;
+  // read_back() into `out`, which holds the previous read back of this request (or is empty): the
+  // harness's repetitions pass the same result, so a strategy that copies into out's buffers
+  // (copy-assigning vectors of the same size, PointArray::reset) pays its bytes, not a fresh
+  // allocation's page faults, on every repetition after the first. The default gives a new
+  // result, as read_back() does.
+  virtual void read_back_into(EvalResult& out) { out = read_back(); }
   virtual void update_control_points(const Scene&) {}
   virtual DeviceTimes device_times() const { return {}; }
   // Strategies that can draw what they evaluated into an offscreen image (returning when the

@@ -236,14 +236,22 @@ class CpuTensor final : public Strategy {
 
   EvalResult read_back() override {
     EvalResult out;
+    read_back_into(out);
+    return out;
+  }
+
+  // Copy-assignment into out's vectors of the same size reuses their storage.
+  void read_back_into(EvalResult& out) override {
     out.surfaces.resize(samples_.size());
     for (std::size_t i = 0; i < samples_.size(); ++i) {
       out.surfaces[i].samples = samples_[i];
       out.surfaces[i].positions = positions_[i];
       out.surfaces[i].normals = normals_[i];
-      if (classified_ && trims_[i]) out.surfaces[i].inside = inside_[i];
+      if (classified_ && trims_[i])
+        out.surfaces[i].inside = inside_[i];
+      else
+        out.surfaces[i].inside.clear();
     }
-    return out;
   }
 
  private:
@@ -263,8 +271,10 @@ class CpuTensor final : public Strategy {
   Prepared<T> prepare_all(const Scene& scene) {
     Prepared<T> p;
     std::size_t widest = 0, longest_row = 0;
-    positions_.assign(scene.surfaces.size(), {});
-    normals_.assign(scene.surfaces.size(), {});
+    // Resized, not reassigned: a prepare() of the same request keeps the output buffers (and their
+    // mapped pages) of the last one.
+    positions_.resize(scene.surfaces.size());
+    normals_.resize(scene.surfaces.size());
     std::unordered_multimap<std::size_t, int> index;
     p.surfaces.reserve(scene.surfaces.size());
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
@@ -278,8 +288,8 @@ class CpuTensor final : public Strategy {
       for (int a = 0; a < t.rows; ++a) p.rows.emplace_back(static_cast<int>(i), a);
       widest = std::max(widest, static_cast<std::size_t>(t.net.count_v) * 4);
       longest_row = std::max(longest_row, static_cast<std::size_t>(t.columns));
-      positions_[i] = PointArray(request_.precision, samples_[i].count());
-      if (request_.normals) normals_[i] = PointArray(request_.precision, samples_[i].count());
+      positions_[i].reset(request_.precision, samples_[i].count());
+      normals_[i].reset(request_.precision, request_.normals ? samples_[i].count() : 0);
     }
     for (std::size_t k = 0; k < p.tables.size(); ++k) {
       const int n = static_cast<int>(p.tables[k].params.size());
@@ -303,13 +313,14 @@ class CpuTensor final : public Strategy {
   // classify() spreads over the threads.
   void prepare_trims(const Scene& scene) {
     trims_.clear();
-    inside_.assign(scene.surfaces.size(), {});
+    inside_.resize(scene.surfaces.size());  // kept storage, as positions_
     trim_rows_.clear();
     classified_ = false;
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
       const Surface& s = scene.surfaces[i];
       if (!s.trim) {
         trims_.emplace_back();
+        inside_[i].clear();
         continue;
       }
       if (!std::is_sorted(samples_[i].v.begin(), samples_[i].v.end()))
