@@ -263,7 +263,7 @@ class CpuTensor final : public Strategy {
     std::vector<int> v_tables;                    // the tables whose runs a row reads
     std::vector<std::pair<int, int>> rows;        // (surface, u sample): the parallel work items
     std::vector<std::vector<T>> curve, curve_du;  // per thread scratch
-    std::vector<std::vector<unsigned char>> unresolved;
+    std::vector<std::vector<T>> unresolved;       // RowJob::unresolved
     std::vector<std::vector<T>> staged_positions, staged_normals;  // per thread, when streaming
   };
 
@@ -300,7 +300,7 @@ class CpuTensor final : public Strategy {
     p.curve.assign(threads_, std::vector<T>(widest));
     if (request_.normals) {
       p.curve_du.assign(threads_, std::vector<T>(widest));
-      p.unresolved.assign(threads_, std::vector<unsigned char>(longest_row));
+      p.unresolved.assign(threads_, std::vector<T>(longest_row));
     }
     if (streaming_) {
       p.staged_positions.assign(threads_, std::vector<T>(longest_row * 3));
@@ -385,7 +385,7 @@ class CpuTensor final : public Strategy {
     // Collapsed edges and other places where Su x Sv is rounding noise: the reference's own
     // limit-normal rule (nurbs_math.h surface_normal), rare, so scalar.
     for (int b = 0; normals && b < t.columns; ++b) {
-      if (!job.unresolved[b]) continue;
+      if (job.unresolved[b] == T(0)) continue;
       const Vec3<T> n = surface_normal(t.net, tu.params[a], tv.params[b]);
       for (int c = 0; c < 3; ++c) job.normals[3 * b + c] = n[c];
     }
