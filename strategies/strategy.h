@@ -130,6 +130,21 @@ class Strategy {
   virtual std::optional<RenderedImage> last_render() { return std::nullopt; }
 };
 
+// One surface's read back into `out`, reusing its storage (copy-assigning a vector of the same size
+// does not allocate): the body of a host strategy's read_back_into. `inside`: the trim mask, or
+// nullptr for none.
+inline void copy_surface_into(SurfaceResult& out, const SurfaceSamples& samples,
+                              const PointArray& positions, const PointArray& normals,
+                              const std::vector<std::uint8_t>* inside = nullptr) {
+  out.samples = samples;
+  out.positions = positions;
+  out.normals = normals;
+  if (inside)
+    out.inside = *inside;
+  else
+    out.inside.clear();
+}
+
 // Options a user can pass to any strategy's factory; each strategy reads what concerns it.
 struct StrategyOptions {
   int threads = 0;  // 0: every core

@@ -216,11 +216,8 @@ class CpuBezier final : public Strategy {
   // Into out's buffers: same-size copy-assignment and PointArray::reset keep their storage.
   void read_back_into(EvalResult& out) override {
     out.surfaces.resize(samples_.size());
-    for (std::size_t i = 0; i < samples_.size(); ++i) {
-      out.surfaces[i].samples = samples_[i];
-      out.surfaces[i].positions = positions_[i];
-      out.surfaces[i].normals = normals_[i];
-    }
+    for (std::size_t i = 0; i < samples_.size(); ++i)
+      copy_surface_into(out.surfaces[i], samples_[i], positions_[i], normals_[i]);
   }
 
  private:

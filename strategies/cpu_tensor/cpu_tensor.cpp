@@ -243,15 +243,9 @@ class CpuTensor final : public Strategy {
   // Copy-assignment into out's vectors of the same size reuses their storage.
   void read_back_into(EvalResult& out) override {
     out.surfaces.resize(samples_.size());
-    for (std::size_t i = 0; i < samples_.size(); ++i) {
-      out.surfaces[i].samples = samples_[i];
-      out.surfaces[i].positions = positions_[i];
-      out.surfaces[i].normals = normals_[i];
-      if (classified_ && trims_[i])
-        out.surfaces[i].inside = inside_[i];
-      else
-        out.surfaces[i].inside.clear();
-    }
+    for (std::size_t i = 0; i < samples_.size(); ++i)
+      copy_surface_into(out.surfaces[i], samples_[i], positions_[i], normals_[i],
+                        classified_ && trims_[i] ? &inside_[i] : nullptr);
   }
 
  private:

@@ -69,11 +69,8 @@ class CpuTSpline final : public Strategy {
   // Into out's buffers: same-size copy-assignment and PointArray::reset keep their storage.
   void read_back_into(EvalResult& out) override {
     out.surfaces.resize(results_.size());
-    for (std::size_t i = 0; i < results_.size(); ++i) {
-      out.surfaces[i].samples = samples_[i];
-      out.surfaces[i].positions = results_[i].positions;
-      out.surfaces[i].normals = results_[i].normals;
-    }
+    for (std::size_t i = 0; i < results_.size(); ++i)
+      copy_surface_into(out.surfaces[i], samples_[i], results_[i].positions, results_[i].normals);
   }
 
  private:
