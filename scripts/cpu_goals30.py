@@ -52,9 +52,11 @@ def cpu_model():
 
 def run_case(gbench, name, out, run, env):
     path = out / "raw" / f"{name.replace('/', '_').replace('+', '_')}-{run}.json"
-    command = [str(gbench), f"--benchmark_filter=^{name}$", "--benchmark_min_time=1",
+    pattern = name.replace(".", "\\.").replace("+", "\\+")  # gbench names carry /manual_time
+    command = [str(gbench), f"--benchmark_filter=^{pattern}(/manual_time)?$", "--benchmark_min_time=1",
                "--benchmark_format=json", f"--benchmark_out={path}"]
-    subprocess.run(command, check=True, env=env, stdout=subprocess.DEVNULL)
+    subprocess.run(command, check=True, env=env, stdout=subprocess.DEVNULL,
+                   stderr=subprocess.DEVNULL)
     cases = [b for b in json.loads(path.read_text())["benchmarks"] if b.get("run_type") == "iteration"]
     return cases[0] if cases else None
 
