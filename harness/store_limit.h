@@ -1,7 +1,8 @@
 // The memory-write ceiling a grid evaluator's output stream runs into, measured in the same run
 // as the strategies (issue 6: "cpu-tensor f32 >= 50% of the machine's memory write bandwidth").
-// Every thread (the run's one thread setting) stores into its own share of a buffer the size of
-// the request's result: points x (3, or 6 with normals) x the precision's scalar size. The record
+// Every thread (the run's one thread setting) stores into its own share of a buffer at least the
+// size of the request's result, points x (3, or 6 with normals) x the precision's scalar size,
+// and larger than the last-level cache (store_pass_bytes). The record
 // it yields is a row like a strategy's, of role "limit": its throughput is the points per second
 // a strategy would reach if writing its results were all it did; it evaluates nothing and has no
 // accuracy.
@@ -26,6 +27,19 @@ inline constexpr std::string_view kStoreLimitName = "limit-store-bandwidth";
 // wake-ups cost milliseconds. "Of store limit" is left out under it.
 inline constexpr std::size_t kStoreLimitMinBytes = std::size_t{1} << 20;
 
+// The bytes one store pass writes for a result of `result_bytes`: the result, but never less than
+// four times the last-level cache (sysfs, else CPUID via sysconf; within [64 MiB, 128 MiB]), so the
+// pass always measures what a result costs in memory, a write-back to DRAM per line, and "of the
+// store limit" means the same at every size. Chosen over a pass over the strategy's own output
+// (the harness would need every strategy's buffer) and over non-temporal stores (they beat
+// ordinary stores on some machines and lose on others, so the limit would depend on a store kind
+// no strategy is obliged to use). A result that fits in the cache is thus held against DRAM
+// bandwidth, not against the cache's: the cache-sized pass flattered nothing but made small grids'
+// fractions come out low for no fault of the strategy, and large ones high by comparison.
+std::size_t store_pass_bytes(std::size_t result_bytes);
+// The last-level cache of cpu0 in bytes (sysfs, else sysconf's CPUID figure), 0 when unknown.
+std::size_t last_level_cache_bytes();
+
 // Seconds to store `values` scalars of `scalar_bytes` each (4 or 8) into `buffer`, every thread
 // its own contiguous share; `pass` changes the stored value so no pass can be elided.
 double time_store_pass(void* buffer, std::size_t values, std::size_t scalar_bytes, int pass);
@@ -33,8 +47,9 @@ double time_store_pass(void* buffer, std::size_t values, std::size_t scalar_byte
 // Bytes a strategy writes per sample for `request` (positions, plus normals when asked).
 std::size_t result_bytes_per_point(const EvalRequest& request);
 
-// The limit row for `scene` and `request`: `repetitions` store passes after a first-touch pass and
-// a warm-up pass, both untimed.
+// The limit row for `scene` and `request`: `repetitions` store passes of store_pass_bytes() after a
+// first-touch pass and a warm-up pass, both untimed; its points/s are the pass's bytes/s over the
+// request's bytes a point. figures: bytes_per_point, store_bytes_per_s, pass_bytes.
 Record measure_store_limit(const Scene& scene, const EvalRequest& request, int repetitions);
 
 // `r`'s points/s over the limit row of `records` for the same scene, samples and precision; none

@@ -89,8 +89,14 @@ class GuardedStrategy final : public Strategy {
     inner_->evaluate();
   }
   EvalResult read_back() override {
+    EvalResult result;
+    read_back_into(result);
+    return result;
+  }
+  // Forwarded as read_back_into, so the inner strategy reuses the harness's buffers.
+  void read_back_into(EvalResult& result) override {
     enter("read_back");
-    EvalResult result = inner_->read_back();
+    inner_->read_back_into(result);
     const auto& fault = injected_fault();
     if (fault && fault->kind == "nan" && fault->strategy == name())
       for (SurfaceResult& s : result.surfaces) {
@@ -101,7 +107,6 @@ class GuardedStrategy final : public Strategy {
                                                 std::numeric_limits<double>::quiet_NaN()});
         s.positions = std::move(poisoned);
       }
-    return result;
   }
   void update_control_points(const Scene& scene) override {
     enter("update");

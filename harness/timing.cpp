@@ -1,5 +1,7 @@
 #include "harness/timing.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 
 namespace nurbs {
@@ -10,6 +12,12 @@ PhaseStats PhaseStats::of(std::vector<double> seconds) {
   const std::size_t n = seconds.size();
   const double median = n % 2 ? seconds[n / 2] : 0.5 * (seconds[n / 2 - 1] + seconds[n / 2]);
   return {seconds.front(), median, seconds.back()};
+}
+
+long minor_page_faults() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_minflt;
 }
 
 }  // namespace nurbs

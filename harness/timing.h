@@ -30,4 +30,9 @@ double time_seconds(F&& f) {
   return watch.seconds();
 }
 
+// Minor page faults of the whole process so far (every thread: a strategy's OpenMP team faults
+// too): a phase that allocates its output afresh each repetition pays one per page it writes,
+// which is what made read_back medians many times their minima.
+long minor_page_faults();
+
 }  // namespace nurbs

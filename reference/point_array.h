@@ -21,6 +21,21 @@ class PointArray {
       f64_.resize(count * 3);
   }
 
+  // n points at `precision`, keeping the storage already held (no allocation, no page faults) when
+  // it is large enough: the output buffers a strategy reuses across repetitions. Values of a kept
+  // size are left as they were (callers overwrite every point); grown ones start at 0.
+  void reset(Precision precision, std::size_t count) {
+    precision_ = precision;
+    count_ = count;
+    if (precision == Precision::f32) {
+      f32_.resize(count * 3);
+      std::vector<double>().swap(f64_);
+    } else {
+      f64_.resize(count * 3);
+      std::vector<float>().swap(f32_);
+    }
+  }
+
   Precision precision() const { return precision_; }
   std::size_t size() const { return count_; }
   bool empty() const { return count_ == 0; }

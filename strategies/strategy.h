@@ -105,6 +105,12 @@ class Strategy {
   virtual void prepare(const Scene& scene, const EvalRequest& request) = 0;
   virtual void evaluate() = 0;
   virtual EvalResult read_back() = 0;
+  // read_back() into `out`, which holds the previous read back of this request (or is empty): the
+  // harness's repetitions pass the same result, so a strategy that copies into out's buffers
+  // (copy-assigning vectors of the same size, PointArray::reset) pays its bytes, not a fresh
+  // allocation's page faults, on every repetition after the first. The default gives a new
+  // result, as read_back() does.
+  virtual void read_back_into(EvalResult& out) { out = read_back(); }
   virtual void update_control_points(const Scene&) {}
   virtual DeviceTimes device_times() const { return {}; }
   // Strategies that can draw what they evaluated into an offscreen image (returning when the
@@ -123,6 +129,21 @@ class Strategy {
   // back untimed; nullopt when the strategy does not draw or has not drawn yet.
   virtual std::optional<RenderedImage> last_render() { return std::nullopt; }
 };
+
+// One surface's read back into `out`, reusing its storage (copy-assigning a vector of the same size
+// does not allocate): the body of a host strategy's read_back_into. `inside`: the trim mask, or
+// nullptr for none.
+inline void copy_surface_into(SurfaceResult& out, const SurfaceSamples& samples,
+                              const PointArray& positions, const PointArray& normals,
+                              const std::vector<std::uint8_t>* inside = nullptr) {
+  out.samples = samples;
+  out.positions = positions;
+  out.normals = normals;
+  if (inside)
+    out.inside = *inside;
+  else
+    out.inside.clear();
+}
 
 // Options a user can pass to any strategy's factory; each strategy reads what concerns it.
 struct StrategyOptions {

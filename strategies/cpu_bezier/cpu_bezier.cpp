@@ -209,13 +209,15 @@ class CpuBezier final : public Strategy {
 
   EvalResult read_back() override {
     EvalResult out;
-    out.surfaces.resize(samples_.size());
-    for (std::size_t i = 0; i < samples_.size(); ++i) {
-      out.surfaces[i].samples = samples_[i];
-      out.surfaces[i].positions = positions_[i];
-      out.surfaces[i].normals = normals_[i];
-    }
+    read_back_into(out);
     return out;
+  }
+
+  // Into out's buffers: same-size copy-assignment and PointArray::reset keep their storage.
+  void read_back_into(EvalResult& out) override {
+    out.surfaces.resize(samples_.size());
+    for (std::size_t i = 0; i < samples_.size(); ++i)
+      copy_surface_into(out.surfaces[i], samples_[i], positions_[i], normals_[i]);
   }
 
  private:
@@ -223,8 +225,8 @@ class CpuBezier final : public Strategy {
   std::vector<BezierSurface<T>> prepare_all(const Scene& scene) {
     std::vector<BezierSurface<T>> surfaces;
     surfaces.reserve(scene.surfaces.size());
-    positions_.assign(scene.surfaces.size(), {});
-    normals_.assign(scene.surfaces.size(), {});
+    positions_.resize(scene.surfaces.size());  // kept storage: see PointArray::reset
+    normals_.resize(scene.surfaces.size());
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
       BezierSurface<T>& s = surfaces.emplace_back(scene.surfaces[i]);
       s.decompose();
@@ -235,8 +237,8 @@ class CpuBezier final : public Strategy {
         s.u_table.resize(s.u_params.size());
         s.v_table.resize(s.v_params.size());
       }
-      positions_[i] = PointArray(request_.precision, samples_[i].count());
-      if (request_.normals) normals_[i] = PointArray(request_.precision, samples_[i].count());
+      positions_[i].reset(request_.precision, samples_[i].count());
+      normals_[i].reset(request_.precision, request_.normals ? samples_[i].count() : 0);
     }
     return surfaces;
   }

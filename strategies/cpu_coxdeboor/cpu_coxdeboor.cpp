@@ -30,12 +30,13 @@ class CpuCoxDeBoor final : public Strategy {
       nets_ = make_nets<float>(scene);
     else
       nets_ = make_nets<double>(scene);
-    results_.assign(scene.surfaces.size(), {});
+    results_.resize(scene.surfaces.size());  // kept storage: see PointArray::reset
     trims_.clear();
     for (const Surface& s : scene.surfaces) trims_.push_back(s.trim);
     for (std::size_t i = 0; i < results_.size(); ++i) {
-      results_[i].positions = PointArray(request.precision, samples_[i].count());
-      if (request.normals) results_[i].normals = PointArray(request.precision, samples_[i].count());
+      results_[i].positions.reset(request.precision, samples_[i].count());
+      results_[i].normals.reset(request.precision, request.normals ? samples_[i].count() : 0);
+      results_[i].inside.clear();
     }
   }
 
@@ -57,14 +58,16 @@ class CpuCoxDeBoor final : public Strategy {
 
   EvalResult read_back() override {
     EvalResult out;
-    out.surfaces.resize(results_.size());
-    for (std::size_t i = 0; i < results_.size(); ++i) {
-      out.surfaces[i].samples = samples_[i];
-      out.surfaces[i].positions = results_[i].positions;
-      out.surfaces[i].normals = results_[i].normals;
-      out.surfaces[i].inside = results_[i].inside;
-    }
+    read_back_into(out);
     return out;
+  }
+
+  // Into out's buffers: same-size copy-assignment and PointArray::reset keep their storage.
+  void read_back_into(EvalResult& out) override {
+    out.surfaces.resize(results_.size());
+    for (std::size_t i = 0; i < results_.size(); ++i)
+      copy_surface_into(out.surfaces[i], samples_[i], results_[i].positions, results_[i].normals,
+                        &results_[i].inside);
   }
 
  private:

@@ -268,11 +268,11 @@ class CpuHorner final : public Strategy {
       surfaces_ = make_surfaces<float>(scene, request.normals);
     else
       surfaces_ = make_surfaces<double>(scene, request.normals);
-    positions_.assign(scene.surfaces.size(), {});
-    normals_.assign(scene.surfaces.size(), {});
+    positions_.resize(scene.surfaces.size());  // kept storage: see PointArray::reset
+    normals_.resize(scene.surfaces.size());
     for (std::size_t i = 0; i < samples_.size(); ++i) {
-      positions_[i] = PointArray(request.precision, samples_[i].count());
-      if (request.normals) normals_[i] = PointArray(request.precision, samples_[i].count());
+      positions_[i].reset(request.precision, samples_[i].count());
+      normals_[i].reset(request.precision, request.normals ? samples_[i].count() : 0);
     }
   }
 
@@ -299,10 +299,15 @@ class CpuHorner final : public Strategy {
 
   EvalResult read_back() override {
     EvalResult out;
+    read_back_into(out);
+    return out;
+  }
+
+  // Into out's buffers: same-size copy-assignment and PointArray::reset keep their storage.
+  void read_back_into(EvalResult& out) override {
     out.surfaces.resize(samples_.size());
     for (std::size_t i = 0; i < samples_.size(); ++i)
-      out.surfaces[i] = {samples_[i], positions_[i], normals_[i], {}};
-    return out;
+      copy_surface_into(out.surfaces[i], samples_[i], positions_[i], normals_[i]);
   }
 
  private:

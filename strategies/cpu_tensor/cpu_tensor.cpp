@@ -236,14 +236,16 @@ class CpuTensor final : public Strategy {
 
   EvalResult read_back() override {
     EvalResult out;
-    out.surfaces.resize(samples_.size());
-    for (std::size_t i = 0; i < samples_.size(); ++i) {
-      out.surfaces[i].samples = samples_[i];
-      out.surfaces[i].positions = positions_[i];
-      out.surfaces[i].normals = normals_[i];
-      if (classified_ && trims_[i]) out.surfaces[i].inside = inside_[i];
-    }
+    read_back_into(out);
     return out;
+  }
+
+  // Copy-assignment into out's vectors of the same size reuses their storage.
+  void read_back_into(EvalResult& out) override {
+    out.surfaces.resize(samples_.size());
+    for (std::size_t i = 0; i < samples_.size(); ++i)
+      copy_surface_into(out.surfaces[i], samples_[i], positions_[i], normals_[i],
+                        classified_ && trims_[i] ? &inside_[i] : nullptr);
   }
 
  private:
@@ -255,7 +257,7 @@ class CpuTensor final : public Strategy {
     std::vector<int> v_tables;                    // the tables whose runs a row reads
     std::vector<std::pair<int, int>> rows;        // (surface, u sample): the parallel work items
     std::vector<std::vector<T>> curve, curve_du;  // per thread scratch
-    std::vector<std::vector<unsigned char>> unresolved;
+    std::vector<std::vector<T>> unresolved;       // RowJob::unresolved
     std::vector<std::vector<T>> staged_positions, staged_normals;  // per thread, when streaming
   };
 
@@ -263,8 +265,10 @@ class CpuTensor final : public Strategy {
   Prepared<T> prepare_all(const Scene& scene) {
     Prepared<T> p;
     std::size_t widest = 0, longest_row = 0;
-    positions_.assign(scene.surfaces.size(), {});
-    normals_.assign(scene.surfaces.size(), {});
+    // Resized, not reassigned: a prepare() of the same request keeps the output buffers (and their
+    // mapped pages) of the last one.
+    positions_.resize(scene.surfaces.size());
+    normals_.resize(scene.surfaces.size());
     std::unordered_multimap<std::size_t, int> index;
     p.surfaces.reserve(scene.surfaces.size());
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
@@ -278,8 +282,8 @@ class CpuTensor final : public Strategy {
       for (int a = 0; a < t.rows; ++a) p.rows.emplace_back(static_cast<int>(i), a);
       widest = std::max(widest, static_cast<std::size_t>(t.net.count_v) * 4);
       longest_row = std::max(longest_row, static_cast<std::size_t>(t.columns));
-      positions_[i] = PointArray(request_.precision, samples_[i].count());
-      if (request_.normals) normals_[i] = PointArray(request_.precision, samples_[i].count());
+      positions_[i].reset(request_.precision, samples_[i].count());
+      normals_[i].reset(request_.precision, request_.normals ? samples_[i].count() : 0);
     }
     for (std::size_t k = 0; k < p.tables.size(); ++k) {
       const int n = static_cast<int>(p.tables[k].params.size());
@@ -290,7 +294,7 @@ class CpuTensor final : public Strategy {
     p.curve.assign(threads_, std::vector<T>(widest));
     if (request_.normals) {
       p.curve_du.assign(threads_, std::vector<T>(widest));
-      p.unresolved.assign(threads_, std::vector<unsigned char>(longest_row));
+      p.unresolved.assign(threads_, std::vector<T>(longest_row));
     }
     if (streaming_) {
       p.staged_positions.assign(threads_, std::vector<T>(longest_row * 3));
@@ -303,13 +307,14 @@ class CpuTensor final : public Strategy {
   // classify() spreads over the threads.
   void prepare_trims(const Scene& scene) {
     trims_.clear();
-    inside_.assign(scene.surfaces.size(), {});
+    inside_.resize(scene.surfaces.size());  // kept storage, as positions_
     trim_rows_.clear();
     classified_ = false;
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
       const Surface& s = scene.surfaces[i];
       if (!s.trim) {
         trims_.emplace_back();
+        inside_[i].clear();
         continue;
       }
       if (!std::is_sorted(samples_[i].v.begin(), samples_[i].v.end()))
@@ -374,7 +379,7 @@ class CpuTensor final : public Strategy {
     // Collapsed edges and other places where Su x Sv is rounding noise: the reference's own
     // limit-normal rule (nurbs_math.h surface_normal), rare, so scalar.
     for (int b = 0; normals && b < t.columns; ++b) {
-      if (!job.unresolved[b]) continue;
+      if (job.unresolved[b] == T(0)) continue;
       const Vec3<T> n = surface_normal(t.net, tu.params[a], tv.params[b]);
       for (int c = 0; c < 3; ++c) job.normals[3 * b + c] = n[c];
     }

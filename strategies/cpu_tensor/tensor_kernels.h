@@ -24,12 +24,14 @@ struct RowJob {
   // false when every weight is 1: positions are then the plain sums, with no w to sum or divide by
   // (w would be the partition of unity, 1 up to rounding). Normals always take the rational path.
   bool rational = true;
-  int count_v_samples = 0;              // stride of the basis tables
-  const T* basis_v = nullptr;           // basis_v[l * count_v_samples + b]
-  const T* basis_dv = nullptr;          // derivative table, same layout
-  T* positions = nullptr;               // xyz per v sample
-  T* normals = nullptr;                 // xyz per v sample, or nullptr
-  unsigned char* unresolved = nullptr;  // per v sample: 1 where the Su x Sv normal is noise
+  int count_v_samples = 0;      // stride of the basis tables
+  const T* basis_v = nullptr;   // basis_v[l * count_v_samples + b]
+  const T* basis_dv = nullptr;  // derivative table, same layout
+  T* positions = nullptr;       // xyz per v sample
+  T* normals = nullptr;         // xyz per v sample, or nullptr
+  // Per v sample: 1 where the Su x Sv normal is noise. Of type T, not a byte: a narrower store
+  // in the normal loop kept GCC from vectorising it.
+  T* unresolved = nullptr;
 };
 
 // out[j * 4 + c] = sum_k basis[k] * net[(first + k) * count_v * 4 + j * 4 + c]: the u contraction

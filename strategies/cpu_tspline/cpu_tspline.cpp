@@ -31,10 +31,10 @@ class CpuTSpline final : public Strategy {
     surfaces_.clear();
     for (const Surface& s : scene.surfaces)
       surfaces_.push_back({s.tspline, std::make_shared<TSplineInfluence>(*s.tspline, s.name)});
-    results_.assign(scene.surfaces.size(), {});
+    results_.resize(scene.surfaces.size());  // kept storage: see PointArray::reset
     for (std::size_t i = 0; i < results_.size(); ++i) {
-      results_[i].positions = PointArray(request.precision, samples_[i].count());
-      if (request.normals) results_[i].normals = PointArray(request.precision, samples_[i].count());
+      results_[i].positions.reset(request.precision, samples_[i].count());
+      results_[i].normals.reset(request.precision, request.normals ? samples_[i].count() : 0);
     }
   }
 
@@ -62,13 +62,15 @@ class CpuTSpline final : public Strategy {
 
   EvalResult read_back() override {
     EvalResult out;
-    out.surfaces.resize(results_.size());
-    for (std::size_t i = 0; i < results_.size(); ++i) {
-      out.surfaces[i].samples = samples_[i];
-      out.surfaces[i].positions = results_[i].positions;
-      out.surfaces[i].normals = results_[i].normals;
-    }
+    read_back_into(out);
     return out;
+  }
+
+  // Into out's buffers: same-size copy-assignment and PointArray::reset keep their storage.
+  void read_back_into(EvalResult& out) override {
+    out.surfaces.resize(results_.size());
+    for (std::size_t i = 0; i < results_.size(); ++i)
+      copy_surface_into(out.surfaces[i], samples_[i], results_[i].positions, results_[i].normals);
   }
 
  private:

@@ -127,13 +127,19 @@ class OcctStrategy final : public Strategy {
 
   EvalResult read_back() override {
     EvalResult out;
+    read_back_into(out);
+    return out;
+  }
+
+  // Into out's buffers: same-size copy-assignment and PointArray::reset keep their storage.
+  void read_back_into(EvalResult& out) override {
     out.surfaces.resize(samples_.size());
     for (std::size_t i = 0; i < samples_.size(); ++i) {
       SurfaceResult& r = out.surfaces[i];
       r.samples = samples_[i];
       const std::size_t n = samples_[i].count();
-      r.positions = PointArray(request_.precision, n);
-      if (request_.normals) r.normals = PointArray(request_.precision, n);
+      r.positions.reset(request_.precision, n);
+      r.normals.reset(request_.precision, request_.normals ? n : 0);
       for (std::size_t k = 0; k < n; ++k) {
         const gp_Pnt& p = points_[i][k];
         r.positions.set(k, Vec3<double>{p.X(), p.Y(), p.Z()});
@@ -146,7 +152,6 @@ class OcctStrategy final : public Strategy {
         r.normals.set(k, n3);
       }
     }
-    return out;
   }
 
  private:

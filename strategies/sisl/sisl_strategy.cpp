@@ -101,6 +101,12 @@ class SislStrategy final : public Strategy {
 
   EvalResult read_back() override {
     EvalResult out;
+    read_back_into(out);
+    return out;
+  }
+
+  // Into out's buffers: same-size copy-assignment and PointArray::reset keep their storage.
+  void read_back_into(EvalResult& out) override {
     out.surfaces.resize(samples_.size());
     const int per_sample = request_.normals ? 9 : 3;
     for (std::size_t i = 0; i < samples_.size(); ++i) {
@@ -108,8 +114,8 @@ class SislStrategy final : public Strategy {
       r.samples = samples_[i];
       const std::size_t n = samples_[i].count();
       // SISL computes in double; an f32 request gets those results rounded to float.
-      r.positions = PointArray(request_.precision, n);
-      if (request_.normals) r.normals = PointArray(request_.precision, n);
+      r.positions.reset(request_.precision, n);
+      r.normals.reset(request_.precision, request_.normals ? n : 0);
       const double* d = derivatives_[i].data();
       for (std::size_t k = 0; k < n; ++k) {
         const double* p = d + k * per_sample;
@@ -123,7 +129,6 @@ class SislStrategy final : public Strategy {
         r.normals.set(k, n3);
       }
     }
-    return out;
   }
 
  private:

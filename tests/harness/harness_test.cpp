@@ -375,7 +375,7 @@ TEST(StoreLimit, RowDescribesTheRequestsOutputStream) {
         std::tuple{Precision::f64, false, 24}, std::tuple{Precision::f64, true, 48}}) {
     const EvalRequest request{grid, precision, normals};
     EXPECT_EQ(result_bytes_per_point(request), static_cast<std::size_t>(bytes));
-    const Record r = measure_store_limit(scene, request, 3);
+    const Record r = measure_store_limit(scene, request, 1);
     EXPECT_EQ(r.status, Status::ok);
     EXPECT_EQ(r.role, "limit");
     EXPECT_FALSE(r.accuracy);
@@ -385,7 +385,20 @@ TEST(StoreLimit, RowDescribesTheRequestsOutputStream) {
     EXPECT_GT(r.evaluate.min_s, 0.0);
     EXPECT_DOUBLE_EQ(r.throughput_pts_per_s, r.points / r.evaluate.median_s);
     EXPECT_DOUBLE_EQ(r.figures.at("store_bytes_per_s"), bytes * r.throughput_pts_per_s);
+    // 32x16 points write a few KiB; the pass still goes through memory (issue 30).
+    EXPECT_EQ(r.figures.at("pass_bytes"), static_cast<double>(store_pass_bytes(r.points * bytes)));
   }
+}
+
+// The pass is never cache-sized: at least 64 MiB and 4x the last-level cache when one is known
+// (at most 128 MiB of that floor), and the result itself when that is larger.
+TEST(StoreLimit, PassIsLargerThanTheCacheOrTheResult) {
+  const std::size_t floor = store_pass_bytes(0);
+  EXPECT_GE(floor, std::size_t{64} << 20);
+  EXPECT_LE(floor, std::size_t{128} << 20);
+  EXPECT_GE(floor, std::min<std::size_t>(4 * last_level_cache_bytes(), std::size_t{128} << 20));
+  EXPECT_EQ(store_pass_bytes(12), floor);
+  EXPECT_EQ(store_pass_bytes(floor + 48), floor + 48);
 }
 
 TEST(StoreLimit, FractionOnlyFromAnOutputOfAtLeastTheStatedSize) {
