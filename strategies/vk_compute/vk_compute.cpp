@@ -218,7 +218,7 @@ std::array<std::uint32_t, 2> grid_of(std::uint32_t groups, const VkPhysicalDevic
 
 class VkCompute final : public Strategy {
  public:
-  VkCompute(int device_index, const trim_direct::Settings& trim)
+  VkCompute(int device_index, const trim_direct::Settings& trim, std::uint32_t tile_cap)
       : device_(device_index, compute_requirements()),
         set_(device_, std::vector<VkShaderStageFlags>(kBindings, VK_SHADER_STAGE_COMPUTE_BIT)),
         queries_(device_, 0),
@@ -227,6 +227,8 @@ class VkCompute final : public Strategy {
         group_(workgroup_size(device_.limits())) {
     const std::uint32_t tile32 = tile_points(device_.limits(), 4);
     const std::uint32_t tile64 = tile_points(device_.limits(), 8);
+    layout_tile32_ = tile_cap > 0 ? std::min(tile_cap, tile32) : tile32;
+    layout_tile64_ = tile_cap > 0 ? std::min(tile_cap, tile64) : tile64;
     basis32_ = std::make_unique<vulkan::ComputePipeline>(
         device_, set_, sizeof(Launch), embedded::vk_compute_basis_f32_comp, "basis_f32.comp",
         std::vector<std::uint32_t>{group_, tile32});
@@ -245,6 +247,7 @@ class VkCompute final : public Strategy {
     record_.details["vk_compute_workgroup"] = std::to_string(group_);
     record_.details["vk_compute_tile_points"] = fmt::format("{} (f32), {} (f64)", tile32, tile64);
     record_.details["shaderFloat64"] = device_.float64() ? "yes" : "no";
+    if (tile_cap > 0) record_.details["vk_tile_points"] = std::to_string(tile_cap);
     trim_direct::record_settings(trim_settings_, record_);
   }
 
@@ -449,6 +452,7 @@ class VkCompute final : public Strategy {
   vulkan::TrimClassifier classifier_;
   trim_direct::Settings trim_settings_;
   std::uint32_t group_;
+  std::uint32_t layout_tile32_ = 0, layout_tile64_ = 0;  // curve points a tile may use
   std::unique_ptr<vulkan::ComputePipeline> basis32_, eval32_, basis64_, eval64_;
   DeviceInfo record_;
   EvalRequest request_;
@@ -463,10 +467,30 @@ class VkCompute final : public Strategy {
   std::optional<double> evaluate_s_;
 };
 
+// extra["vk-tile-points"] = N (16 or more): at most N curve points per shared-memory tile, below
+// what the device's shared memory holds; the tests use it to cut grids into many tiles.
+std::uint32_t tile_cap_option(const StrategyOptions& options) {
+  const auto it = options.extra.find("vk-tile-points");
+  if (it == options.extra.end()) return 0;
+  std::size_t used = 0;
+  int n = 0;
+  try {
+    n = std::stoi(it->second, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != it->second.size() || n < TB_MAX_ORDER)
+    throw std::invalid_argument(
+        fmt::format("vk-compute option vk-tile-points = '{}': must be an integer >= {}", it->second,
+                    TB_MAX_ORDER));
+  return static_cast<std::uint32_t>(n);
+}
+
 std::unique_ptr<Strategy> make_vk_compute(const StrategyOptions& options) {
   try {
     return std::make_unique<VkCompute>(vulkan::device_option(options),
-                                       trim_direct::settings_from(options, "vk-compute"));
+                                       trim_direct::settings_from(options, "vk-compute"),
+                                       tile_cap_option(options));
   } catch (const vulkan::MissingFeature& e) {
     throw std::runtime_error(std::string("unavailable: ") + e.what());
   }
