@@ -17,7 +17,8 @@ void main() {
   TB_REAL d[TB_MAX_ORDER];
   tb_basis(span, u, degree, knots, b, d, launch.normals != 0);
   spans[g] = span;
-  for (int j = 0; j <= degree; ++j) basis_values[TB_STRIDE * g + j] = b[j];
+  for (int j = 0; j <= degree; ++j) basis_values[j * launch.params + g] = b[j];
   if (launch.normals != 0)
-    for (int j = 0; j <= degree; ++j) basis_values[TB_STRIDE * g + TB_MAX_ORDER + j] = d[j];
+    for (int j = 0; j <= degree; ++j)
+      basis_values[(TB_MAX_ORDER + j) * launch.params + g] = d[j];
 }

@@ -62,8 +62,12 @@ void store(int k, int s, TC_VEC4 a, TC_VEC4 au, TC_VEC4 av, TC_VEC4 auv, int gu,
   normals[3 * k + 2] = n.z;
 }
 
-TB_REAL basis_at(int g, int j) { return basis_values[TB_STRIDE * g + j]; }
-TB_REAL derivative_at(int g, int j) { return basis_values[TB_STRIDE * g + TB_MAX_ORDER + j]; }
+// Function-major (value j of every parameter together): neighbouring invocations, neighbouring
+// samples, read neighbouring values.
+TB_REAL basis_at(int g, int j) { return basis_values[j * launch.params + g]; }
+TB_REAL derivative_at(int g, int j) {
+  return basis_values[(TB_MAX_ORDER + j) * launch.params + g];
+}
 
 // Explicit lists: sample k of surface s, the (p+1)(q+1) sum (rows first: each row's v sums are
 // shared by the four sums).
@@ -127,23 +131,34 @@ void main() {
     curve_du[k] = cu;
   }
   barrier();
-  // v contraction and divide, one sample per invocation
+  // v contraction and divide: columns across the invocations, each column's span and basis read
+  // once for all the rows it does (no division per sample); a tile narrower than the work-group
+  // has `stripes` rows in flight, each invocation every stripes-th row of its column.
   const int nv = surfaces[base + TC_S_NV], out_base = surfaces[base + TC_S_OUT];
-  for (int k = lid; k < rows * cols; k += size) {
-    const int r = k / cols, b = b0 + (k - r * cols);
-    const int gu = u_params + a0 + r, gv = v_params + b;
-    const int first = r * width + spans[gv] - q - first_v;
-    TC_VEC4 a = TC_VEC4(0), au = TC_VEC4(0), av = TC_VEC4(0), auv = TC_VEC4(0);
+  const bool wide = cols >= size;
+  const int stripes = wide ? 1 : size / cols;
+  const int r0 = wide ? 0 : lid / cols;
+  for (int c = wide ? lid : lid - r0 * cols; c < cols && r0 < stripes; c += wide ? size : cols) {
+    const int b = b0 + c, gv = v_params + b;
+    const int first = spans[gv] - q - first_v;
+    TB_REAL nb[TB_MAX_ORDER];
+    TB_REAL db[TB_MAX_ORDER];
     for (int l = 0; l <= q; ++l) {
-      const TB_REAL n = basis_at(gv, l);
-      a += n * curve[first + l];
-      if (d) {
-        const TB_REAL dn = derivative_at(gv, l);
-        au += n * curve_du[first + l];
-        av += dn * curve[first + l];
-        auv += dn * curve_du[first + l];
-      }
+      nb[l] = basis_at(gv, l);
+      db[l] = d ? derivative_at(gv, l) : TB_REAL(0);
     }
-    store(out_base + (a0 + r) * nv + b, s, a, au, av, auv, gu, gv);
+    for (int r = r0; r < rows; r += stripes) {
+      const int at = r * width + first;
+      TC_VEC4 a = TC_VEC4(0), au = TC_VEC4(0), av = TC_VEC4(0), auv = TC_VEC4(0);
+      for (int l = 0; l <= q; ++l) {
+        a += nb[l] * curve[at + l];
+        if (d) {
+          au += nb[l] * curve_du[at + l];
+          av += db[l] * curve[at + l];
+          auv += db[l] * curve_du[at + l];
+        }
+      }
+      store(out_base + (a0 + r) * nv + b, s, a, au, av, auv, u_params + a0 + r, gv);
+    }
   }
 }

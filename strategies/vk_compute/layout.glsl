@@ -23,7 +23,8 @@ layout(std430, set = 0, binding = 0) readonly buffer Knots { TB_REAL tb_knots[];
 layout(std430, set = 0, binding = 1) readonly buffer Params { TB_REAL params[]; };
 // Per parameter: its knot vector's offset in tb_knots, degree, control points in that direction.
 layout(std430, set = 0, binding = 2) readonly buffer ParamAxes { int param_axes[]; };
-// The basis pass's output: per parameter its span, and TB_STRIDE values (tensor_basis.h).
+// The basis pass's output: per parameter its span; TB_STRIDE values per parameter (tensor_basis.h),
+// value j of parameter g at j * launch.params + g.
 layout(std430, set = 0, binding = 3) buffer Spans { int spans[]; };
 layout(std430, set = 0, binding = 4) buffer BasisValues { TB_REAL basis_values[]; };
 // Homogeneous control points (wx, wy, wz, w) of every surface, row-major (i * count_v + j).
@@ -37,7 +38,8 @@ layout(push_constant) uniform Launch {
   int count;    // parameters (basis pass) or tiles (evaluation pass)
   int normals;  // 1: derivatives and normals too
   int paired;   // 1: explicit lists, sample k = (u[k], v[k]); 0: tensor grids
-  int tiles_x;  // work-groups along x (the evaluation pass's 2D grid of tiles)
+  int tiles_x;  // work-groups along x (a 2D grid where one row would pass the device's limit)
+  int params;   // parameters in `params` (both passes: the stride of `basis_values`)
 } launch;
 
 #include "tensor_basis.h"

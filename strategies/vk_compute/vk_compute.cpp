@@ -37,7 +37,7 @@ static_assert(kMaxOrder == TB_MAX_ORDER, "tensor_basis.h's degree bound is the v
 constexpr int kBindings = 10;
 
 struct Launch {
-  std::int32_t count = 0, normals = 0, paired = 0, tiles_x = 1;
+  std::int32_t count = 0, normals = 0, paired = 0, tiles_x = 1, params = 0;
 };
 
 Capabilities compute_capabilities() {
@@ -55,12 +55,23 @@ vulkan::Requirements compute_requirements() {
   return r;
 }
 
-// Invocations per work-group: the device's bound, at most 256. A tile's columns are at most one
-// work-group's worth (one sample per invocation), so larger groups only add rows to a tile, which
-// the shared-memory tile limits anyway; 256 is where the rows of a 1024-wide grid stop fitting.
-std::uint32_t workgroup_size(const VkPhysicalDeviceLimits& limits) {
-  return std::min({limits.maxComputeWorkGroupInvocations, limits.maxComputeWorkGroupSize[0],
-                   std::uint32_t{256}});
+// Invocations per work-group: four subgroups (Vulkan 1.1's subgroupSize: 8 on lavapipe with AVX2,
+// 32 on NVIDIA, 32/64 on AMD), within maxComputeWorkGroupInvocations and maxComputeWorkGroupSize.
+// Few subgroups per group because a tile's invocations loop over its samples anyway, and lavapipe
+// runs each subgroup of a group with a barrier as a coroutine of its own, a cost per subgroup and
+// group: many-1024 at 32^2 took 392 ms in groups of 256 invocations and 103 ms in groups of 32
+// (one process each, 2-core EPYC shared with other jobs: the figures move by 2x between runs).
+std::uint32_t workgroup_size(const vulkan::Device& device, std::uint32_t cap) {
+  VkPhysicalDeviceSubgroupProperties subgroup{};
+  subgroup.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
+  VkPhysicalDeviceProperties2 properties{};
+  properties.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+  properties.pNext = &subgroup;
+  vkGetPhysicalDeviceProperties2(device.physical(), &properties);
+  const VkPhysicalDeviceLimits& limits = device.limits();
+  const std::uint32_t wanted = cap > 0 ? cap : 4 * std::max(subgroup.subgroupSize, 1u);
+  return std::min(
+      {limits.maxComputeWorkGroupInvocations, limits.maxComputeWorkGroupSize[0], wanted});
 }
 
 // Curve points per shared-memory tile: the device's shared memory over the two arrays (values
@@ -68,6 +79,12 @@ std::uint32_t workgroup_size(const VkPhysicalDeviceLimits& limits) {
 std::uint32_t tile_points(const VkPhysicalDeviceLimits& limits, std::uint32_t real_bytes) {
   return limits.maxComputeSharedMemorySize / (2 * 4 * real_bytes);
 }
+
+// Rows per tile at most. A work-group pays a fixed cost on lavapipe (patch144 1024^2, groups of
+// 256: 4096 tiles of one row 1.0 s, 8 rows 180-200 ms, 64 rows 120-140 ms, up to 146 rows (what
+// shared memory holds) 70-100 ms), so a tile takes as many rows as shared memory holds up to this
+// many, which still leaves a 1024^2 grid over a hundred groups for a GPU's compute units.
+constexpr std::uint32_t kMaxTileRows = 64;
 
 // Everything one prepare() uploads, at the evaluation's scalar T.
 template <typename T>
@@ -90,7 +107,8 @@ std::vector<T> homogeneous_nets(const Scene& scene) {
 template <typename T>
 class TableBuilder {
  public:
-  TableBuilder(std::uint32_t group, std::uint32_t tile) : group_(int(group)), tile_(int(tile)) {}
+  TableBuilder(std::uint32_t group, std::uint32_t tile, std::uint32_t rows)
+      : group_(int(group)), tile_(int(tile)), row_cap_(int(rows)) {}
 
   Tables<T> build(const Scene& scene, const std::vector<SurfaceSamples>& samples) {
     Tables<T> t;
@@ -174,7 +192,7 @@ class TableBuilder {
         ++cols;
       }
       const int width = hi - lo + q + 1;
-      const int rows = std::max(1, std::min(group_ / cols, tile_ / width));
+      const int rows = std::max(1, std::min(row_cap_, tile_ / width));
       for (int a0 = 0; a0 < nu; a0 += rows) {
         std::int32_t tile[TC_TILE_INTS] = {};
         tile[TC_T_SURFACE] = surface;
@@ -201,7 +219,7 @@ class TableBuilder {
     }
   }
 
-  int group_, tile_;
+  int group_, tile_, row_cap_;
   std::map<std::tuple<int, std::vector<T>, std::vector<T>>, std::int32_t> lists_;
 };
 
@@ -218,13 +236,15 @@ std::array<std::uint32_t, 2> grid_of(std::uint32_t groups, const VkPhysicalDevic
 
 class VkCompute final : public Strategy {
  public:
-  VkCompute(int device_index, const trim_direct::Settings& trim, std::uint32_t tile_cap)
+  VkCompute(int device_index, const trim_direct::Settings& trim, std::uint32_t tile_cap,
+            std::uint32_t group_cap, std::uint32_t row_cap)
       : device_(device_index, compute_requirements()),
         set_(device_, std::vector<VkShaderStageFlags>(kBindings, VK_SHADER_STAGE_COMPUTE_BIT)),
         queries_(device_, 0),
         classifier_(device_),
         trim_settings_(trim),
-        group_(workgroup_size(device_.limits())) {
+        group_(workgroup_size(device_, group_cap)),
+        row_cap_(row_cap) {
     const std::uint32_t tile32 = tile_points(device_.limits(), 4);
     const std::uint32_t tile64 = tile_points(device_.limits(), 8);
     layout_tile32_ = tile_cap > 0 ? std::min(tile_cap, tile32) : tile32;
@@ -264,9 +284,9 @@ class VkCompute final : public Strategy {
     samples_ = sample_parameters(scene, request.sampling);
     classified_ = false;
     if (request.precision == Precision::f32)
-      upload(TableBuilder<float>(group_, tile_points(device_.limits(), 4)).build(scene, samples_));
+      upload(TableBuilder<float>(group_, layout_tile32_, row_cap_).build(scene, samples_));
     else
-      upload(TableBuilder<double>(group_, tile_points(device_.limits(), 8)).build(scene, samples_));
+      upload(TableBuilder<double>(group_, layout_tile64_, row_cap_).build(scene, samples_));
     classifier_.prepare(scene, samples_, trim_settings_);
   }
 
@@ -283,6 +303,7 @@ class VkCompute final : public Strategy {
       Launch launch;
       launch.normals = request_.normals ? 1 : 0;
       launch.paired = paired_ ? 1 : 0;
+      launch.params = static_cast<std::int32_t>(param_count_);
       if (param_count_ > 0) {
         basis.bind(cb, set_);
         launch.count = static_cast<std::int32_t>(param_count_);
@@ -451,7 +472,7 @@ class VkCompute final : public Strategy {
   vulkan::QueryPools queries_;
   vulkan::TrimClassifier classifier_;
   trim_direct::Settings trim_settings_;
-  std::uint32_t group_;
+  std::uint32_t group_, row_cap_;
   std::uint32_t layout_tile32_ = 0, layout_tile64_ = 0;  // curve points a tile may use
   std::unique_ptr<vulkan::ComputePipeline> basis32_, eval32_, basis64_, eval64_;
   DeviceInfo record_;
@@ -467,11 +488,15 @@ class VkCompute final : public Strategy {
   std::optional<double> evaluate_s_;
 };
 
-// extra["vk-tile-points"] = N (16 or more): at most N curve points per shared-memory tile, below
-// what the device's shared memory holds; the tests use it to cut grids into many tiles.
-std::uint32_t tile_cap_option(const StrategyOptions& options) {
-  const auto it = options.extra.find("vk-tile-points");
-  if (it == options.extra.end()) return 0;
+// The options' positive counts (absent: `otherwise`). extra["vk-tile-points"] = N (16 or more): at
+// most N curve points per shared-memory tile, below what the device's shared memory holds (the
+// tests use it to cut grids into many tiles); extra["vk-workgroup"] = N: N invocations per
+// work-group instead of four subgroups (within the device's limits); extra["vk-tile-rows"] = N: at
+// most N rows per tile instead of kMaxTileRows. The last two are for measuring the choices.
+std::uint32_t count_option(const StrategyOptions& options, const char* key, int least,
+                           std::uint32_t otherwise) {
+  const auto it = options.extra.find(key);
+  if (it == options.extra.end()) return otherwise;
   std::size_t used = 0;
   int n = 0;
   try {
@@ -479,10 +504,9 @@ std::uint32_t tile_cap_option(const StrategyOptions& options) {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != it->second.size() || n < TB_MAX_ORDER)
-    throw std::invalid_argument(
-        fmt::format("vk-compute option vk-tile-points = '{}': must be an integer >= {}", it->second,
-                    TB_MAX_ORDER));
+  if (used != it->second.size() || n < least)
+    throw std::invalid_argument(fmt::format("vk-compute option {} = '{}': must be an integer >= {}",
+                                            key, it->second, least));
   return static_cast<std::uint32_t>(n);
 }
 
@@ -490,7 +514,9 @@ std::unique_ptr<Strategy> make_vk_compute(const StrategyOptions& options) {
   try {
     return std::make_unique<VkCompute>(vulkan::device_option(options),
                                        trim_direct::settings_from(options, "vk-compute"),
-                                       tile_cap_option(options));
+                                       count_option(options, "vk-tile-points", TB_MAX_ORDER, 0),
+                                       count_option(options, "vk-workgroup", 1, 0),
+                                       count_option(options, "vk-tile-rows", 1, kMaxTileRows));
   } catch (const vulkan::MissingFeature& e) {
     throw std::runtime_error(std::string("unavailable: ") + e.what());
   }
@@ -508,24 +534,29 @@ namespace vk_compute {
 
 namespace {
 template <typename T>
-BasisRun basis_run(const std::vector<double>& knots_in, int degree,
-                   const std::vector<double>& params_in, int device_index) {
+std::vector<BasisRun> basis_run(const std::vector<BasisJob>& jobs, int device_index) {
   const vulkan::Device device(device_index, compute_requirements());
   if (std::is_same_v<T, double> && !device.float64())
     throw RefusedError("vk-compute: shaderFloat64 not supported");
   const vulkan::StorageSet set(
       device, std::vector<VkShaderStageFlags>(kBindings, VK_SHADER_STAGE_COMPUTE_BIT));
-  const std::uint32_t group = workgroup_size(device.limits());
+  const std::uint32_t group = workgroup_size(device, 0);
   const vulkan::ComputePipeline pipeline(device, set, sizeof(Launch),
                                          std::is_same_v<T, float>
                                              ? embedded::vk_compute_basis_f32_comp
                                              : embedded::vk_compute_basis_f64_comp,
                                          "basis.comp", {group, 64});
-  const std::vector<T> knots(knots_in.begin(), knots_in.end());
-  const std::vector<T> params(params_in.begin(), params_in.end());
-  const int count = static_cast<int>(knots.size()) - degree - 1;
+  // every job in one dispatch: knots one vector after the other, each parameter naming its own
+  std::vector<T> knots, params;
   std::vector<std::int32_t> axes;
-  for (std::size_t k = 0; k < params.size(); ++k) axes.insert(axes.end(), {0, degree, count});
+  for (const BasisJob& job : jobs) {
+    const auto offset = static_cast<std::int32_t>(knots.size());
+    const int count = static_cast<int>(job.knots.size()) - job.degree - 1;
+    knots.insert(knots.end(), job.knots.begin(), job.knots.end());
+    params.insert(params.end(), job.params.begin(), job.params.end());
+    for (std::size_t k = 0; k < job.params.size(); ++k)
+      axes.insert(axes.end(), {offset, job.degree, count});
+  }
   const auto make = [&](const void* data, std::size_t bytes, const char* what) {
     Buffer b(device, std::max<std::size_t>(bytes, 16), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, what);
     if (data) b.write(data, bytes);
@@ -542,6 +573,7 @@ BasisRun basis_run(const std::vector<double>& knots_in, int degree,
   const auto grid = grid_of((static_cast<std::uint32_t>(n) + group - 1) / group, device.limits());
   Launch launch;
   launch.count = static_cast<std::int32_t>(n);
+  launch.params = static_cast<std::int32_t>(n);
   launch.normals = 1;
   launch.tiles_x = static_cast<std::int32_t>(grid[0]);
   device.submit_and_wait([&](VkCommandBuffer cb) {
@@ -550,20 +582,26 @@ BasisRun basis_run(const std::vector<double>& knots_in, int degree,
                        &launch);
     vkCmdDispatch(cb, grid[0], grid[1], 1);
   });
-  BasisRun run;
-  run.spans.resize(n);
-  sb.read(run.spans.data(), n * sizeof(std::int32_t));
+  std::vector<std::int32_t> spans(n);
+  sb.read(spans.data(), n * sizeof(std::int32_t));
   std::vector<T> values(n * TB_STRIDE);
   vb.read(values.data(), values.size() * sizeof(T));
-  run.values.assign(values.begin(), values.end());
-  return run;
+  std::vector<BasisRun> runs;
+  std::size_t g = 0;
+  for (const BasisJob& job : jobs) {
+    BasisRun& run = runs.emplace_back();
+    for (std::size_t k = 0; k < job.params.size(); ++k, ++g) {
+      run.spans.push_back(spans[g]);
+      for (int j = 0; j < TB_STRIDE; ++j) run.values.push_back(values[j * n + g]);
+    }
+  }
+  return runs;
 }
 }  // namespace
 
-BasisRun basis_on_vulkan(const std::vector<double>& knots, int degree,
-                         const std::vector<double>& params, bool f64, int device_index) {
-  return f64 ? basis_run<double>(knots, degree, params, device_index)
-             : basis_run<float>(knots, degree, params, device_index);
+std::vector<BasisRun> basis_on_vulkan(const std::vector<BasisJob>& jobs, bool f64,
+                                      int device_index) {
+  return f64 ? basis_run<double>(jobs, device_index) : basis_run<float>(jobs, device_index);
 }
 
 }  // namespace vk_compute

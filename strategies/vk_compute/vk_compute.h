@@ -35,15 +35,20 @@ StrategyEntry vk_compute_entry();
 
 namespace vk_compute {
 
-// Tests: the GLSL build of tensor_basis.h (basis pass) on Vulkan device `device_index` for the
-// parameters `params` of one knot vector: per parameter its span, then TB_STRIDE values (basis,
-// then derivatives). double: the f64 shader (throws where the device has no shaderFloat64).
+// Tests: the GLSL build of tensor_basis.h (the basis pass) on Vulkan device `device_index`, every
+// job in one dispatch: per job, per parameter its span and TB_STRIDE values (basis, then
+// derivatives). f64: the double shader (RefusedError where the device has no shaderFloat64).
+struct BasisJob {
+  std::vector<double> knots;
+  int degree = 1;
+  std::vector<double> params;
+};
 struct BasisRun {
   std::vector<int> spans;
   std::vector<double> values;
 };
-BasisRun basis_on_vulkan(const std::vector<double>& knots, int degree,
-                         const std::vector<double>& params, bool f64, int device_index);
+std::vector<BasisRun> basis_on_vulkan(const std::vector<BasisJob>& jobs, bool f64,
+                                      int device_index);
 
 }  // namespace vk_compute
 }  // namespace nurbs

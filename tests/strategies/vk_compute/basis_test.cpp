@@ -89,16 +89,21 @@ Rows cpp_build(const Case& c) {
   return r;
 }
 
-Rows glsl_build(const Case& c, bool f64) {
-  const vk_compute::BasisRun run = vk_compute::basis_on_vulkan(c.knots, c.degree, c.u, f64, 0);
-  Rows r;
-  r.spans = run.spans;
-  for (std::size_t k = 0; k < c.u.size(); ++k) {
-    const double* v = run.values.data() + k * TB_STRIDE;
-    r.basis.emplace_back(v, v + c.degree + 1);
-    r.ders.emplace_back(v + TB_MAX_ORDER, v + TB_MAX_ORDER + c.degree + 1);
+std::vector<Rows> glsl_build(const std::vector<Case>& all, bool f64) {
+  std::vector<vk_compute::BasisJob> jobs;
+  for (const Case& c : all) jobs.push_back({c.knots, c.degree, c.u});
+  const std::vector<vk_compute::BasisRun> runs = vk_compute::basis_on_vulkan(jobs, f64, 0);
+  std::vector<Rows> out;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    Rows& r = out.emplace_back();
+    r.spans = runs[i].spans;
+    for (std::size_t k = 0; k < all[i].u.size(); ++k) {
+      const double* v = runs[i].values.data() + k * TB_STRIDE;
+      r.basis.emplace_back(v, v + all[i].degree + 1);
+      r.ders.emplace_back(v + TB_MAX_ORDER, v + TB_MAX_ORDER + all[i].degree + 1);
+    }
   }
-  return r;
+  return out;
 }
 
 // The reference on the knots and parameters rounded to T: A2.1 and A2.3 in long double.
@@ -159,11 +164,12 @@ template <typename T>
 void check_glsl(double basis_bound, double derivative_bound, double between_bound) {
   const bool f64 = sizeof(T) == 8;
   Worst vs_reference, vs_cpp;
-  for (const Case& c : cases()) {
-    const Rows glsl = glsl_build(c, f64);
-    const Rows ref = oracle<T>(c);
-    compare(glsl, ref, ref, vs_reference);
-    compare(glsl, cpp_build<T>(c), ref, vs_cpp);
+  const std::vector<Case> all = cases();
+  const std::vector<Rows> glsl = glsl_build(all, f64);
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const Rows ref = oracle<T>(all[i]);
+    compare(glsl[i], ref, ref, vs_reference);
+    compare(glsl[i], cpp_build<T>(all[i]), ref, vs_cpp);
   }
   std::printf("tensor basis GLSL %s vs reference: basis %.3g, derivative %.3g\n",
               f64 ? "f64" : "f32", vs_reference.basis, vs_reference.derivative);
