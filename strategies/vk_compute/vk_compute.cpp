@@ -59,8 +59,9 @@ vulkan::Requirements compute_requirements() {
 // 32 on NVIDIA, 32/64 on AMD), within maxComputeWorkGroupInvocations and maxComputeWorkGroupSize.
 // Few subgroups per group because a tile's invocations loop over its samples anyway, and lavapipe
 // runs each subgroup of a group with a barrier as a coroutine of its own, a cost per subgroup and
-// group: many-1024 at 32^2 took 392 ms in groups of 256 invocations and 103 ms in groups of 32
-// (one process each, 2-core EPYC shared with other jobs: the figures move by 2x between runs).
+// group: many-1024 at 32^2 took 392, 543 and 587 ms in groups of 256 invocations against 103, 123
+// and 211 ms in groups of 32 (three pairs of runs, 2-core EPYC shared with other jobs: figures
+// move by 2x between runs). On patch144 1024^2 the two were within that noise.
 std::uint32_t workgroup_size(const vulkan::Device& device, std::uint32_t cap) {
   VkPhysicalDeviceSubgroupProperties subgroup{};
   subgroup.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
@@ -251,17 +252,17 @@ class VkCompute final : public Strategy {
     layout_tile64_ = tile_cap > 0 ? std::min(tile_cap, tile64) : tile64;
     basis32_ = std::make_unique<vulkan::ComputePipeline>(
         device_, set_, sizeof(Launch), embedded::vk_compute_basis_f32_comp, "basis_f32.comp",
-        std::vector<std::uint32_t>{group_, tile32});
+        std::vector<std::uint32_t>{group_, layout_tile32_});
     eval32_ = std::make_unique<vulkan::ComputePipeline>(
         device_, set_, sizeof(Launch), embedded::vk_compute_eval_f32_comp, "eval_f32.comp",
-        std::vector<std::uint32_t>{group_, tile32});
+        std::vector<std::uint32_t>{group_, layout_tile32_});
     if (device_.float64()) {
       basis64_ = std::make_unique<vulkan::ComputePipeline>(
           device_, set_, sizeof(Launch), embedded::vk_compute_basis_f64_comp, "basis_f64.comp",
-          std::vector<std::uint32_t>{group_, tile64});
+          std::vector<std::uint32_t>{group_, layout_tile64_});
       eval64_ = std::make_unique<vulkan::ComputePipeline>(
           device_, set_, sizeof(Launch), embedded::vk_compute_eval_f64_comp, "eval_f64.comp",
-          std::vector<std::uint32_t>{group_, tile64});
+          std::vector<std::uint32_t>{group_, layout_tile64_});
     }
     record_ = device_.record();
     record_.details["vk_compute_workgroup"] = std::to_string(group_);

@@ -99,7 +99,7 @@ TEST(vk_compute, GridCutIntoManyTilesMatchesTheReference) {
   small.extra["vk-tile-points"] = "24";
   for (const StrategyOptions& options : {StrategyOptions{}, small}) {
     const Accuracy a =
-        run_and_measure(scene, EvalRequest{grid(13, 700), Precision::f64, true}, options);
+        run_and_measure(scene, EvalRequest{grid(9, 300), Precision::f64, true}, options);
     EXPECT_EQ(a.non_finite, 0u);
     EXPECT_LE(a.max_ulp, 64.0 * DBL_EPSILON / FLT_EPSILON);
     ASSERT_TRUE(a.max_normal_angle_deg.has_value());
@@ -108,11 +108,11 @@ TEST(vk_compute, GridCutIntoManyTilesMatchesTheReference) {
   std::vector<EvalResult> f32;
   for (const StrategyOptions& options : {StrategyOptions{}, small}) {
     auto s = entry().create(options);
-    s->prepare(scene, EvalRequest{grid(13, 700), Precision::f32, true});
+    s->prepare(scene, EvalRequest{grid(9, 300), Precision::f32, true});
     s->evaluate();
     f32.push_back(s->read_back());
   }
-  const std::size_t values = 13 * 700 * 3;
+  const std::size_t values = 9 * 300 * 3;
   for (auto member : {&SurfaceResult::positions, &SurfaceResult::normals}) {
     const PointArray &whole = f32[0].surfaces[0].*member, &cut = f32[1].surfaces[0].*member;
     ASSERT_EQ(whole.size(), cut.size());
