@@ -19,6 +19,7 @@
 #include "strategies/occt/occt_strategy.h"
 #include "strategies/sisl/sisl_strategy.h"
 #include "strategies/vk_bezier/vk_bezier.h"
+#include "strategies/vk_compute/vk_compute.h"
 #include "strategies/vk_ksquad/vk_ksquad.h"
 
 namespace nurbs {
@@ -34,6 +35,7 @@ const std::vector<StrategyEntry>& strategy_registry() {
       glsl_deboor_entry(),
       cl_stair_entry(),
       vk_ksquad_entry(),
+      vk_compute_entry(),
       // T-splines (001): the CPU method, 001's split GPU passes, the Bézier-extraction path.
       cpu_tspline_entry(),
       gl_tspline_entry(),

@@ -249,6 +249,12 @@ Device::Device(int device_index, const Requirements& requirements) {
     enabled.vertexPipelineStoresAndAtomics = requirements.vertex_pipeline_stores;
     enabled.pipelineStatisticsQuery = requirements.pipeline_statistics;
     enabled.geometryShader = requirements.geometry_shader;
+    if (requirements.float64_when_present) {
+      VkPhysicalDeviceFeatures supported;
+      vkGetPhysicalDeviceFeatures(physical_, &supported);
+      enabled.shaderFloat64 = supported.shaderFloat64;
+      float64_ = supported.shaderFloat64 == VK_TRUE;
+    }
     VkDeviceCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
     info.queueCreateInfoCount = 1;
@@ -392,7 +398,8 @@ Buffer::Buffer(const Device& device, VkDeviceSize bytes, VkBufferUsageFlags usag
   const VkMemoryPropertyFlags host =
       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
   int type = -1;
-  if (usage == 0) type = device.memory_type(req.memoryTypeBits, host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  if (usage == 0)
+    type = device.memory_type(req.memoryTypeBits, host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
   if (type < 0)
     type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | host);
   if (usage == 0 && type < 0) type = device.memory_type(req.memoryTypeBits, host);
@@ -640,7 +647,8 @@ StorageSet::~StorageSet() {
 }
 
 ComputePipeline::ComputePipeline(const Device& device, const StorageSet& set,
-                                 std::uint32_t push_bytes, std::string_view spirv, const char* what)
+                                 std::uint32_t push_bytes, std::string_view spirv, const char* what,
+                                 const std::vector<std::uint32_t>& specialization)
     : device_(device) {
   const VkDevice d = device_.handle();
   const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
@@ -658,6 +666,11 @@ ComputePipeline::ComputePipeline(const Device& device, const StorageSet& set,
   info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   info.stage.module = module;
   info.stage.pName = "main";
+  std::vector<VkSpecializationMapEntry> entries;
+  for (std::uint32_t k = 0; k < specialization.size(); ++k) entries.push_back({k, k * 4u, 4u});
+  const VkSpecializationInfo constants{static_cast<std::uint32_t>(entries.size()), entries.data(),
+                                       specialization.size() * 4u, specialization.data()};
+  if (!specialization.empty()) info.stage.pSpecializationInfo = &constants;
   info.layout = layout_;
   const VkResult created =
       vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);

@@ -29,6 +29,9 @@ struct Requirements {
   bool vertex_pipeline_stores = false;  // storage-buffer writes from vertex/tessellation stages
   bool pipeline_statistics = false;
   bool geometry_shader = false;
+  // Not required: shaderFloat64 is enabled where the device has it (Device::float64()), so a
+  // strategy can offer f64 there and refuse it with the reason elsewhere.
+  bool float64_when_present = false;
 };
 
 // Throws std::runtime_error naming the call and the VkResult.
@@ -122,6 +125,8 @@ class Device {
   const VkPhysicalDeviceLimits& limits() const { return properties_.limits; }
   bool validation_enabled() const { return validation_; }
   std::uint32_t timestamp_valid_bits() const { return timestamp_bits_; }
+  // shaderFloat64 enabled (asked by Requirements::float64_when_present and supported).
+  bool float64() const { return float64_; }
 
   // Records `commands` into a one-shot command buffer, submits it and waits for the queue.
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& commands) const;
@@ -140,6 +145,7 @@ class Device {
   std::uint32_t queue_family_ = 0, timestamp_bits_ = 0;
   VkCommandPool pool_ = VK_NULL_HANDLE;
   bool validation_ = false;
+  bool float64_ = false;
 };
 
 // One descriptor set of storage buffers (binding k visible to stages[k]), with its layout and
@@ -165,11 +171,14 @@ class StorageSet {
 };
 
 // A compute pipeline on one StorageSet's layout with `push_bytes` of push constants (compute
-// stage): the pipeline layout and the pipeline, created once.
+// stage): the pipeline layout and the pipeline, created once. `specialization[k]` is the value of
+// the shader's 32-bit specialization constant k (constant_id = k): work-group sizes and
+// shared-memory tiles chosen from the device's limits at run time.
 class ComputePipeline {
  public:
   ComputePipeline(const Device& device, const StorageSet& set, std::uint32_t push_bytes,
-                  std::string_view spirv, const char* what);
+                  std::string_view spirv, const char* what,
+                  const std::vector<std::uint32_t>& specialization = {});
   ~ComputePipeline();
   ComputePipeline(const ComputePipeline&) = delete;
   ComputePipeline& operator=(const ComputePipeline&) = delete;
