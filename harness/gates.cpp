@@ -54,7 +54,7 @@ bool gate_applies(const Gate& g, const Record& r) {
   // A limit row (a machine ceiling) evaluates nothing and has no accuracy to gate.
   if (r.role == "limit") return false;
   // A classification gate does not apply to a strategy that does not trim, nor to a scene
-  // without trims: such records are not counted (README, "Gates").
+  // without trims: such records are not counted (docs/formats.md §Gates files).
   return !is_trim_metric(g.metric) || r.trimming == "classified";
 }
 

@@ -1,5 +1,5 @@
-// Process isolation of measurements (DESIGN.md, "Isolation and result codes"; the habit of piglit
-// and the Khronos CTS): each measurement -- strategy x scene x sampling with its warm-up and
+// Process isolation of measurements (docs/design.md §Isolation and result codes; the habit of
+// piglit and the Khronos CTS): each measurement -- strategy x scene x sampling with its warm-up and
 // repetitions -- runs in a child process under a watchdog, so a strategy that crashes or hangs
 // costs only its own record. The parent keeps the results files, the reference cache and the
 // progress display; the child runs the strategy's half of the runner (time_measurement) and hands

@@ -1,5 +1,5 @@
-// Accuracy of one strategy's result against the reference at the same (u, v) (DESIGN.md,
-// "Reference and accuracy"). NaN-safe: a non-finite coordinate counts as an infinite error.
+// Accuracy of one strategy's result against the reference at the same (u, v) (docs/design.md
+// §Reference and accuracy). NaN-safe: a non-finite coordinate counts as an infinite error.
 // On a trimmed surface only the samples the reference classifies inside the face are scored: the
 // rest of the surface is not part of the model (the real-CAD issue).
 #pragma once

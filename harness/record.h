@@ -14,9 +14,9 @@
 
 namespace nurbs {
 
-// Ordered like the Khronos CTS result codes (DESIGN.md, "Isolation and result codes"): the later,
-// the worse for the strategy. crashed and timed_out come only from an isolated measurement (a
-// signal ended its process, or the watchdog did) or a bounded device wait that expired.
+// Ordered like the Khronos CTS result codes (docs/design.md §Isolation and result codes): the
+// later, the worse for the strategy. crashed and timed_out come only from an isolated measurement
+// (a signal ended its process, or the watchdog did) or a bounded device wait that expired.
 enum class Status { ok, refused, unavailable, failed, crashed, timed_out };
 inline constexpr Status kAllStatuses[] = {Status::ok,     Status::refused, Status::unavailable,
                                           Status::failed, Status::crashed, Status::timed_out};
@@ -61,7 +61,7 @@ struct Record {
 nlohmann::json record_to_json(const Record& r);
 Record record_from_json(const nlohmann::json& j);
 
-// The CSV of DESIGN.md / the foundation issue: the columns are fixed, in this order; the trim
+// The CSV of docs/formats.md / the foundation issue: the columns are fixed, in this order; the trim
 // columns (trimming, trim_band, trim_inside_samples, trim_boundary_samples, trim_misclassified,
 // trim_misclassified_rate) come last, empty where they do not apply, so readers of the first
 // columns by position keep working.

@@ -21,8 +21,8 @@ struct Curve {
   double end() const { return knots[homogeneous.size()]; }
 };
 
-// The structural rules of a surface direction (DESIGN.md, "Data model": degree 1..15, knot count,
-// order, multiplicities, non-empty domain), finite coordinates and weights > 0. Throws
+// The structural rules of a surface direction (docs/design.md §Data model: degree 1..15, knot
+// count, order, multiplicities, non-empty domain), finite coordinates and weights > 0. Throws
 // ValidationError (an InputError) naming `origin`, the field, the index and the value.
 void validate_curve(const Curve& curve, std::string_view origin);
 

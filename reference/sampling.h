@@ -1,4 +1,4 @@
-// Where a request evaluates each surface (DESIGN.md, "Sampling"). Grid and span grid are tensor
+// Where a request evaluates each surface (docs/design.md §Sampling). Grid and span grid are tensor
 // products of a u-list and a v-list, so separable evaluators serve both through one code path;
 // the explicit list is not separable.
 #pragma once

@@ -27,7 +27,7 @@ class SurfaceChecker {
   // `index` is "" for a count field, kLengthIndex for an array's length.
   void check_count(const std::string& field, const std::string& index, std::int64_t count,
                    int degree, std::int64_t max_count) const;
-  // Knot count, finiteness, order, multiplicities, a non-empty domain (DESIGN.md).
+  // Knot count, finiteness, order, multiplicities, a non-empty domain (docs/design.md §Data model).
   void check_knots(const std::string& field, const std::vector<double>& knots, int degree,
                    int count) const;
   // An array the file gave with more entries than the format allows (checked before allocating).

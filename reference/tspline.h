@@ -229,9 +229,9 @@ T tspline_blending_sum(const TSplineSurface& s, double u, double v) {
   return sum;
 }
 
-// Every sample of `samples` (DESIGN.md "Sampling") through evaluate_tspline in extended precision
-// (long double, or __float128 on request), in the ReferenceSurface shape the harness compares
-// NURBS strategies with.
+// Every sample of `samples` (docs/design.md §Sampling) through evaluate_tspline in extended
+// precision (long double, or __float128 on request), in the ReferenceSurface shape the harness
+// compares NURBS strategies with.
 ReferenceSurface evaluate_tspline_reference(
     const TSplineSurface& surface, const TSplineInfluence& index, const SurfaceSamples& samples,
     bool with_normals, ReferencePrecision precision = ReferencePrecision::long_double);

@@ -1,5 +1,5 @@
-// Structural rules every surface must satisfy before anything evaluates it (DESIGN.md, "Data
-// model"). Checked once, at load/construct time; a violation is a typed error naming where the
+// Structural rules every surface must satisfy before anything evaluates it (docs/design.md §Data
+// model). Checked once, at load/construct time; a violation is a typed error naming where the
 // surface came from, which surface, which field, which index and which value.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The nurbs-scene/1 and /2 JSON formats (DESIGN.md, "Scene file format"; /2 adds a surface's
+// The nurbs-scene/1 and /2 JSON formats (docs/design.md §Scene file format; /2 adds a surface's
 // "trim" and "orientation"): parse with every structural error named (file, surface, field path,
 // index, value), unknown and duplicated keys refused, nesting and file size bounded; write in a
 // form that reads back bit-identically (shortest round-trip numbers).

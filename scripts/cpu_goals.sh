@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Issue 6's CPU goals, each ratio taken within one `nurbsbench run` (DESIGN.md: speed is measured
-# as ratios in one run): cpu-tensor f64 vs SISL s1506 (goal >= 10x, stretch 20x); cpu-tensor f32
-# vs the machine's store bandwidth (limit-store-bandwidth row; goal >= 50%); cpu-tensor vs
-# cpu-coxdeboor on one thread (goal >= 5x). On patch144 and the random bicubic 12x12, 1024x1024.
+# Issue 6's CPU goals, each ratio taken within one `nurbsbench run` (docs/design.md §Timing:
+# speed is measured as ratios in one run): cpu-tensor f64 vs SISL s1506 (goal >= 10x, stretch
+# 20x); cpu-tensor f32 vs the machine's store bandwidth (limit-store-bandwidth row; goal >= 50%);
+# cpu-tensor vs cpu-coxdeboor on one thread (goal >= 5x). On patch144 and the random bicubic
+# 12x12, 1024x1024.
 # Writes results/cpu-goals/{f64,f32,f64-1thread,f64-1thread-nosimd}/results.{json,csv} and results/cpu-goals/RATIOS.md.
 # Then issue 30's goals (cpu-tensor at the memory limit: positions, normals, f64, many faces,
 # trims), each case three times in separate processes, min / median / max of its ratio:

@@ -21,7 +21,7 @@ phase "release build"
 cmake --preset release >/dev/null
 cmake --build --preset release -j "$jobs"
 phase "release tests"
-# On the project's machines every strategy must be available (DESIGN.md).
+# On the project's machines every strategy must be available (docs/design.md §The strategy interface).
 NURBSBENCH_REQUIRE_ALL_STRATEGIES=1 ctest --preset release
 
 # The relocatable bundle (scripts/bundle.sh) in a minimal Debian root that holds only glibc and

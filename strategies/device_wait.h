@@ -1,4 +1,4 @@
-// The bound on every wait for a device (DESIGN.md, "Reliability rules": every device wait has a
+// The bound on every wait for a device (docs/design.md §Reliability rules: every device wait has a
 // bound). A driver that never signals a fence, sync object or event must become a result, not a
 // hang: the GL, Vulkan and OpenCL plumbing wait at most device_wait_limit_s() and then throw
 // DeviceTimeout, which the runner records as timed_out with the phase it was in.

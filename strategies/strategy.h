@@ -1,5 +1,5 @@
-// The whole contract between the harness and an evaluation strategy (DESIGN.md, "The strategy
-// interface"). A strategy builds and uploads in prepare(), does only the measured work in
+// The whole contract between the harness and an evaluation strategy (docs/design.md §The strategy
+// interface). A strategy builds and uploads in prepare(), does only the measured work in
 // evaluate() (returning when the device is done), and copies results to the host in read_back().
 #pragma once
 

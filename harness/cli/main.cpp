@@ -1,5 +1,5 @@
 // nurbsbench: evaluate NURBS surfaces with every strategy, check them against the reference, time
-// them (see README.md for every verb).
+// them (see docs/cli.md for every verb).
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 

@@ -26,8 +26,8 @@ std::string_view trim_blanks(std::string_view text) {
 
 namespace {
 
-// "OPTION = 'TEXT'": how every error below starts (the value escaped and cut, DESIGN.md's one
-// line).
+// "OPTION = 'TEXT'": how every error below starts (the value escaped and cut, docs/design.md §The
+// CLI: one line).
 std::string option_text(std::string_view option, std::string_view text) {
   return fmt::format("{} = '{}'", option, printable(text, kQuotedValueBytes));
 }

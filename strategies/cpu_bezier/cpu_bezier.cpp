@@ -290,8 +290,8 @@ class CpuBezier final : public Strategy {
       const int rows = static_cast<int>(s.u_params.size());
       if (samples_[i].tensor) {
         // Grid and span grid are tensor products: one patch location and one Bernstein row per
-        // u sample and per v sample (the separation DESIGN.md allows), then per sample the
-        // patch's homogeneous sum.
+        // u sample and per v sample (the separation docs/design.md §Sampling allows), then per
+        // sample the patch's homogeneous sum.
         const int columns = static_cast<int>(s.v_params.size());
 #pragma omp parallel num_threads(threads_)
         {

@@ -1,4 +1,4 @@
-// The OpenGL plumbing shared by every GL strategy (DESIGN.md, "GPU plumbing is shared"): a
+// The OpenGL plumbing shared by every GL strategy (docs/design.md §GPU plumbing is shared): a
 // windowless desktop-GL 3.3 core context on OSMesa or on EGL (the device platform when a real
 // GPU is present, else Mesa's surfaceless platform), its function table, the renderer strings for
 // the record, and GL errors (GL debug output in debug builds) turned into exceptions.
@@ -116,7 +116,7 @@ class Context {
   const std::string& vendor() const { return vendor_; }
   const std::string& version() const { return version_; }
   const std::string& glsl_version() const { return glsl_version_; }
-  // llvmpipe, softpipe, swrast: the "GPU" is the CPU (DESIGN.md, "Timing").
+  // llvmpipe, softpipe, swrast: the "GPU" is the CPU (docs/design.md §Timing).
   bool software() const;
   int max_texture_size() const { return max_texture_size_; }
   int max_viewport() const { return max_viewport_; }

@@ -1,6 +1,6 @@
 // GLSL programs and the GL objects the GL strategies create, owned RAII-style. A shader that does
-// not compile or link throws ShaderError carrying the driver's log (DESIGN.md: "A shader that
-// fails to compile produces an error carrying the compiler log").
+// not compile or link throws ShaderError carrying the driver's log (docs/design.md §GPU plumbing is
+// shared: "A shader that fails to compile produces an error carrying the compiler log").
 #pragma once
 
 #include <stdexcept>

@@ -82,8 +82,9 @@ int device_option(const StrategyOptions& options) {
 
 namespace {
 
-// Without --device: the first GPU device if there is one (DESIGN.md: the same binary picks a real
-// GPU when present), else the first device (PoCL's CPU device here). -1 when there is none.
+// Without --device: the first GPU device if there is one (docs/design.md §GPU plumbing is shared:
+// the same binary picks a real GPU when present), else the first device (PoCL's CPU device here).
+// -1 when there is none.
 int preferred_index(const std::vector<std::pair<cl_platform_id, cl_device_id>>& all) {
   int first = all.empty() ? -1 : 0;
   for (std::size_t i = 0; i < all.size(); ++i)

@@ -1,4 +1,4 @@
-// The OpenCL plumbing shared by every OpenCL strategy (DESIGN.md, "GPU plumbing is shared"):
+// The OpenCL plumbing shared by every OpenCL strategy (docs/design.md §GPU plumbing is shared):
 // platform/device choice (StrategyOptions.extra["device"] = N, devices numbered across all
 // platforms in clGetPlatformIDs/clGetDeviceIDs order), the device record, program build with the
 // build log in the error, profiling events, and buffers checked against

@@ -13,14 +13,14 @@
 //  * Uniform mode (vk-mode=uniform, our mapping for the harness's requested grids and span grids;
 //    003 §4's mapping that "obtains a uniform result" is the adaptive one below): the levels of a
 //    patch are the segment counts of its u and v runs. Span grid T: the tessellator chooses the
-//    samples -- its (T+1)x(T+1) lattice per KSQuad (DESIGN.md's span grid), the parameter blended
-//    from the span's knots by gl_TessCoord (ksquad.tese span_parameter) and returned with the
-//    position, so the samples are the float rounding of the requested ones. Grid (the paper has no
-//    grids; our mapping): gl_TessCoord indexes the KSQuad's sub-grid of requested samples,
-//    evaluated at exactly the requested parameters; render() instead draws every patch over its
-//    span share from the knots (patches share their boundary vertices on the knot lines; every
-//    non-empty span pair is a patch, samples or not). Runs past maxTessellationGenerationLevel are
-//    cut into several patches (patches.h), never clamped.
+//    samples -- its (T+1)x(T+1) lattice per KSQuad (docs/design.md §Sampling: span grid), the
+//    parameter blended from the span's knots by gl_TessCoord (ksquad.tese span_parameter) and
+//    returned with the position, so the samples are the float rounding of the requested ones. Grid
+//    (the paper has no grids; our mapping): gl_TessCoord indexes the KSQuad's sub-grid of requested
+//    samples, evaluated at exactly the requested parameters; render() instead draws every patch
+//    over its span share from the knots (patches share their boundary vertices on the knot lines;
+//    every non-empty span pair is a patch, samples or not). Runs past
+//    maxTessellationGenerationLevel are cut into several patches (patches.h), never clamped.
 //  * Capture: storage-buffer writes from the evaluation stage (vertexPipelineStoresAndAtomics),
 //    rasterization discarded; transform feedback would need a vertex order the tessellator does
 //    not specify.

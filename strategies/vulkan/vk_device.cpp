@@ -73,7 +73,7 @@ int preference(VkPhysicalDeviceType type) {
   }
 }
 
-// DESIGN.md: the same binary picks a real GPU when one is present.
+// docs/design.md §GPU plumbing is shared: the same binary picks a real GPU when one is present.
 VkPhysicalDevice choose(const std::vector<VkPhysicalDevice>& devices, int index) {
   if (devices.empty()) throw std::runtime_error("no Vulkan device");
   if (index == kPreferGpu) {

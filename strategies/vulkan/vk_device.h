@@ -1,4 +1,4 @@
-// The Vulkan plumbing shared by every Vulkan strategy (DESIGN.md, "GPU plumbing is shared"):
+// The Vulkan plumbing shared by every Vulkan strategy (docs/design.md §GPU plumbing is shared):
 // instance (the Khronos validation layer on in debug builds when it is installed), physical-device
 // choice (a discrete, then an integrated GPU when present, else the first device -- lavapipe here;
 // StrategyOptions.extra["device"] = N picks the N-th of vkEnumeratePhysicalDevices), the features a

@@ -1,6 +1,6 @@
 // Every model Debian's occt-misc ships in STEP, IGES and BREP that we name here, imported and
-// checked against OpenCASCADE as a peer; prints the per-model figures (README, "Importing CAD
-// models"). Skipped where occt-misc is not installed.
+// checked against OpenCASCADE as a peer; prints the per-model figures (docs/cad-import.md).
+// Skipped where occt-misc is not installed.
 #include <gtest/gtest.h>
 
 #include <cstdio>

@@ -68,7 +68,7 @@ TEST(InvalidScenesFolder, EveryCaseHasItsExpectation) {
       EXPECT_FALSE(expected_substrings(p.stem().string()).empty()) << p;
     }
   }
-  // One case per validation rule (DESIGN.md "Data model") plus the malformed-JSON cases.
+  // One case per validation rule (docs/design.md §Data model) plus the malformed-JSON cases.
   EXPECT_GE(invalid_cases().size(), 40u);
 }
 

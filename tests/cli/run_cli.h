@@ -238,7 +238,7 @@ inline std::vector<std::string> split_csv(std::string_view line) {
   return fields;
 }
 
-// The contract for bad input (DESIGN.md, "The CLI"): exactly one line on stderr, prefixed.
+// The contract for bad input (docs/design.md §The CLI): exactly one line on stderr, prefixed.
 inline bool is_one_error_line(const std::string& err) {
   return err.starts_with("nurbsbench: ") && err.ends_with("\n") && err.find('\n') == err.size() - 1;
 }

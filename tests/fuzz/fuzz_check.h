@@ -23,7 +23,8 @@ inline void check(bool ok, std::string_view what, std::string_view detail = {}) 
   if (!ok) finding(what, detail);
 }
 
-// DESIGN.md: one line, naming the file or option first; no control byte of the input quoted raw.
+// docs/design.md §The CLI: one line, naming the file or option first; no control byte of the input
+// quoted raw.
 inline void check_error_line(const InputError& e, std::string_view origin) {
   const std::string_view message = e.what();
   check(message.starts_with(origin), "error does not start with its origin", message);

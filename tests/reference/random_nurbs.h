@@ -1,6 +1,6 @@
 // Deterministic random knot vectors and surfaces for the reference tests. Every generated surface
-// satisfies the Data-model rules of DESIGN.md (the tests assert that with validate_surface), so a
-// failure is about evaluation, never about a malformed input.
+// satisfies the rules of docs/design.md §Data model (the tests assert that with validate_surface),
+// so a failure is about evaluation, never about a malformed input.
 #pragma once
 
 #include <algorithm>

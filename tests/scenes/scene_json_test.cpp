@@ -1,7 +1,7 @@
 // scenes/: the nurbs-scene/1 and /2 writer reads back exactly (every double equal), the reader
 // names every flaw by its field path (trims included) and refuses duplicated keys and deep nesting,
-// and the built-in scenes have the shapes the papers' experiments need (DESIGN.md, "Scene file
-// format"; builtin_scenes.h).
+// and the built-in scenes have the shapes the papers' experiments need (docs/design.md §Scene file
+// format; builtin_scenes.h).
 #include "scenes/scene_json.h"
 
 #include <fmt/format.h>

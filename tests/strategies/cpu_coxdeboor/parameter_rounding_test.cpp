@@ -1,8 +1,9 @@
 // Where a float32 evaluator's error comes from on tightly clustered knots: with spans of 1e-4 the
 // float32 rounding of the parameter itself (ulp ~3e-8 near 0.3) moves the sample by ~3e-4 of a
-// span, and the surface is steep there. Measured at the requested double (u, v) — as DESIGN.md
-// says users see it — cpu-coxdeboor f32 exceeds 32 ulps; measured at the float-rounded (u, v)
-// it is within the bound. This pins the cause down so nobody "fixes" the evaluator for it.
+// span, and the surface is steep there. Measured at the requested double (u, v) — as docs/design.md
+// §Reference and accuracy says users see it — cpu-coxdeboor f32 exceeds 32 ulps; measured at the
+// float-rounded (u, v) it is within the bound. This pins the cause down so nobody "fixes" the
+// evaluator for it.
 #include <gtest/gtest.h>
 
 #include "harness/metrics.h"

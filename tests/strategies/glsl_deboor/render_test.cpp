@@ -2,7 +2,8 @@
 // read-back) covers the disc the reference says (radius 2 at the origin, orthographic view: a
 // disc of 51.2 pixels in a 128-pixel image) to within 1.5 pixels, and the traditional path (read
 // back, vertex buffer, §4.1) draws the identical image. Times are the `render` and
-// `render_via_read_back` phases of `nurbsbench run` (DESIGN.md: speed lives in benchmarks).
+// `render_via_read_back` phases of `nurbsbench run` (docs/design.md §Timing: speed lives in
+// benchmarks).
 #include <gtest/gtest.h>
 
 #include <algorithm>

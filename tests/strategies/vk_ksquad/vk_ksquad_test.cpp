@@ -96,8 +96,8 @@ class VkKsquadTest : public ::testing::Test {
 };
 
 // The gate: within 64 float32 ulps of the reference at the strategy's own (u, v) on every
-// built-in scene, normals within 1 degree; the worst case per scene is printed (README /
-// results/gates.json quote it).
+// built-in scene, normals within 1 degree; the worst case per scene is printed (docs/strategies.md
+// / results/gates.json quote it).
 TEST_F(VkKsquadTest, WithinBudgetOnEveryBuiltinScene) {
   for (const BuiltinSceneInfo& info : builtin_scenes()) {
     if (info.name == "many-4096") continue;  // the default scene list leaves it out too
