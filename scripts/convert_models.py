@@ -30,7 +30,7 @@ OUT_DIR = os.path.join(ROOT, "scenes", "data")
 
 
 def default_shared():
-    # /work/main/scripts -> /work/shared (sibling of the checkout), or <checkout>/shared.
+    # The shared data folder, if present: <checkout>/shared, or shared/ beside the checkout.
     for cand in (os.path.join(ROOT, "shared"), os.path.join(os.path.dirname(ROOT), "shared")):
         if os.path.isdir(os.path.join(cand, "data", "models")):
             return cand

@@ -1,8 +1,8 @@
-// The Rhino #TS0200 reader (scenes/tsm) on the six sample models of ../shared/data/tsplines, with
-// checks that do not trust the reader: simple.tsm's corners and boundary curves against what the
-// file's own records say (force-bezier-end-conditions 1 = clamped ends), partition of unity on the
-// analysis-suitable mesh, and malformed variants of simple.tsm refused with file, line, field and
-// value.
+// The Rhino #TS0200 reader (scenes/tsm) on the six sample models (data/tsplines of the shared data
+// folder), with checks that do not trust the reader: simple.tsm's corners and boundary curves
+// against what the file's own records say (force-bezier-end-conditions 1 = clamped ends), partition
+// of unity on the analysis-suitable mesh, and malformed variants of simple.tsm refused with file,
+// line, field and value.
 #include "scenes/tsm/tsm_reader.h"
 
 #include <gtest/gtest.h>
@@ -23,7 +23,7 @@ namespace {
 
 using LD = long double;
 
-// Copies of ../shared/data/tsplines (scenes/data/tsplines/README.md).
+// Copies of the shared data folder's data/tsplines (scenes/data/tsplines/README.md).
 const std::string kData = std::string(NURBSBENCH_SOURCE_DIR) + "/scenes/data/tsplines/";
 
 std::string file_text(const std::string& name) {
