@@ -1,5 +1,5 @@
 // Real CAD models in: STEP (.stp, .step), IGES (.igs, .iges) and OpenCASCADE BREP (.brep) files
-// become scenes of trimmed NURBS surfaces, one surface per face (README, "Importing CAD models").
+// become scenes of trimmed NURBS surfaces, one surface per face (docs/cad-import.md).
 // OpenCASCADE reads and converts the file; every face is then checked against OpenCASCADE's own
 // evaluation and its loops against the model's tolerance, and a face that fails is skipped with a
 // reason, never trusted. Built without OpenCASCADE data exchange, import_cad_model throws.

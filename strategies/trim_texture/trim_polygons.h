@@ -42,7 +42,7 @@ std::vector<std::vector<Point2>> trim_polygons(const Trim& trim, double toleranc
 // moves at most 2^-(s+1) of a texel per axis, so an edge at most 2^-(s+1) of the diagonal), and
 // the chordal tolerance (a point whose parity differs between polygon and curves is within the
 // tolerance of the curves). `du`, `dv`: the domain's extent, in (u, v) units like tolerance_uv.
-// The one definition of d: the trim-texture test asserts it per sample, the README and the
+// The one definition of d: the trim-texture test asserts it per sample, docs/trimming.md and the
 // report's trim_texture_resolution note state it.
 double misclassification_distance(double du, double dv, int resolution, double tolerance_uv,
                                   int subpixel_bits);
