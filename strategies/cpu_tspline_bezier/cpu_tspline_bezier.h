@@ -18,9 +18,13 @@
 // and rounded once (cl-tspline-bezier's reason: a parameter rounded to float before the
 // subtraction costs ulp(u) |S_u|); then the rows. Explicit lists: the same per sample, no tables.
 //
-// Every element has the surface's degrees (a T-spline has one pair), so no element needs a
-// kernel of its own; where several elements meet, a sample on a shared break belongs to the upper
-// one, as in the reference. Normals where Su x Sv is rounding noise are zero: the T-spline
+// The elements are reference/tspline_extraction's, unchanged: the cells of the grid of every
+// distinct local knot value (finer than 001's T-mesh faces, so one face's polynomial may span
+// several elements; extraction cuts each function's Bézier segment to the cell by de Casteljau).
+// Every element has the surface's degrees (a T-spline has one pair; even degrees are refused by
+// the reference's validation), so no element needs a kernel of its own; a sample on a break
+// shared by two elements belongs to the upper one, the domain end to the last, as in the
+// reference. Normals where Su x Sv is rounding noise are zero: the T-spline
 // reference's rule (reference/tspline.h, no limit normals), not cpu-tensor's NURBS limit normal.
 // T-spline scenes only (NURBS: cpu-tensor). update_control_points() keeps the index and the
 // extraction operators and rebuilds the nets.

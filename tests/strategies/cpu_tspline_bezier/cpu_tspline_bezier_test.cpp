@@ -27,26 +27,20 @@
 #include "scenes/deforming.h"
 #include "strategies/registry.h"
 #include "tests/reference/random_nurbs.h"
+#include "tests/strategies/tspline_strategy_checks.h"
 #include "tests/tspline/tspline_meshes.h"
 
 namespace nurbs {
 namespace {
 
+using test::evaluate;
 using test::Rng;
+using test::same_bits;
+using test::tspline_scene;
+using test::unit_roundoff;
 
 const StrategyEntry& entry() {
   return *find_strategy("cpu-tspline-bezier");
-}
-
-double unit_roundoff(Precision precision) {
-  return precision == Precision::f32 ? FLT_EPSILON / 2 : DBL_EPSILON / 2;
-}
-
-Scene tspline_scene(TSplineSurface t) {
-  Scene scene;
-  scene.name = t.name;
-  scene.surfaces.push_back(make_tspline_surface(std::move(t)));
-  return scene;
 }
 
 // A grid, a span grid (every break and cell interior) and an explicit list of random parameters
@@ -55,25 +49,9 @@ std::vector<Sampling> test_samplings(Rng& rng, const Scene& scene) {
   Sampling grid;
   grid.grid_u = 19;
   grid.grid_v = 23;
-  Sampling span;
-  span.mode = SamplingMode::span_grid;
-  span.span_steps = 3;
-  Sampling list;
-  list.mode = SamplingMode::explicit_list;
-  for (const Surface& s : scene.surfaces) {
-    std::vector<std::array<double, 2>> uv{{s.u_min(), s.v_min()}, {s.u_max(), s.v_max()}};
-    for (int k = 0; k < 150; ++k)
-      uv.push_back({test::uniform_real(rng, s.u_min(), s.u_max()),
-                    test::uniform_real(rng, s.v_min(), s.v_max())});
-    list.explicit_uv.push_back(uv);
-  }
-  return {grid, span, list};
-}
-
-EvalResult evaluate(Strategy& strategy, const Scene& scene, const EvalRequest& request) {
-  strategy.prepare(scene, request);
-  strategy.evaluate();
-  return strategy.read_back();
+  std::vector<Sampling> samplings = test::span_and_list_samplings(rng, scene, 3, 150);
+  samplings.insert(samplings.begin(), grid);
+  return samplings;
 }
 
 // Every sample of every surface against evaluate_tspline<long double>: positions within the
@@ -185,13 +163,6 @@ TEST(cpu_tspline_bezier, CollapsedEdgeNormalsAreZeroAsInTheReference) {
   }
 }
 
-bool same_bits(const PointArray& a, const PointArray& b) {
-  if (a.size() != b.size() || a.precision() != b.precision()) return false;
-  const std::size_t bytes = a.size() * 3 * (a.precision() == Precision::f32 ? 4 : 8);
-  return a.precision() == Precision::f32 ? std::memcmp(a.f32(), b.f32(), bytes) == 0
-                                         : std::memcmp(a.f64(), b.f64(), bytes) == 0;
-}
-
 // (4) update_control_points() then evaluate() gives, bit for bit, what a fresh prepare() on the
 // moved points gives, and differs from the frame before (an update that does nothing fails); a
 // new topology is prepared again. One thread and two agree bit for bit (rows are independent).
@@ -233,13 +204,7 @@ TEST(cpu_tspline_bezier, UpdateEqualsAFreshPrepareBitForBit) {
 
 // (5) T-splines only: a NURBS scene is refused, by the harness's rule and by prepare().
 TEST(cpu_tspline_bezier, NurbsScenesAreRefused) {
-  const Scene nurbs = *make_builtin_scene("patch144");
-  const EvalRequest request{Sampling{}, Precision::f32, false};
-  const auto reason = refusal_reason(entry().capabilities(), nurbs, request);
-  ASSERT_TRUE(reason.has_value());
-  EXPECT_NE(reason->find("T-splines only"), std::string::npos) << *reason;
-  const auto strategy = entry().create(StrategyOptions{});
-  EXPECT_THROW(strategy->prepare(nurbs, request), RefusedError);
+  test::expect_nurbs_scenes_refused(entry());
 }
 
 }  // namespace
