@@ -1,6 +1,6 @@
 // Helpers shared by the T-spline strategies' tests (cl-tspline-bezier, cpu-tspline-bezier): a
 // scene of one T-spline, the random samplings they run, one prepare/evaluate/read back, bitwise
-// comparison of results, and the T-splines-only refusal.
+// comparison of results, the update check and the T-splines-only refusal.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -12,6 +12,7 @@
 
 #include "reference/tspline.h"
 #include "scenes/builtin_scenes.h"
+#include "scenes/deforming.h"
 #include "strategies/registry.h"
 #include "tests/reference/random_nurbs.h"
 
@@ -58,6 +59,27 @@ inline bool same_bits(const PointArray& a, const PointArray& b) {
   const std::size_t bytes = a.size() * 3 * (a.precision() == Precision::f32 ? 4 : 8);
   return a.precision() == Precision::f32 ? std::memcmp(a.f32(), b.f32(), bytes) == 0
                                          : std::memcmp(a.f64(), b.f64(), bytes) == 0;
+}
+
+// `updated` prepared on frame 0 of the deforming wave (scenes/deforming.h) of the one-surface
+// scene `base`, updated to frame 7 (update_control_points) and evaluated gives, bit for bit, what
+// `fresh`'s prepare() on frame 7 gives, positions and normals, and not frame 0's result (an update
+// that does nothing fails). Returns `fresh`'s result.
+inline EvalResult expect_update_equals_fresh_prepare(Strategy& updated, Strategy& fresh,
+                                                     const Scene& base,
+                                                     const EvalRequest& request) {
+  const EvalResult before = evaluate(updated, deformed_scene(base, 0), request);
+  const Scene moved = deformed_scene(base, 7);
+  updated.update_control_points(moved);
+  updated.evaluate();
+  const EvalResult after = updated.read_back();
+  EvalResult expected = evaluate(fresh, moved, request);
+  EXPECT_EQ(after.surfaces.size(), 1u);
+  if (after.surfaces.size() != 1 || expected.surfaces.size() != 1) return expected;
+  EXPECT_TRUE(same_bits(after.surfaces[0].positions, expected.surfaces[0].positions));
+  EXPECT_TRUE(same_bits(after.surfaces[0].normals, expected.surfaces[0].normals));
+  EXPECT_FALSE(same_bits(after.surfaces[0].positions, before.surfaces[0].positions));
+  return expected;
 }
 
 // T-splines only: a NURBS scene is refused, by the harness's rule and by prepare().

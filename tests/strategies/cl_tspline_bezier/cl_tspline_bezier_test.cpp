@@ -41,7 +41,6 @@ namespace {
 
 using test::evaluate;
 using test::Rng;
-using test::same_bits;
 using test::tspline_scene;
 using test::unit_roundoff;
 
@@ -152,17 +151,8 @@ TEST_F(cl_tspline_bezier, UpdateEqualsAFreshPrepareBitForBit) {
   const auto fresh = entry().create(StrategyOptions{});
   for (const Sampling& sampling : test_samplings(rng, base))
     for (Precision precision : {Precision::f32, Precision::f64}) {
-      const EvalRequest request{sampling, precision, true};
-      const EvalResult before = evaluate(*updated, deformed_scene(base, 0), request);
-      const Scene moved = deformed_scene(base, 7);
-      updated->update_control_points(moved);
-      updated->evaluate();
-      const EvalResult after = updated->read_back();
-      const EvalResult expected = evaluate(*fresh, moved, request);
-      ASSERT_EQ(after.surfaces.size(), 1u);
-      EXPECT_TRUE(same_bits(after.surfaces[0].positions, expected.surfaces[0].positions));
-      EXPECT_TRUE(same_bits(after.surfaces[0].normals, expected.surfaces[0].normals));
-      EXPECT_FALSE(same_bits(after.surfaces[0].positions, before.surfaces[0].positions));
+      test::expect_update_equals_fresh_prepare(*updated, *fresh, base,
+                                               EvalRequest{sampling, precision, true});
     }
   const Scene other =
       tspline_scene(infer_tspline(test::random_vertical_tmesh(rng, 3, 3, 9, 7, true), "test"));
