@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "reference/bezier_decomposition.h"
 
 namespace nurbs {
@@ -77,10 +79,10 @@ TSplineExtraction extract_bezier_elements(const TSplineSurface& s, const TSpline
   return out;
 }
 
-Surface bezier_patch(const TSplineSurface& s, const TSplineExtraction& x, const BezierElement& e) {
-  const int p = x.degree_u, q = x.degree_v;
-  const std::size_t n = static_cast<std::size_t>(p + 1) * (q + 1);
-  std::vector<Vec4<LD>> sum(n, Vec4<LD>{});
+void element_homogeneous_points(const TSplineSurface& s, const TSplineExtraction& x,
+                                const BezierElement& e, Vec4<LD>* sum) {
+  const std::size_t n = static_cast<std::size_t>(x.degree_u + 1) * (x.degree_v + 1);
+  std::fill(sum, sum + n, Vec4<LD>{});
   for (std::size_t r = 0; r < e.functions.size(); ++r) {
     const int k = e.functions[r];
     const LD w = s.weights[k];
@@ -89,6 +91,18 @@ Surface bezier_patch(const TSplineSurface& s, const TSplineExtraction& x, const 
     for (std::size_t j = 0; j < n; ++j)
       for (int d = 0; d < 4; ++d) sum[j][d] += c[j] * point[d];
   }
+}
+
+bool same_extraction_topology(const TSplineSurface& a, const TSplineSurface& b) {
+  return a.degree_u == b.degree_u && a.degree_v == b.degree_v && a.count() == b.count() &&
+         a.knots_u == b.knots_u && a.knots_v == b.knots_v && a.u_min == b.u_min &&
+         a.u_max == b.u_max && a.v_min == b.v_min && a.v_max == b.v_max;
+}
+
+Surface bezier_patch(const TSplineSurface& s, const TSplineExtraction& x, const BezierElement& e) {
+  const int p = x.degree_u, q = x.degree_v;
+  std::vector<Vec4<LD>> sum(static_cast<std::size_t>(p + 1) * (q + 1));
+  element_homogeneous_points(s, x, e, sum.data());
   Surface patch;
   patch.name = fmt::format("{} element ({}, {})", s.name, e.cell_u, e.cell_v);
   patch.degree_u = p;

@@ -40,6 +40,15 @@ void local_bernstein_coefficients(int degree, const double* local, double a, dou
 TSplineExtraction extract_bezier_elements(const TSplineSurface& surface,
                                           const TSplineInfluence& index);
 
+// The element's homogeneous Bézier control points, Q_kl = sum_r C_e[r][kl] w_r (P_r, 1), in
+// extended precision: out[k * (degree_v+1) + l], (degree_u+1)(degree_v+1) of them.
+void element_homogeneous_points(const TSplineSurface& surface, const TSplineExtraction& extraction,
+                                const BezierElement& element, Vec4<long double>* out);
+
+// Same degrees, domain and local knot vectors: an extraction of `a` still holds for `b` (only
+// points or weights moved).
+bool same_extraction_topology(const TSplineSurface& a, const TSplineSurface& b);
+
 // The element's rational Bézier patch, Q_kl = sum_r C_e[r][kl] w_r (P_r, 1), as a NURBS surface
 // with one clamped span per direction (rounded to double once).
 Surface bezier_patch(const TSplineSurface& surface, const TSplineExtraction& extraction,

@@ -12,6 +12,7 @@
 #include "strategies/cpu_horner/cpu_horner.h"
 #include "strategies/cpu_tensor/cpu_tensor.h"
 #include "strategies/cpu_tspline/cpu_tspline.h"
+#include "strategies/cpu_tspline_bezier/cpu_tspline_bezier.h"
 #include "strategies/gl_pingpong/gl_pingpong.h"
 #include "strategies/gl_tspline/gl_tspline.h"
 #include "strategies/glsl_deboor/glsl_deboor.h"
@@ -36,10 +37,11 @@ const std::vector<StrategyEntry>& strategy_registry() {
       cl_stair_entry(),
       vk_ksquad_entry(),
       vk_compute_entry(),
-      // T-splines (001): the CPU method, 001's split GPU passes, the Bézier-extraction path.
+      // T-splines (001): the CPU method, 001's split GPU passes, the Bézier-extraction paths.
       cpu_tspline_entry(),
       gl_tspline_entry(),
       cl_tspline_bezier_entry(),
+      cpu_tspline_bezier_entry(),
       cpu_tensor_entry(),
       cpu_horner_entry(),
       cpu_bezier_entry(),

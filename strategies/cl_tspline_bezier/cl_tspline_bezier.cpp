@@ -57,13 +57,6 @@ struct Topology {
   TSplineExtraction extraction;
 };
 
-// Same degrees, domain and local knot vectors: the extraction operators still hold.
-bool same_topology(const TSplineSurface& a, const TSplineSurface& b) {
-  return a.degree_u == b.degree_u && a.degree_v == b.degree_v && a.count() == b.count() &&
-         a.knots_u == b.knots_u && a.knots_v == b.knots_v && a.u_min == b.u_min &&
-         a.u_max == b.u_max && a.v_min == b.v_min && a.v_max == b.v_max;
-}
-
 class ClTSplineBezier final : public Strategy {
  public:
   explicit ClTSplineBezier(int device_index) : ctx_(device_index) { record_ = ctx_.record(); }
@@ -138,7 +131,7 @@ class ClTSplineBezier final : public Strategy {
                       scene.surfaces.size(), topology_.size()));
     for (std::size_t i = 0; i < topology_.size(); ++i) {
       const Surface& s = scene.surfaces[i];
-      if (!s.is_tspline() || !same_topology(*s.tspline, *topology_[i].tspline))
+      if (!s.is_tspline() || !same_extraction_topology(*s.tspline, *topology_[i].tspline))
         throw std::invalid_argument(fmt::format(
             "cl-tspline-bezier: update_control_points: surface {} ('{}') is not the prepared "
             "T-spline's topology (degrees, domain, local knot vectors)",

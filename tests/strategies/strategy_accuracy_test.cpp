@@ -117,12 +117,13 @@ double f32_ulp_budget(const std::string& strategy) {
       {"occt-cached", 32.0},
       {"glu-nurbs", 32.0},  // GLU in float at its own samples; measured worst 15.6 (clustered)
       {"cl-stair", 64.0},
-      {"cl-tspline-bezier", 32.0},  // on the scenes' tensor T-splines; measured worst 1.6
-      {"cpu-tspline", 32.0},        // the T-spline issue's bound, as cpu-coxdeboor's
-      {"gl-tspline", 32.0},         // measured worst 5.2 on random meshes
-      {"vk-ksquad", 32.0},          // issue asks 64; measured worst 24.6 (clustered span16)
-      {"vk-bezier", 32.0},          // vk-ksquad's gate (its own test derives a bound per scene)
-      {"vk-compute", 32.0}};        // issue 29 asks cl-stair's 64; measured worst 24.5 (clustered)
+      {"cl-tspline-bezier", 32.0},   // on the scenes' tensor T-splines; measured worst 1.6
+      {"cpu-tspline", 32.0},         // the T-spline issue's bound, as cpu-coxdeboor's
+      {"cpu-tspline-bezier", 32.0},  // cpu-tspline's bound; measured worst 1.9 (degree-9)
+      {"gl-tspline", 32.0},          // measured worst 5.2 on random meshes
+      {"vk-ksquad", 32.0},           // issue asks 64; measured worst 24.6 (clustered span16)
+      {"vk-bezier", 32.0},           // vk-ksquad's gate (its own test derives a bound per scene)
+      {"vk-compute", 32.0}};         // issue 29 asks cl-stair's 64; measured worst 24.5 (clustered)
   const auto it = budgets.find(strategy);
   return it != budgets.end() ? it->second : 64.0;
 }

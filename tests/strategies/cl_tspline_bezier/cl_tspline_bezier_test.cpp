@@ -33,12 +33,16 @@
 #include "scenes/deforming.h"
 #include "strategies/registry.h"
 #include "tests/reference/random_nurbs.h"
+#include "tests/strategies/tspline_strategy_checks.h"
 #include "tests/tspline/tspline_meshes.h"
 
 namespace nurbs {
 namespace {
 
+using test::evaluate;
 using test::Rng;
+using test::tspline_scene;
+using test::unit_roundoff;
 
 class cl_tspline_bezier : public ::testing::Test {
  protected:
@@ -48,10 +52,6 @@ class cl_tspline_bezier : public ::testing::Test {
   }
   static const StrategyEntry& entry() { return *find_strategy("cl-tspline-bezier"); }
 };
-
-double unit_roundoff(Precision precision) {
-  return precision == Precision::f32 ? FLT_EPSILON / 2 : DBL_EPSILON / 2;
-}
 
 // The header's bound for a scene of T-splines.
 double position_bound(const Scene& scene, Precision precision) {
@@ -74,35 +74,10 @@ double position_bound(const Scene& scene, Precision precision) {
           scene.bounding_box_diagonal() * (n + pq + 10 + 4 * pmax * rho));
 }
 
-Scene tspline_scene(TSplineSurface t) {
-  Scene scene;
-  scene.name = t.name;
-  scene.surfaces.push_back(make_tspline_surface(std::move(t)));
-  return scene;
-}
-
-// Span grid with 4 steps (every break and cell interior) and an explicit list of random
+// Span grid with 4 steps (every break and cell interior) and an explicit list of 200 random
 // parameters, plus the domain corners.
 std::vector<Sampling> test_samplings(Rng& rng, const Scene& scene) {
-  Sampling span;
-  span.mode = SamplingMode::span_grid;
-  span.span_steps = 4;
-  Sampling list;
-  list.mode = SamplingMode::explicit_list;
-  for (const Surface& s : scene.surfaces) {
-    std::vector<std::array<double, 2>> uv{{s.u_min(), s.v_min()}, {s.u_max(), s.v_max()}};
-    for (int k = 0; k < 200; ++k)
-      uv.push_back({test::uniform_real(rng, s.u_min(), s.u_max()),
-                    test::uniform_real(rng, s.v_min(), s.v_max())});
-    list.explicit_uv.push_back(uv);
-  }
-  return {span, list};
-}
-
-EvalResult evaluate(Strategy& strategy, const Scene& scene, const EvalRequest& request) {
-  strategy.prepare(scene, request);
-  strategy.evaluate();
-  return strategy.read_back();
+  return test::span_and_list_samplings(rng, scene, 4, 200);
 }
 
 // (1) The tensor T-spline of a random clamped NURBS surface is that surface: the strategy on the
@@ -163,13 +138,6 @@ TEST_F(cl_tspline_bezier, TJunctionTSplinesMatchTheReference) {
   }
 }
 
-bool same_bits(const PointArray& a, const PointArray& b) {
-  if (a.size() != b.size() || a.precision() != b.precision()) return false;
-  const std::size_t bytes = a.size() * 3 * (a.precision() == Precision::f32 ? 4 : 8);
-  return a.precision() == Precision::f32 ? std::memcmp(a.f32(), b.f32(), bytes) == 0
-                                         : std::memcmp(a.f64(), b.f64(), bytes) == 0;
-}
-
 // (3) update_control_points() then evaluate() gives, bit for bit, what a fresh prepare() on the
 // moved points gives (the same decomposition kernel on the same points), and differs from the
 // frame before (an update that does nothing fails). Another topology is an error. The harness's
@@ -183,17 +151,8 @@ TEST_F(cl_tspline_bezier, UpdateEqualsAFreshPrepareBitForBit) {
   const auto fresh = entry().create(StrategyOptions{});
   for (const Sampling& sampling : test_samplings(rng, base))
     for (Precision precision : {Precision::f32, Precision::f64}) {
-      const EvalRequest request{sampling, precision, true};
-      const EvalResult before = evaluate(*updated, deformed_scene(base, 0), request);
-      const Scene moved = deformed_scene(base, 7);
-      updated->update_control_points(moved);
-      updated->evaluate();
-      const EvalResult after = updated->read_back();
-      const EvalResult expected = evaluate(*fresh, moved, request);
-      ASSERT_EQ(after.surfaces.size(), 1u);
-      EXPECT_TRUE(same_bits(after.surfaces[0].positions, expected.surfaces[0].positions));
-      EXPECT_TRUE(same_bits(after.surfaces[0].normals, expected.surfaces[0].normals));
-      EXPECT_FALSE(same_bits(after.surfaces[0].positions, before.surfaces[0].positions));
+      test::expect_update_equals_fresh_prepare(*updated, *fresh, base,
+                                               EvalRequest{sampling, precision, true});
     }
   const Scene other =
       tspline_scene(infer_tspline(test::random_vertical_tmesh(rng, 3, 3, 9, 7, true), "test"));
@@ -281,13 +240,7 @@ TEST_F(cl_tspline_bezier, NormalsWithinTheDerivedAngle) {
 
 // (5) T-splines only: a NURBS scene is refused, by the harness's rule and by prepare().
 TEST_F(cl_tspline_bezier, NurbsScenesAreRefused) {
-  const Scene nurbs = *make_builtin_scene("patch144");
-  const EvalRequest request{Sampling{}, Precision::f32, false};
-  const auto reason = refusal_reason(entry().capabilities(), nurbs, request);
-  ASSERT_TRUE(reason.has_value());
-  EXPECT_NE(reason->find("T-splines only"), std::string::npos) << *reason;
-  const auto strategy = entry().create(StrategyOptions{});
-  EXPECT_THROW(strategy->prepare(nurbs, request), RefusedError);
+  test::expect_nurbs_scenes_refused(entry());
 }
 
 }  // namespace
