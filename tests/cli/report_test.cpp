@@ -1,7 +1,7 @@
 // The tooling verbs that read results: report (REPORT.md, index.html, charts), recommend,
 // gbench-json; and eval's error heat maps. Results are made by `nurbsbench run` on tiny grids or
 // written by hand (synthetic records with a known answer).
-#include "harness/report.h"
+#include "harness/report/report.h"
 
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
