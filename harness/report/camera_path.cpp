@@ -29,44 +29,38 @@ ReportSection camera_path_section(const SectionInput& in) {
   for (const ResultSet& set : sets) {
     if (!set.camera_path) continue;
     s.command = regenerate_in(run, set.directory.string());  // where camera_path.json is
-    const json& document = *set.camera_path;
-    context.add_file(document);
-    const json& settings = document.value("settings", json::object());
-    const std::string fixed_grid = text_field(settings, "fixed_samples");
-    for (const json& row : document["rows"]) {
-      const DeviceInfo device = context.add_device(row);
-      const std::string scene = text_field(row, "scene");
+    const CameraPathFile& document = *set.camera_path;
+    context.add_file(document.machine);
+    const std::string fixed_grid = document.fixed_samples();
+    for (const CameraPathRow& row : document.rows) {
+      const DeviceInfo device = context.add_device(row.device);
+      const std::string& scene = row.scene;
       const std::string suffix = label.side_suffix(
           set, sets, [](const ResultSet& o) { return o.camera_path.has_value(); });
       const std::string where = fmt::format(" ({}){}", scene, suffix);
       std::string first_triangles = "n/a", last_triangles = "n/a", fixed_triangles = "n/a";
-      const json frames = row.value("frames", json::array());
-      for (const json& frame : frames) {
-        const double f = number_field(frame, "frame");
-        add_point(series, "frame time: LOD" + where, f, number_field(frame, "lod_frame_s") * 1e3);
+      const std::vector<CameraFrame>& frames = row.frames;
+      for (const CameraFrame& frame : frames) {
+        const double f = frame.frame;
+        add_point(series, "frame time: LOD" + where, f, frame.lod_frame_s * 1e3);
         add_point(series, fmt::format("frame time: fixed {}{}", fixed_grid, where), f,
-                  number_field(frame, "fixed_frame_s") * 1e3);
-        add_point(series, "triangles: LOD" + where, f, number_field(frame, "lod_triangles"));
+                  frame.fixed_frame_s * 1e3);
+        add_point(series, "triangles: LOD" + where, f, static_cast<double>(frame.lod_triangles));
         add_point(series, fmt::format("triangles: fixed {}{}", fixed_grid, where), f,
-                  number_field(frame, "fixed_triangles"));
+                  static_cast<double>(frame.fixed_triangles));
       }
-      if (frames.is_array() && !frames.empty()) {
-        first_triangles = text_field(frames.front(), "lod_triangles");
-        last_triangles = text_field(frames.back(), "lod_triangles");
-        fixed_triangles = text_field(frames.front(), "fixed_triangles");
+      if (!frames.empty()) {
+        first_triangles = std::to_string(frames.front().lod_triangles);
+        last_triangles = std::to_string(frames.back().lod_triangles);
+        fixed_triangles = std::to_string(frames.front().fixed_triangles);
       }
-      const double lod = number_field(row, "median_lod_frame_s"),
-                   fixed = number_field(row, "median_fixed_frame_s");
-      const json lod_counts = row.value("lod_counts", json::object()),
-                 fixed_counts = row.value("fixed_counts", json::object());
+      const double lod = row.median_lod_frame_s, fixed = row.median_fixed_frame_s;
       summary.rows.push_back(
-          {scene, text_field(row, "surfaces"), device_text(device), std::to_string(frames.size()),
+          {scene, std::to_string(row.surfaces), device_text(device), std::to_string(frames.size()),
            seconds_text(lod), seconds_text(fixed), report_number(fixed / lod),
            fmt::format("{} → {}", first_triangles, last_triangles), fixed_triangles,
-           fmt::format("{}, {}", text_field(lod_counts, "host_read_backs"),
-                       text_field(fixed_counts, "host_read_backs")),
-           fmt::format("{}, {}", text_field(lod_counts, "device_copies"),
-                       text_field(fixed_counts, "device_copies"))});
+           fmt::format("{}, {}", row.lod_counts.host_read_backs, row.fixed_counts.host_read_backs),
+           fmt::format("{}, {}", row.lod_counts.device_copies, row.fixed_counts.device_copies)});
     }
   }
   if (!context.finish(s, !summary.rows.empty(), sets)) return s;

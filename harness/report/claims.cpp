@@ -145,22 +145,20 @@ std::vector<Comparison> lod_compared(const std::vector<ResultSet>& sets) {
   std::vector<Comparison> out;
   for (const ResultSet& set : sets) {
     if (!set.lod) continue;
-    for (const json& row : (*set.lod)["rows"]) {
-      DeviceInfo device;
-      if (row.contains("device") && row["device"].is_object())
-        device = {text_field(row["device"], "name"), text_field(row["device"], "kind"), {}};
-      for (const char* way : {"coarser", "finer"}) {
-        const double haar = number_field(row, fmt::format("{}_by_haar_s", way).c_str()),
-                     full =
-                         number_field(row, fmt::format("{}_by_full_reevaluation_s", way).c_str()),
+    for (const LodRow& row : set.lod->rows) {
+      const DeviceInfo device{row.device.name, row.device.kind, {}};
+      for (const bool coarser : {true, false}) {
+        const char* way = coarser ? "coarser" : "finer";
+        const double haar = coarser ? row.coarser_by_haar_s : row.finer_by_haar_s,
+                     full = or_nan(coarser ? row.coarser_by_full_reevaluation_s
+                                           : row.finer_by_full_reevaluation_s),
                      again = full > 0 ? full
-                                      : number_field(
-                                            row, fmt::format("{}_by_reevaluation_s", way).c_str());
+                                      : (coarser ? row.coarser_by_reevaluation_s
+                                                 : row.finer_by_reevaluation_s);
         if (!(haar > 0) || !(again > 0)) continue;
-        out.push_back(
-            {fmt::format("{} {} {}", text_field(row, "scene"), text_field(row, "samples"), way),
-             "Haar", full > 0 ? "full re-evaluation" : "re-evaluation (de Boor passes alone)", haar,
-             again, device, device, set.directory.string()});
+        out.push_back({fmt::format("{} {} {}", row.scene, row.samples, way), "Haar",
+                       full > 0 ? "full re-evaluation" : "re-evaluation (de Boor passes alone)",
+                       haar, again, device, device, set.directory.string()});
       }
     }
   }

@@ -37,16 +37,14 @@ ReportSection fig15_lod(const SectionInput& in) {
   for (const ResultSet& set : sets) {
     if (!set.lod) continue;
     s.command = regenerate_in(run, set.directory.string());  // where lod.json is
-    context.add_file(*set.lod);
-    for (const json& row : (*set.lod)["rows"]) {
-      const DeviceInfo device = context.add_device(row);
-      const double ch = number_field(row, "coarser_by_haar_s"),
-                   cr = number_field(row, "coarser_by_reevaluation_s"),
-                   cf = number_field(row, "coarser_by_full_reevaluation_s"),
-                   fh = number_field(row, "finer_by_haar_s"),
-                   fr = number_field(row, "finer_by_reevaluation_s"),
-                   ff = number_field(row, "finer_by_full_reevaluation_s");
-      const std::string scene = text_field(row, "scene"), samples = text_field(row, "samples");
+    context.add_file(set.lod->machine);
+    for (const LodRow& row : set.lod->rows) {
+      const DeviceInfo device = context.add_device(row.device);
+      const double ch = row.coarser_by_haar_s, cr = row.coarser_by_reevaluation_s,
+                   cf = or_nan(row.coarser_by_full_reevaluation_s), fh = row.finer_by_haar_s,
+                   fr = row.finer_by_reevaluation_s, ff = or_nan(row.finer_by_full_reevaluation_s);
+      const std::string& scene = row.scene;
+      const std::string& samples = row.samples;
       times.rows.push_back({scene, samples, device_text(device), seconds_text(ch), seconds_text(cr),
                             seconds_text(cf), report_number(cr / ch), report_number(cf / ch),
                             seconds_text(fh), seconds_text(fr), seconds_text(ff),
@@ -61,29 +59,29 @@ ReportSection fig15_lod(const SectionInput& in) {
       add_point(series, "finer by re-evaluation", c, fr);
       if (std::isfinite(cf)) add_point(series, "coarser by full re-evaluation", c, cf);
       if (std::isfinite(ff)) add_point(series, "finer by full re-evaluation", c, ff);
-      auto draw_cells = [](const json& drawn) {
-        return std::vector<std::string>{seconds_text(number_field(drawn, "render_s")),
-                                        text_field(drawn, "index_elements"),
-                                        text_field(drawn, "drawn_pixels")};
+      auto draw_cells = [](const std::optional<LodDrawFields>& drawn) {
+        if (!drawn) return std::vector<std::string>{"n/a", "n/a", "n/a"};
+        return std::vector<std::string>{seconds_text(drawn->render_s),
+                                        std::to_string(drawn->index_elements),
+                                        std::to_string(drawn->drawn_pixels)};
       };
       // The evaluated grid's own draw, where the file has it (its distance is the strategy's
       // accuracy, not a level's).
-      if (row.contains("render_s")) {
+      if (row.draw) {
         std::vector<std::string> cells = {scene, samples, "0", samples, "n/a", "n/a"};
-        for (std::string& cell : draw_cells(row)) cells.push_back(std::move(cell));
+        for (std::string& cell : draw_cells(row.draw)) cells.push_back(std::move(cell));
         levels.rows.push_back(std::move(cells));
       }
-      if (row.contains("levels") && row["levels"].is_array())
-        for (const json& level : row["levels"]) {
-          std::vector<std::string> cells = {scene,
-                                            samples,
-                                            text_field(level, "level"),
-                                            text_field(level, "samples"),
-                                            report_number(number_field(level, "max_distance")),
-                                            report_number(number_field(level, "max_ulp"))};
-          for (std::string& cell : draw_cells(level)) cells.push_back(std::move(cell));
-          levels.rows.push_back(std::move(cells));
-        }
+      for (const LodLevelRow& level : row.levels) {
+        std::vector<std::string> cells = {scene,
+                                          samples,
+                                          std::to_string(level.level),
+                                          level.samples,
+                                          report_number(level.max_distance),
+                                          report_number(level.max_ulp)};
+        for (std::string& cell : draw_cells(level.draw)) cells.push_back(std::move(cell));
+        levels.rows.push_back(std::move(cells));
+      }
     }
   }
   if (!context.finish(s, !times.rows.empty(), sets)) return s;

@@ -106,12 +106,12 @@ std::set<std::string> gpus_of(const ResultSet& s) {
   std::set<std::string> gpus;
   for (const Record& r : s.results.records)
     if (r.device.kind == "gpu") gpus.insert(gpu_name(r.device));
-  for (const std::optional<json>* side : {&s.lod, &s.camera_path})
-    if (*side)
-      for (const json& row : (**side)["rows"])
-        if (row.contains("device") && row["device"].is_object() &&
-            row["device"].value("kind", "") == "gpu")
-          gpus.insert(gpu_name({text_field(row["device"], "name"), "gpu", {}}));
+  if (s.lod)
+    for (const LodRow& row : s.lod->rows)
+      if (row.device.kind == "gpu") gpus.insert(gpu_name({row.device.name, "gpu", {}}));
+  if (s.camera_path)
+    for (const CameraPathRow& row : s.camera_path->rows)
+      if (row.device.kind == "gpu") gpus.insert(gpu_name({row.device.name, "gpu", {}}));
   return gpus;
 }
 

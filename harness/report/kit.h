@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
@@ -66,6 +67,10 @@ struct Row {
 double number_field(const json& row, const char* key);
 std::string text_field(const json& row, const char* key);
 json number_or_null(double x);
+// An optional field of a side file as a number, NaN ("n/a") where the file lacks it.
+inline double or_nan(const std::optional<double>& x) {
+  return x.value_or(std::numeric_limits<double>::quiet_NaN());
+}
 std::string seconds_text(double s);
 // "many-64" -> 64, "degree-5" -> 5; nullopt when `scene` is not `prefix` followed by digits.
 std::optional<int> numbered_scene(const std::string& scene, std::string_view prefix);
@@ -146,19 +151,14 @@ std::string trimmed_frame_phases(const Record& r);
 struct SideFileContext {
   std::set<std::string> machines, devices, commits;
 
-  void add_file(const json& document) {
-    const json& machine = document.value("machine", json::object());
+  void add_file(const json& machine) {
     machines.insert(machine.is_object() ? machine.value("cpu_model", "unknown CPU")
                                         : "unknown CPU");
     commits.insert(machine.is_object() ? machine.value("git_commit", "unknown") : "unknown");
   }
-  // A row's "device" ({name, kind}), recorded.
-  DeviceInfo add_device(const json& row) {
-    DeviceInfo device;
-    if (row.contains("device") && row["device"].is_object()) {
-      device.name = text_field(row["device"], "name");
-      device.kind = text_field(row["device"], "kind");
-    }
+  // A row's device, recorded.
+  DeviceInfo add_device(const SideDevice& d) {
+    const DeviceInfo device{d.name, d.kind, {}};
     devices.insert(device_text(device));
     return device;
   }

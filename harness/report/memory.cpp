@@ -22,17 +22,22 @@ ReportSection rpns_memory(const SectionInput& in) {
   for (const ResultSet& set : sets) {
     if (!set.memory) continue;
     s.command = regenerate_in(in.row.run, set.directory.string());  // where memory.json is
-    for (const json& row : (*set.memory)["rows"])
+    for (const MemoryFileRow& row : set.memory->rows) {
+      const auto text = [](const std::optional<std::uint64_t>& n) {
+        return n ? std::to_string(*n) : std::string("n/a");
+      };
+      const double nurbs = static_cast<double>(row.nurbs_bytes);
       table.rows.push_back(
-          {text_field(row, "scene"), text_field(row, "surfaces"),
-           text_field(row, "nurbs_control_points"), text_field(row, "nurbs_bytes"),
-           text_field(row, "bezier_patches"), text_field(row, "bezier_control_points"),
-           text_field(row, "bezier_bytes"),
-           report_number(number_field(row, "bezier_bytes") / number_field(row, "nurbs_bytes")),
-           text_field(row, "ksquads"), text_field(row, "bezier_shared_control_points"),
-           text_field(row, "bezier_shared_bytes"),
-           report_number(number_field(row, "bezier_shared_bytes") /
-                         number_field(row, "nurbs_bytes"))});
+          {row.scene, std::to_string(row.surfaces), std::to_string(row.nurbs_control_points),
+           std::to_string(row.nurbs_bytes), std::to_string(row.bezier_patches),
+           std::to_string(row.bezier_control_points), std::to_string(row.bezier_bytes),
+           report_number(static_cast<double>(row.bezier_bytes) / nurbs),
+           std::to_string(row.ksquads), text(row.bezier_shared_control_points),
+           text(row.bezier_shared_bytes),
+           report_number(row.bezier_shared_bytes
+                             ? static_cast<double>(*row.bezier_shared_bytes) / nurbs
+                             : std::numeric_limits<double>::quiet_NaN())});
+    }
   }
   if (table.rows.empty()) {
     set_no_data(s, s.command);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "harness/results_writer.h"
+#include "harness/side_files.h"
 
 namespace nurbs {
 
@@ -21,10 +22,10 @@ struct ResultSet {
   std::filesystem::path directory;
   std::string tag;  // short name (the directory's), used in labels when there are several sets
   ResultsFile results;
-  std::optional<nlohmann::json> lod;     // DIR/lod.json (nurbsbench-lod/1), when present
-  std::optional<nlohmann::json> memory;  // DIR/memory.json (nurbsbench-memory/1), when present
-  // DIR/camera_path.json (nurbsbench-camera-path/1, `nurbsbench camera-path`), when present
-  std::optional<nlohmann::json> camera_path;
+  std::optional<LodFile> lod;        // lod.json (nurbsbench-lod/1), when present
+  std::optional<MemoryFile> memory;  // memory.json (nurbsbench-memory/1), when present
+  // camera_path.json (nurbsbench-camera-path/1, `nurbsbench camera-path`), when present
+  std::optional<CameraPathFile> camera_path;
 };
 
 // Reads DIR/results.json and, when present, DIR/lod.json, DIR/memory.json and DIR/camera_path.json.

@@ -249,9 +249,7 @@ TEST_F(CliReport, ReadsLodAndMemoryFilesBesideTheResults) {
               "device": {"name": "llvmpipe (LLVM 15)", "kind": "cpu"},
               "coarser_by_haar_s": 0.001, "coarser_by_reevaluation_s": 0.004,
               "finer_by_haar_s": 0.002, "finer_by_reevaluation_s": 0.005,
-              "levels": [{"level": 1, "samples": "64x64", "max_distance": 1e-6, "max_ulp": 3.5}]},
-             {"scene": "tan21x23", "samples": "512x512", "device": {"name": "x", "kind": "gpu"},
-              "coarser_by_haar_s": null}]})JSON");
+              "levels": [{"level": 1, "samples": "64x64", "max_distance": 1e-6, "max_ulp": 3.5}]}]})JSON");
   write_text(fs::path(dir) / "memory.json", R"({"format": "nurbsbench-memory/1", "rows": [
     {"scene": "teapot", "surfaces": 32, "nurbs_control_points": 512, "nurbs_bytes": 16384,
      "bezier_patches": 32, "bezier_control_points": 512, "bezier_bytes": 32768, "ksquads": 32,
@@ -436,6 +434,23 @@ TEST_F(CliReport, BadInputIsExitTwoWithOneLineAndNoOutput) {
        R"({"format": "nurbsbench-memory/1", "rows": [3]})",
        {"memory.json", "rows[0]", "object"}},
       {"memory.json", R"([1, 2])", {"memory.json", "format", "(missing)"}},
+      // Strict fields: a required one missing, or of the wrong type, names file, row and value.
+      {"lod.json",
+       R"({"format": "nurbsbench-lod/1", "rows": [{"scene": "tan21x23", "samples": "8x8",
+           "device": {"name": "x", "kind": "gpu"}, "coarser_by_haar_s": null}]})",
+       {"lod.json", "rows[0].coarser_by_haar_s", "null", "number"}},
+      {"lod.json",
+       R"({"format": "nurbsbench-lod/1", "rows": [{"scene": "tan21x23", "samples": "8x8",
+           "device": {"name": "x", "kind": "gpu"}, "coarser_by_haar_s": 1,
+           "coarser_by_reevaluation_s": 1, "finer_by_haar_s": 1, "finer_by_reevaluation_s": 1,
+           "levels": [{"level": "one"}]}]})",
+       {"lod.json", "rows[0].levels[0].level", "\"one\"", "integer"}},
+      {"memory.json",
+       R"({"format": "nurbsbench-memory/1", "rows": [{"scene": "teapot", "surfaces": -3}]})",
+       {"memory.json", "rows[0].surfaces", "-3", "non-negative integer"}},
+      {"camera_path.json",
+       R"({"format": "nurbsbench-camera-path/1", "rows": [{"scene": "teapot"}]})",
+       {"camera_path.json", "rows[0].surfaces", "(missing)", "required"}},
   };
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const std::string dir = copy_results(fmt::format("bad{}", k));
