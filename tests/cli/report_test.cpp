@@ -241,6 +241,69 @@ TEST_F(CliReport, WithoutMatplotlibWritesTablesAndSaysWhichChartsAreMissing) {
             std::string::npos);
 }
 
+// The first screen: the verdicts, then the charts; the sets and strategies tables after them.
+TEST_F(CliReport, OpensWithTheClaimsAndChartsAndEndsWithTheBookkeeping) {
+  const Report report = build_report({load_result_set(results_)});
+  ASSERT_FALSE(report.sections.empty());
+  EXPECT_EQ(report.sections.front().id, "claims");
+  const auto results = std::find_if(report.sections.begin(), report.sections.end(),
+                                    [](const ReportSection& s) { return s.id == "results"; });
+  ASSERT_NE(results, report.sections.end());
+  for (auto it = results; it != report.sections.end(); ++it)
+    EXPECT_FALSE(it->has_chart) << it->id << " comes after the bookkeeping";
+  const std::string md = report_markdown(report);
+  EXPECT_LT(md.find("## Paper vs measured"), md.find("## Krishnamurthy 2007 Fig 7"));
+  EXPECT_LT(md.find("## Krishnamurthy 2007 Fig 7"), md.find("## Results sets and strategies"));
+}
+
+// A strategy refused on many scenes for one cause reads as one line with the number of scenes
+// (counted here from results.json), not one sentence per scene; the scenes are listed in a table
+// of their own.
+TEST_F(CliReport, GroupsRefusalsByReasonWithASceneCount) {
+  const json results = json::parse(read_text(results_ / "results.json"));
+  std::map<std::string, std::set<std::string>> refused;  // strategy -> scenes it refused
+  for (const json& r : results["records"])
+    if (r["status"] == "refused")
+      refused[r["strategy"].get<std::string>()].insert(r["scene"].get<std::string>());
+  // cpu-tspline evaluates T-splines only and these scenes are all NURBS.
+  ASSERT_TRUE(refused.contains("cpu-tspline"));
+  const Report report = build_report({load_result_set(results_)});
+  const auto section = std::find_if(report.sections.begin(), report.sections.end(),
+                                    [](const ReportSection& s) { return s.id == "results"; });
+  ASSERT_NE(section, report.sections.end());
+  const ReportTable* strategies = nullptr;
+  const ReportTable* scenes = nullptr;
+  for (const ReportTable& t : section->tables) {
+    if (t.caption == "Every strategy in these results") strategies = &t;
+    if (t.caption == "Scenes not measured, by strategy and reason") scenes = &t;
+  }
+  ASSERT_NE(strategies, nullptr);
+  ASSERT_NE(scenes, nullptr);
+  bool seen = false;
+  for (const auto& row : strategies->rows) {
+    ASSERT_EQ(row.size(), 5u);
+    EXPECT_EQ(row[4].find("surface '"), std::string::npos) << row[0] << ": " << row[4];
+    if (row[0] != "cpu-tspline") continue;
+    seen = true;
+    const std::size_t n = refused.at("cpu-tspline").size();
+    EXPECT_EQ(row[4],
+              fmt::format("refused on {} scene{}: NURBS surface, the strategy evaluates T-splines "
+                          "only",
+                          n, n == 1 ? "" : "s"));
+  }
+  EXPECT_TRUE(seen);
+  // Every refused (strategy, scene) appears in the scenes table.
+  for (const auto& [strategy, names] : refused)
+    for (const std::string& scene : names)
+      EXPECT_TRUE(std::any_of(scenes->rows.begin(), scenes->rows.end(),
+                              [&](const std::vector<std::string>& row) {
+                                return row[0] == strategy &&
+                                       (", " + row[2] + ",").find(", " + scene + ",") !=
+                                           std::string::npos;
+                              }))
+          << strategy << " on " << scene;
+}
+
 TEST_F(CliReport, ReadsLodAndMemoryFilesBesideTheResults) {
   const std::string dir = copy_results("with-side-files");
   write_text(fs::path(dir) / "lod.json", R"JSON({"format": "nurbsbench-lod/1",
