@@ -100,7 +100,7 @@ class Fields {
   std::string where_;
 };
 
-// The document of a side file: JSON, an object of the given format with a list of rows.
+// The document of a side file: JSON, an object of the given format (its rows are read by Fields).
 json read_document(const std::filesystem::path& path, std::string_view format) {
   std::ifstream in(path);
   if (!in) throw InputError(fmt::format("{}: cannot open", path.string()));
