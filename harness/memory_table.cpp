@@ -6,6 +6,7 @@
 #include <array>
 #include <nlohmann/json.hpp>
 
+#include "harness/side_files.h"
 #include "reference/bezier_decomposition.h"
 #include "reference/tspline.h"
 
@@ -78,27 +79,18 @@ std::string memory_table_text(const std::vector<MemoryRow>& rows) {
 }
 
 nlohmann::json memory_table_json(const std::vector<MemoryRow>& rows) {
-  nlohmann::json scenes = nlohmann::json::array();
+  MemoryFile file;
+  file.notes = {{"control_point_format", "homogeneous float32 (w*x, w*y, w*z, w)"},
+                {"bytes_per_control_point", kBytesPerControlPoint},
+                {"knots_counted", false},
+                {"bezier_shared_control_points",
+                 "boundary rows shared by adjacent patches of one surface counted once"}};
   for (const MemoryRow& r : rows)
-    scenes.push_back({{"scene", r.scene},
-                      {"surfaces", r.surfaces},
-                      {"ksquads", r.ksquads},
-                      {"bezier_patches", r.ksquads},
-                      {"nurbs_control_points", r.nurbs_control_points},
-                      {"nurbs_bytes", r.nurbs_bytes()},
-                      {"bezier_control_points", r.bezier_control_points},
-                      {"bezier_bytes", r.bezier_bytes()},
-                      {"ratio", r.ratio()},
-                      {"bezier_shared_control_points", r.bezier_shared_control_points},
-                      {"bezier_shared_bytes", r.bezier_shared_bytes()},
-                      {"shared_ratio", r.shared_ratio()}});
-  return {{"format", "nurbsbench-memory/1"},
-          {"control_point_format", "homogeneous float32 (w*x, w*y, w*z, w)"},
-          {"bytes_per_control_point", kBytesPerControlPoint},
-          {"knots_counted", false},
-          {"bezier_shared_control_points",
-           "boundary rows shared by adjacent patches of one surface counted once"},
-          {"rows", scenes}};
+    file.rows.push_back({r.scene, r.surfaces, r.ksquads, r.ksquads, r.nurbs_control_points,
+                         r.nurbs_bytes(), r.bezier_control_points, r.bezier_bytes(), r.ratio(),
+                         r.bezier_shared_control_points, r.bezier_shared_bytes(),
+                         r.shared_ratio()});
+  return file;
 }
 
 }  // namespace nurbs

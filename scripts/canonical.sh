@@ -40,8 +40,8 @@ mkdir -p "$out"
 echo "canonical: $out (CPU: ${cpu:-unknown}, $(nproc) threads)"
 
 # Per figure: scenes, samples, repetitions (tiny: the same scenes where cheap, tiny grids). The
-# full ones are the report's "regenerate" lines (chart_commands() in harness/report.cpp, checked
-# against the results they made by tests/cli/regenerate_test.cpp): change both together.
+# full ones are the report's "regenerate" lines (the sections table, harness/report/sections.cpp,
+# checked against the results they made by tests/cli/regenerate_test.cpp): change both together.
 if [ "$tiny" = 1 ]; then
   fig7=(patch144 4x4,16x16 1)
   fig9_tspline=(tspline-tjunction 4x4,16x16 1)

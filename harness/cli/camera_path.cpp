@@ -15,6 +15,7 @@
 #include "harness/cli/commands.h"
 #include "harness/error_image.h"
 #include "harness/machine.h"
+#include "harness/side_files.h"
 #include "harness/timing.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
@@ -22,8 +23,6 @@
 #include "strategies/gl_pingpong/lod_renderer.h"
 
 namespace nurbs::cli {
-
-inline constexpr std::string_view kCameraPathFormat = "nurbsbench-camera-path/1";
 
 namespace {
 
@@ -42,15 +41,14 @@ Sampling one_grid(std::string_view option, const std::string& text, int low, int
   return g;
 }
 
-nlohmann::json point_json(const Point3& p) {
-  return nlohmann::json::array({p[0], p[1], p[2]});
+std::array<double, 3> point_of(const Point3& p) {
+  return {p[0], p[1], p[2]};
 }
 
-nlohmann::json counts_json(const LodCounts& after, const LodCounts& before) {
-  return {{"draws", after.draws - before.draws},
-          {"passes", after.passes - before.passes},
-          {"host_read_backs", after.host_read_backs - before.host_read_backs},
-          {"device_copies", after.device_copies - before.device_copies}};
+CameraCounts counts_of(const LodCounts& after, const LodCounts& before) {
+  return {after.draws - before.draws, after.passes - before.passes,
+          after.host_read_backs - before.host_read_backs,
+          after.device_copies - before.device_copies};
 }
 
 struct Frame {
@@ -93,7 +91,7 @@ int camera_path_command(const CameraPathOptions& options) {
                                   options.max_samples};
   const int width = viewport.grid_u, height = viewport.grid_v;
   const StrategyOptions strategy_options{threads, backend_extra(options.gl, "")};
-  nlohmann::json rows = nlohmann::json::array();
+  CameraPathFile file;
   std::string text;
   for (const Scene& scene : scenes) {
     const std::unique_ptr<LodRenderer> renderer =
@@ -158,7 +156,7 @@ int camera_path_command(const CameraPathOptions& options) {
     const DeviceInfo device = renderer->device();
     const std::uint64_t fixed_samples =
         static_cast<std::uint64_t>(fixed.grid_u) * fixed.grid_v * scene.surfaces.size();
-    nlohmann::json frames = nlohmann::json::array();
+    std::vector<CameraFrame> frames;
     std::vector<double> lod_seconds, fixed_seconds;
     std::string table =
         fmt::format("{:>5} {:>10} {:>12} {:>12} {:>12} {:>12} {:>12}\n", "frame", "distance",
@@ -168,19 +166,11 @@ int camera_path_command(const CameraPathOptions& options) {
       const Frame& lod = lod_frames[static_cast<std::size_t>(f)];
       const Frame& fix = fixed_frames[static_cast<std::size_t>(f)];
       const Camera c = camera(f);
-      nlohmann::json grids = nlohmann::json::array();
+      std::vector<std::array<int, 2>> grids;
       for (const auto& [nu, nv] : lod.grids) grids.push_back({nu, nv});
       const double distance = gl_pingpong::distance_at(path, f, options.frames);
-      frames.push_back({{"frame", f},
-                        {"distance", distance},
-                        {"eye", point_json(c.eye)},
-                        {"lod_grids", grids},
-                        {"lod_samples", lod.samples},
-                        {"lod_triangles", lod.triangles},
-                        {"lod_frame_s", lod.seconds},
-                        {"fixed_samples", fixed_samples},
-                        {"fixed_triangles", fix.triangles},
-                        {"fixed_frame_s", fix.seconds}});
+      frames.push_back({f, distance, point_of(c.eye), std::move(grids), lod.samples, lod.triangles,
+                        lod.seconds, fixed_samples, fix.triangles, fix.seconds});
       lod_seconds.push_back(lod.seconds);
       fixed_seconds.push_back(fix.seconds);
       if (f % every == 0 || f + 1 == options.frames)
@@ -191,18 +181,18 @@ int camera_path_command(const CameraPathOptions& options) {
     const double lod_median = PhaseStats::of(lod_seconds).median_s;
     const double fixed_median = PhaseStats::of(fixed_seconds).median_s;
     const Camera first = camera(0);
-    rows.push_back({{"scene", scene.name},
-                    {"surfaces", scene.surfaces.size()},
-                    {"device", {{"name", device.name}, {"kind", device.kind}}},
-                    {"centre", point_json(path.centre)},
-                    {"radius", path.radius},
-                    {"target", point_json(first.target)},
-                    {"up", point_json(first.up)},
-                    {"median_lod_frame_s", lod_median},
-                    {"median_fixed_frame_s", fixed_median},
-                    {"lod_counts", counts_json(lod_after, lod_before)},
-                    {"fixed_counts", counts_json(fixed_after, fixed_before)},
-                    {"frames", frames}});
+    file.rows.push_back({scene.name,
+                         scene.surfaces.size(),
+                         {device.name, device.kind},
+                         point_of(path.centre),
+                         point_of(first.target),
+                         point_of(first.up),
+                         path.radius,
+                         lod_median,
+                         fixed_median,
+                         counts_of(lod_after, lod_before),
+                         counts_of(fixed_after, fixed_before),
+                         std::move(frames)});
     const std::string kind =
         device.kind == "cpu" ? " (a software rasterizer: CPU figures, not a GPU's)" : "";
     text += fmt::format(
@@ -218,23 +208,20 @@ int camera_path_command(const CameraPathOptions& options) {
   }
   const Camera sample_camera;
   const gl_pingpong::FlyIn sample_path;
-  const nlohmann::json document = {
-      {"format", kCameraPathFormat},
-      {"machine", machine_record(threads)},
-      {"settings",
-       {{"scenes", options.scenes},
-        {"frames", options.frames},
-        {"viewport", fmt::format("{}x{}", width, height)},
-        {"pixels_per_sample", options.pixels_per_sample},
-        {"min_samples", options.min_samples},
-        {"max_samples", options.max_samples},
-        {"fixed_samples", fmt::format("{}x{}", fixed.grid_u, fixed.grid_v)},
-        {"fov_y_degrees", sample_camera.fov_y_degrees},
-        {"direction", point_json(sample_path.direction)},
-        {"far_distance_radii", sample_path.far_distance},
-        {"near_distance_radii", sample_path.near_distance},
-        {"gl", options.gl.empty() ? "egl" : options.gl}}},
-      {"rows", rows}};
+  file.machine = machine_record(threads);
+  file.settings = {{"scenes", options.scenes},
+                   {"frames", options.frames},
+                   {"viewport", fmt::format("{}x{}", width, height)},
+                   {"pixels_per_sample", options.pixels_per_sample},
+                   {"min_samples", options.min_samples},
+                   {"max_samples", options.max_samples},
+                   {"fixed_samples", fmt::format("{}x{}", fixed.grid_u, fixed.grid_v)},
+                   {"fov_y_degrees", sample_camera.fov_y_degrees},
+                   {"direction", point_of(sample_path.direction)},
+                   {"far_distance_radii", sample_path.far_distance},
+                   {"near_distance_radii", sample_path.near_distance},
+                   {"gl", options.gl.empty() ? "egl" : options.gl}};
+  const nlohmann::json document = file;
   std::filesystem::create_directories(options.out);
   write_file_atomically(std::filesystem::path(options.out) / "camera_path.json",
                         document.dump(1) + "\n");

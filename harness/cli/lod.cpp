@@ -16,14 +16,13 @@
 #include "harness/error_image.h"
 #include "harness/machine.h"
 #include "harness/metrics.h"
+#include "harness/side_files.h"
 #include "harness/timing.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/glsl_deboor/lod_experiment.h"
 
 namespace nurbs::cli {
-
-inline constexpr std::string_view kLodFormat = "nurbsbench-lod/1";
 
 int lod_command(const LodOptions& options) {
   // Everything is checked before the output directory is touched.
@@ -53,7 +52,7 @@ int lod_command(const LodOptions& options) {
   if (!options.images.empty()) prepare_image_directory("--images", options.images);
 
   const double largest = scene.largest_coordinate();
-  nlohmann::json rows = nlohmann::json::array();
+  LodFile file;
   std::string changes =
       fmt::format("{:<11} {:>13} {:>13} {:>13} {:>6} {:>10}   {:>13} {:>13} {:>13} {:>6} {:>10}\n",
                   "samples", "coarser: Haar", "re-evaluate", "full re-eval", "ratio", "full ratio",
@@ -87,34 +86,27 @@ int lod_command(const LodOptions& options) {
             *d.picture,
             fmt::format("glsl-deboor Haar level {} ({}x{}) of {} at {}", level, width, height,
                         scene.name, g.label()));
-      return nlohmann::json{{"render_s", seconds},
-                            {"index_elements", d.index_elements},
-                            {"drawn_pixels", d.drawn_pixels}};
+      return LodDrawFields{seconds, d.index_elements, d.drawn_pixels};
     };
-    nlohmann::json row = {{"scene", scene.name},
-                          {"samples", g.label()},
-                          {"device", {{"name", m.device.name}, {"kind", m.device.kind}}},
-                          {"repetitions", options.repetitions},
-                          {"coarser_by_haar_s", coarser_haar},
-                          {"coarser_by_reevaluation_s", coarser_eval},
-                          {"coarser_by_full_reevaluation_s", coarser_full},
-                          {"coarser_index_elements", m.coarser_index_elements},
-                          {"finer_by_haar_s", finer_haar},
-                          {"finer_by_reevaluation_s", finer_eval},
-                          {"finer_by_full_reevaluation_s", finer_full},
-                          {"finer_index_elements", m.finer_index_elements}};
-    row.update(add_draw(0, g.grid_u, g.grid_v, m.full_draw, std::nullopt));
-    nlohmann::json levels = nlohmann::json::array();
-    for (const glsl_deboor::LodLevel& l : m.levels) {
-      nlohmann::json level = {{"level", l.level},
-                              {"samples", fmt::format("{}x{}", l.width, l.height)},
-                              {"max_distance", l.max_distance},
-                              {"max_ulp", ulps_of_largest_coordinate(l.max_distance, largest)}};
-      level.update(add_draw(l.level, l.width, l.height, l.draw, l.max_distance));
-      levels.push_back(std::move(level));
-    }
-    row["levels"] = std::move(levels);
-    rows.push_back(std::move(row));
+    LodRow row;
+    row.scene = scene.name;
+    row.samples = g.label();
+    row.device = {m.device.name, m.device.kind};
+    row.repetitions = options.repetitions;
+    row.coarser_by_haar_s = coarser_haar;
+    row.coarser_by_reevaluation_s = coarser_eval;
+    row.coarser_by_full_reevaluation_s = coarser_full;
+    row.coarser_index_elements = m.coarser_index_elements;
+    row.finer_by_haar_s = finer_haar;
+    row.finer_by_reevaluation_s = finer_eval;
+    row.finer_by_full_reevaluation_s = finer_full;
+    row.finer_index_elements = m.finer_index_elements;
+    row.draw = add_draw(0, g.grid_u, g.grid_v, m.full_draw, std::nullopt);
+    for (const glsl_deboor::LodLevel& l : m.levels)
+      row.levels.push_back({l.level, fmt::format("{}x{}", l.width, l.height), l.max_distance,
+                            ulps_of_largest_coordinate(l.max_distance, largest),
+                            add_draw(l.level, l.width, l.height, l.draw, l.max_distance)});
+    file.rows.push_back(std::move(row));
     changes += fmt::format(
         "{:<11} {:>10.3f} ms {:>10.3f} ms {:>10.3f} ms {:>5.2f}x {:>9.2f}x   {:>10.3f} ms "
         "{:>10.3f} ms {:>10.3f} ms {:>5.2f}x {:>9.2f}x\n",
@@ -123,16 +115,14 @@ int lod_command(const LodOptions& options) {
         finer_eval * 1e3, finer_full * 1e3, finer_eval / finer_haar, finer_full / finer_haar);
     device = fmt::format("{} ({})", m.device.name, m.device.kind);
   }
-  const nlohmann::json document = {{"format", kLodFormat},
-                                   {"machine", machine_record(threads)},
-                                   {"settings",
-                                    {{"scene", scene.name},
-                                     {"samples", options.samples},
-                                     {"levels", options.levels},
-                                     {"repetitions", options.repetitions},
-                                     {"gl", options.gl.empty() ? "egl" : options.gl},
-                                     {"render_size", glsl_deboor::kLodRenderSize}}},
-                                   {"rows", rows}};
+  file.machine = machine_record(threads);
+  file.settings = {{"scene", scene.name},
+                   {"samples", options.samples},
+                   {"levels", options.levels},
+                   {"repetitions", options.repetitions},
+                   {"gl", options.gl.empty() ? "egl" : options.gl},
+                   {"render_size", glsl_deboor::kLodRenderSize}};
+  const nlohmann::json document = file;
   std::filesystem::create_directories(options.out);
   write_file_atomically(std::filesystem::path(options.out) / "lod.json", document.dump(1) + "\n");
   std::cout << fmt::format("002 Fig 15: LOD change on {} by Haar step vs re-evaluation, on {}\n",

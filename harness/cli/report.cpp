@@ -1,23 +1,16 @@
-#include "harness/report.h"
+#include "harness/report/report.h"
 
 #include <fmt/format.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <cctype>
 #include <cstdio>
-#include <functional>
 #include <iostream>
 #include <map>
-#include <set>
 
 #include "harness/atomic_file.h"
 #include "harness/cli/commands.h"
-#include "harness/error_image.h"
-#include "harness/metrics.h"
 #include "reference/validation.h"
-#include "scenes/builtin_scenes.h"
-#include "strategies/registry.h"
 
 namespace nurbs::embedded {
 extern const std::string_view plot_report_py;  // scripts/plot_report.py, embedded at build time
@@ -92,178 +85,6 @@ std::map<std::string, std::string> draw_charts(const Report& report, const fs::p
   return not_drawn;
 }
 
-// The sampling a record was measured at, from its `samples` label ("256x256", "span4").
-std::optional<Sampling> sampling_of(const Record& r) {
-  try {
-    const std::vector<Sampling> list = r.samples.starts_with("span")
-                                           ? parse_span_list("samples", r.samples.substr(4))
-                                           : parse_grid_list("samples", r.samples);
-    if (list.size() == 1) return list.front();
-  } catch (const InputError&) {
-  }
-  return std::nullopt;
-}
-
-// A measured pair evaluated again on this machine, for a picture of it: the record's sampling
-// (large grids at 256x256: a picture needs no more, and it bounds the time), its precision, the
-// classification when the strategy trims, and the reference at the same (u, v).
-struct Redone {
-  Scene scene;
-  Sampling sampling;
-  EvalResult result;
-  std::vector<ReferenceSurface> reference;
-};
-
-// Throws std::runtime_error saying why the pair cannot be redone here.
-Redone redo(const Record& r) {
-  const StrategyEntry* entry = find_strategy(r.strategy);
-  if (!entry) throw std::runtime_error("strategy not in this build");
-  const Availability availability = entry->probe();
-  if (!availability.available) throw std::runtime_error("unavailable here: " + availability.reason);
-  std::optional<Sampling> sampling = sampling_of(r);
-  if (!sampling) throw std::runtime_error("samples '" + r.samples + "' have no image layout");
-  if (sampling->mode == SamplingMode::grid && sampling->grid_u * sampling->grid_v > 65536)
-    sampling->grid_u = sampling->grid_v = 256;
-  Redone d{load_scene(r.scene), *sampling, {}, {}};
-  EvalRequest request{*sampling, parse_precision(r.precision), false};
-  if (auto refused = refusal_reason(entry->capabilities(), d.scene, request))
-    throw std::runtime_error("refused: " + *refused);
-  std::unique_ptr<Strategy> strategy = entry->create(StrategyOptions{0, {}});
-  strategy->prepare(d.scene, request);
-  strategy->evaluate();
-  if (entry->capabilities().trims && d.scene.has_trims()) strategy->classify();
-  d.result = strategy->read_back();
-  const std::vector<SurfaceSamples> produced = result_samples(d.result);
-  if (!same_samples(produced, sample_parameters(d.scene, *sampling)))
-    throw std::runtime_error("it chose its own samples, which have no (u, v) image layout");
-  d.reference = evaluate_reference(d.scene, produced, false, ReferencePrecision::long_double);
-  return d;
-}
-
-using Draw = std::function<std::pair<std::string, std::string>(const Record&, const Redone&)>;
-// The records `eligible` keeps, worst first by `worse`.
-std::vector<const Record*> worst_records(
-    const std::vector<ResultSet>& sets, const std::function<bool(const Record&)>& eligible,
-    const std::function<bool(const Record&, const Record&)>& worse) {
-  std::vector<const Record*> worst;
-  for (const ResultSet& set : sets)
-    for (const Record& r : set.results.records)
-      if (r.status == Status::ok && r.role != "limit" && r.accuracy && eligible(r))
-        worst.push_back(&r);
-  std::stable_sort(worst.begin(), worst.end(),
-                   [&](const Record* a, const Record* b) { return worse(*a, *b); });
-  return worst;
-}
-
-// Draws the first `count` (strategy, scene) pairs of `worst`, each redone here and drawn by `draw`
-// (which returns the image's file name and a note), into s's images and `table` (its `figure`
-// column from the record); a pair that cannot be drawn is listed with the reason and the next one
-// is tried, up to three times `count` pairs.
-void draw_worst(const std::vector<const Record*>& worst, int count, const Draw& draw,
-                const std::function<std::string(const Record&)>& figure, ReportSection& s,
-                ReportTable table) {
-  std::set<std::pair<std::string, std::string>> done;
-  int drawn = 0;
-  for (const Record* r : worst) {
-    if (drawn >= count || static_cast<int>(done.size()) >= 3 * count) break;
-    if (!done.insert({r->strategy, r->scene}).second) continue;
-    std::string image = "-";
-    try {
-      const auto [name, note] = draw(*r, redo(*r));
-      s.images.push_back(name);
-      ++drawn;
-      image = fmt::format("{} ({})", name, note);
-    } catch (const std::exception& e) {
-      image = fmt::format("not drawn: {}", e.what());
-    }
-    table.rows.push_back({r->strategy, r->scene, r->samples, r->precision, figure(*r), image});
-  }
-  if (table.rows.empty()) return;
-  s.tables.push_back(std::move(table));
-}
-
-// Error heat maps of the `count` worst (strategy, scene) pairs, re-evaluated here (so only for
-// strategies and scenes this machine has); a pair that cannot be redone says why.
-ReportSection error_maps(const std::vector<ResultSet>& sets, int count, const fs::path& out) {
-  ReportSection s;
-  s.id = "error_maps";
-  s.title = fmt::format(
-      "Error heat maps of the {} worst (strategy, scene) pairs that can be redrawn here", count);
-  s.command = "nurbsbench eval --scene S --strategy X --samples NxM --error-image F.png";
-  const auto worst = worst_records(
-      sets, [](const Record&) { return true; },
-      [](const Record& a, const Record& b) { return a.accuracy->max_ulp > b.accuracy->max_ulp; });
-  draw_worst(
-      worst, count,
-      [&](const Record& r, const Redone& d) {
-        std::vector<ErrorGrid> grids = error_grids(d.scene, d.result, d.reference);
-        const std::size_t surface = std::min<std::size_t>(
-            static_cast<std::size_t>(r.accuracy->worst_surface), grids.size() - 1);
-        const std::string name =
-            safe_file_name(fmt::format("error-{}-{}.png", r.strategy, r.scene));
-        write_error_images(out / name, {grids[surface]},
-                           fmt::format("{} on {} ({}, {}), surface {}", r.strategy, r.scene,
-                                       r.precision, d.sampling.label(), surface));
-        return std::pair{name, fmt::format("surface {}, {}", surface, d.sampling.label())};
-      },
-      [](const Record& r) { return report_number(r.accuracy->max_ulp); }, s,
-      ReportTable{"Pairs drawn (re-evaluated on this machine; colour = f32 ulps, log scale)",
-                  {"strategy", "scene", "samples", "precision", "max_ulp in results", "image"},
-                  {}});
-  if (s.tables.empty()) s.no_data = "no data in these results: no measured accuracy to map";
-  return s;
-}
-
-// Trim masks of the `count` (strategy, scene) pairs with the most misclassified samples, among
-// strategies that classified against trims; re-evaluated here like the error maps.
-ReportSection trim_mask_maps(const std::vector<ResultSet>& sets, int count, const fs::path& out) {
-  ReportSection s;
-  s.id = "trim_masks";
-  s.title = fmt::format(
-      "Trim masks of the {} (strategy, trimmed scene) pairs with the most misclassified samples",
-      count);
-  s.command =
-      "nurbsbench run --scenes S --strategies X --samples NxM --images DIR (writes "
-      "DIR/X__S__maskI.png)";
-  const auto misclassified = [](const Record& r) {
-    return static_cast<double>(*r.accuracy->trim->misclassified);
-  };
-  const auto worst = worst_records(
-      sets,
-      [](const Record& r) {
-        return r.trimming == "classified" && r.accuracy->trim && r.accuracy->trim->misclassified;
-      },
-      [&](const Record& a, const Record& b) { return misclassified(a) > misclassified(b); });
-  draw_worst(
-      worst, count,
-      [&](const Record& r, const Redone& d) {
-        const std::vector<TrimMask> masks =
-            trim_masks(d.scene, d.result, d.reference, r.accuracy->trim->band);
-        if (masks.empty()) throw std::runtime_error("no trimmed surface with a classification");
-        const TrimMask& mask = *std::max_element(
-            masks.begin(), masks.end(),
-            [](const TrimMask& a, const TrimMask& b) { return a.misclassified < b.misclassified; });
-        const std::string name = safe_file_name(
-            fmt::format("trim-mask-{}-{}-{}.png", r.strategy, r.scene, mask.surface));
-        write_trim_mask(out / name, mask,
-                        fmt::format("trim mask of {} on {} ({}, {}), surface {}", r.strategy,
-                                    r.scene, r.precision, d.sampling.label(), mask.surface));
-        return std::pair{name, fmt::format("surface {}, {}: {} misclassified here", mask.surface,
-                                           d.sampling.label(), mask.misclassified)};
-      },
-      [&](const Record& r) { return fmt::format("{:g}", misclassified(r)); }, s,
-      ReportTable{
-          "Pairs drawn (re-evaluated on this machine; light = inside, dark = outside, "
-          "orange = trim band, magenta = misclassified)",
-          {"strategy", "scene", "samples", "precision", "misclassified in results", "image"},
-          {}});
-  if (s.tables.empty())
-    s.no_data =
-        "no data in these results: no strategy classified samples against trims (run a trimmed "
-        "scene, e.g. --scenes trimmed-plate, with a strategy that trims)";
-  return s;
-}
-
 }  // namespace
 
 int report_command(const ReportOptions& options) {
@@ -277,14 +98,9 @@ int report_command(const ReportOptions& options) {
     throw InputError(fmt::format("--error-images = {}: must be in 0..50", options.error_images));
   if (options.trim_masks < 0 || options.trim_masks > 50)
     throw InputError(fmt::format("--trim-masks = {}: must be in 0..50", options.trim_masks));
-  Report report = build_report(sets);
-
+  // The sections that redraw pairs write their images into `out` as they are built.
   fs::create_directories(out);
-  if (options.error_images > 0)
-    report.sections.insert(report.sections.end() - 1, error_maps(sets, options.error_images, out));
-  if (options.trim_masks > 0)
-    report.sections.insert(report.sections.end() - 1,
-                           trim_mask_maps(sets, options.trim_masks, out));
+  Report report = build_report(sets, {out, options.error_images, options.trim_masks});
   write_file_atomically(out / "charts.json", report.charts.dump(1) + "\n");
   const auto not_drawn = draw_charts(report, out, options.python);
   for (ReportSection& s : report.sections)

@@ -1,9 +1,10 @@
-// Every chart's "regenerate" command (chart_commands() in harness/report.h) is run as declared but
-// tiny: the same verb (or script) and options, with every list cut to its first item (the grids to
-// the smallest), one repetition and two deforming frames (so a declared command that stops working
-// breaks this test), then `report` on what it wrote. The chart it draws must have the committed
-// chart's structure: kind, axes, series. And each declared command must be the one that made the
-// committed data: the settings its results sets recorded.
+// Every chart's "regenerate" command (chart_commands(), the chart rows of
+// harness/report/sections.cpp) is run as declared but tiny: the same verb (or script) and options,
+// with every list cut to its first item (the grids to the smallest), one repetition and two
+// deforming frames (so a declared command that stops working breaks this test), then `report` on
+// what it wrote. The chart it draws must have the committed chart's structure: kind, axes, series.
+// And each declared command must be the one that made the committed data: the settings its results
+// sets recorded.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -14,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/report.h"
+#include "harness/report/report.h"
 #include "run_cli.h"
 
 namespace nurbs::test {

@@ -1,7 +1,7 @@
 // The tooling verbs that read results: report (REPORT.md, index.html, charts), recommend,
 // gbench-json; and eval's error heat maps. Results are made by `nurbsbench run` on tiny grids or
 // written by hand (synthetic records with a known answer).
-#include "harness/report.h"
+#include "harness/report/report.h"
 
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
@@ -241,6 +241,69 @@ TEST_F(CliReport, WithoutMatplotlibWritesTablesAndSaysWhichChartsAreMissing) {
             std::string::npos);
 }
 
+// The first screen: the verdicts, then the charts; the sets and strategies tables after them.
+TEST_F(CliReport, OpensWithTheClaimsAndChartsAndEndsWithTheBookkeeping) {
+  const Report report = build_report({load_result_set(results_)});
+  ASSERT_FALSE(report.sections.empty());
+  EXPECT_EQ(report.sections.front().id, "claims");
+  const auto results = std::find_if(report.sections.begin(), report.sections.end(),
+                                    [](const ReportSection& s) { return s.id == "results"; });
+  ASSERT_NE(results, report.sections.end());
+  for (auto it = results; it != report.sections.end(); ++it)
+    EXPECT_FALSE(it->has_chart) << it->id << " comes after the bookkeeping";
+  const std::string md = report_markdown(report);
+  EXPECT_LT(md.find("## Paper vs measured"), md.find("## Krishnamurthy 2007 Fig 7"));
+  EXPECT_LT(md.find("## Krishnamurthy 2007 Fig 7"), md.find("## Results sets and strategies"));
+}
+
+// A strategy refused on many scenes for one cause reads as one line with the number of scenes
+// (counted here from results.json), not one sentence per scene; the scenes are listed in a table
+// of their own.
+TEST_F(CliReport, GroupsRefusalsByReasonWithASceneCount) {
+  const json results = json::parse(read_text(results_ / "results.json"));
+  std::map<std::string, std::set<std::string>> refused;  // strategy -> scenes it refused
+  for (const json& r : results["records"])
+    if (r["status"] == "refused")
+      refused[r["strategy"].get<std::string>()].insert(r["scene"].get<std::string>());
+  // cpu-tspline evaluates T-splines only and these scenes are all NURBS.
+  ASSERT_TRUE(refused.contains("cpu-tspline"));
+  const Report report = build_report({load_result_set(results_)});
+  const auto section = std::find_if(report.sections.begin(), report.sections.end(),
+                                    [](const ReportSection& s) { return s.id == "results"; });
+  ASSERT_NE(section, report.sections.end());
+  const ReportTable* strategies = nullptr;
+  const ReportTable* scenes = nullptr;
+  for (const ReportTable& t : section->tables) {
+    if (t.caption == "Every strategy in these results") strategies = &t;
+    if (t.caption == "Scenes not measured, by strategy and reason") scenes = &t;
+  }
+  ASSERT_NE(strategies, nullptr);
+  ASSERT_NE(scenes, nullptr);
+  bool seen = false;
+  for (const auto& row : strategies->rows) {
+    ASSERT_EQ(row.size(), 5u);
+    EXPECT_EQ(row[4].find("surface '"), std::string::npos) << row[0] << ": " << row[4];
+    if (row[0] != "cpu-tspline") continue;
+    seen = true;
+    const std::size_t n = refused.at("cpu-tspline").size();
+    EXPECT_EQ(row[4],
+              fmt::format("refused on {} scene{}: NURBS surface, the strategy evaluates T-splines "
+                          "only",
+                          n, n == 1 ? "" : "s"));
+  }
+  EXPECT_TRUE(seen);
+  // Every refused (strategy, scene) appears in the scenes table.
+  for (const auto& [strategy, names] : refused)
+    for (const std::string& scene : names)
+      EXPECT_TRUE(std::any_of(scenes->rows.begin(), scenes->rows.end(),
+                              [&](const std::vector<std::string>& row) {
+                                return row[0] == strategy &&
+                                       (", " + row[2] + ",").find(", " + scene + ",") !=
+                                           std::string::npos;
+                              }))
+          << strategy << " on " << scene;
+}
+
 TEST_F(CliReport, ReadsLodAndMemoryFilesBesideTheResults) {
   const std::string dir = copy_results("with-side-files");
   write_text(fs::path(dir) / "lod.json", R"JSON({"format": "nurbsbench-lod/1",
@@ -249,9 +312,7 @@ TEST_F(CliReport, ReadsLodAndMemoryFilesBesideTheResults) {
               "device": {"name": "llvmpipe (LLVM 15)", "kind": "cpu"},
               "coarser_by_haar_s": 0.001, "coarser_by_reevaluation_s": 0.004,
               "finer_by_haar_s": 0.002, "finer_by_reevaluation_s": 0.005,
-              "levels": [{"level": 1, "samples": "64x64", "max_distance": 1e-6, "max_ulp": 3.5}]},
-             {"scene": "tan21x23", "samples": "512x512", "device": {"name": "x", "kind": "gpu"},
-              "coarser_by_haar_s": null}]})JSON");
+              "levels": [{"level": 1, "samples": "64x64", "max_distance": 1e-6, "max_ulp": 3.5}]}]})JSON");
   write_text(fs::path(dir) / "memory.json", R"({"format": "nurbsbench-memory/1", "rows": [
     {"scene": "teapot", "surfaces": 32, "nurbs_control_points": 512, "nurbs_bytes": 16384,
      "bezier_patches": 32, "bezier_control_points": 512, "bezier_bytes": 32768, "ksquads": 32,
@@ -436,6 +497,23 @@ TEST_F(CliReport, BadInputIsExitTwoWithOneLineAndNoOutput) {
        R"({"format": "nurbsbench-memory/1", "rows": [3]})",
        {"memory.json", "rows[0]", "object"}},
       {"memory.json", R"([1, 2])", {"memory.json", "format", "(missing)"}},
+      // Strict fields: a required one missing, or of the wrong type, names file, row and value.
+      {"lod.json",
+       R"({"format": "nurbsbench-lod/1", "rows": [{"scene": "tan21x23", "samples": "8x8",
+           "device": {"name": "x", "kind": "gpu"}, "coarser_by_haar_s": null}]})",
+       {"lod.json", "rows[0].coarser_by_haar_s", "null", "number"}},
+      {"lod.json",
+       R"({"format": "nurbsbench-lod/1", "rows": [{"scene": "tan21x23", "samples": "8x8",
+           "device": {"name": "x", "kind": "gpu"}, "coarser_by_haar_s": 1,
+           "coarser_by_reevaluation_s": 1, "finer_by_haar_s": 1, "finer_by_reevaluation_s": 1,
+           "levels": [{"level": "one"}]}]})",
+       {"lod.json", "rows[0].levels[0].level", "\"one\"", "integer"}},
+      {"memory.json",
+       R"({"format": "nurbsbench-memory/1", "rows": [{"scene": "teapot", "surfaces": -3}]})",
+       {"memory.json", "rows[0].surfaces", "-3", "non-negative integer"}},
+      {"camera_path.json",
+       R"({"format": "nurbsbench-camera-path/1", "rows": [{"scene": "teapot"}]})",
+       {"camera_path.json", "rows[0].surfaces", "(missing)", "required"}},
   };
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const std::string dir = copy_results(fmt::format("bad{}", k));

@@ -18,7 +18,7 @@
 #include "harness/gates.h"
 #include "harness/metrics.h"
 #include "harness/record.h"
-#include "harness/report.h"
+#include "harness/report/report.h"
 #include "harness/summary_table.h"
 #include "tests/harness/plates.h"
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "harness/results_writer.h"
+#include "harness/side_files.h"
 
 namespace nurbs {
 
@@ -21,10 +22,10 @@ struct ResultSet {
   std::filesystem::path directory;
   std::string tag;  // short name (the directory's), used in labels when there are several sets
   ResultsFile results;
-  std::optional<nlohmann::json> lod;     // DIR/lod.json (nurbsbench-lod/1), when present
-  std::optional<nlohmann::json> memory;  // DIR/memory.json (nurbsbench-memory/1), when present
-  // DIR/camera_path.json (nurbsbench-camera-path/1, `nurbsbench camera-path`), when present
-  std::optional<nlohmann::json> camera_path;
+  std::optional<LodFile> lod;        // lod.json (nurbsbench-lod/1), when present
+  std::optional<MemoryFile> memory;  // memory.json (nurbsbench-memory/1), when present
+  // camera_path.json (nurbsbench-camera-path/1, `nurbsbench camera-path`), when present
+  std::optional<CameraPathFile> camera_path;
 };
 
 // Reads DIR/results.json and, when present, DIR/lod.json, DIR/memory.json and DIR/camera_path.json.
@@ -55,13 +56,22 @@ struct Report {
   nlohmann::json charts;  // {"format": "nurbsbench-charts/1", "charts": [ ... ]}
 };
 
-Report build_report(const std::vector<ResultSet>& sets);
+// The sections that redraw measured pairs on this machine (error heat maps, trim masks) re-evaluate
+// them and write images into `out`: only with a count above 0 (the default leaves them out).
+struct ReportBuildOptions {
+  std::filesystem::path out;
+  int error_images = 0;
+  int trim_masks = 0;
+};
+
+// Every section of the sections table (harness/report/sections.cpp), in its order.
+Report build_report(const std::vector<ResultSet>& sets, const ReportBuildOptions& options = {});
 
 // The command that makes a chart's data: the `nurbsbench` verb and options, DIR where it writes
 // (or a script of scripts/ that runs them and writes its own report, DIR/report).
-// One row per chart, in one table, so the report's "regenerate" lines, scripts/canonical.sh and
-// the test that runs every row (tests/cli/regenerate_test.cpp) cannot drift apart: a new chart adds
-// its row here and its section reads it back by id.
+// One row per chart, from the sections table (harness/report/sections.cpp), so the report's
+// "regenerate" lines, scripts/canonical.sh and the test that runs every row
+// (tests/cli/regenerate_test.cpp) cannot drift apart.
 struct ChartCommand {
   std::string id;  // the chart's id (its section's id and file stem)
   std::string

@@ -1,0 +1,80 @@
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "harness/report/kit.h"
+#include "harness/report/labeller.h"
+
+namespace nurbs::report {
+
+ReportSection measurements_section(const SectionInput& in) {
+  const std::vector<ResultSet>& sets = in.sets;
+  const Labeller& label = in.label;
+  ReportSection s{in.row.id, in.row.title, context_of({}, sets), "", "", false, "", {}, {}, {}};
+  ReportTable table{"", {}, {}};
+  table.header = {
+      "scene",    "samples",        "precision", "strategy", "device", "evaluate (median)",
+      "points/s", "of store limit", "max_ulp",   "status"};
+  // Trimmed scenes add a column: the strategy's misclassification, or "untrimmed".
+  bool trims = false;
+  for (const ResultSet& set : sets)
+    for (const Record& r : set.results.records) trims = trims || !r.trimming.empty();
+  if (trims) table.header.insert(table.header.end() - 1, "trim");
+  if (sets.size() > 1) table.header.insert(table.header.begin(), "set");
+  bool any_limit = false, any_too_small = false;
+  for (const ResultSet& set : sets)
+    for (const Record& r : set.results.records) {
+      // The machine's ceiling for the same request (same set, scene, samples, precision).
+      const std::optional<double> fraction = fraction_of_store_limit(r, set.results.records);
+      const bool too_small = store_limit_too_small(r, set.results.records);
+      any_limit = any_limit || fraction.has_value() || too_small;
+      any_too_small = any_too_small || too_small;
+      const bool ok = r.status == Status::ok;
+      std::vector<std::string> cells{
+          r.scene,
+          r.samples,
+          r.precision,
+          r.strategy,
+          r.device.kind.empty() ? "-" : r.device.kind,
+          ok ? seconds_text(r.evaluate.median_s) : "-",
+          ok ? report_number(r.throughput_pts_per_s) : "-",
+          fraction    ? fmt::format("{:.1f}%", 100 * *fraction)
+          : too_small ? "—†"
+                      : "-",
+          ok && r.accuracy ? (no_inside_samples(*r.accuracy) ? "- (0 inside)"
+                                                             : report_number(r.accuracy->max_ulp))
+                           : "-",
+          ok ? "ok" : fmt::format("{}: {}", to_string(r.status), r.reason)};
+      if (trims) cells.insert(cells.end() - 1, r.trimming.empty() ? "-" : trim_text(r));
+      if (sets.size() > 1) cells.insert(cells.begin(), label.set_name(set));
+      table.rows.push_back(std::move(cells));
+    }
+  if (trims)
+    s.notes.push_back(
+        "trim (trimmed scenes): errors are over the samples the reference classifies inside the "
+        "faces; a strategy that trims is scored for classification outside the boundary band "
+        "(misclassified count and rate over those samples; boundary = samples within the band, "
+        "not scored); untrimmed = the strategy evaluated the whole surfaces.");
+  if (!any_limit)
+    s.notes.push_back(
+        "No limit-store-bandwidth rows in these results (run with --strategies all, or add "
+        "limit-store-bandwidth to the list), so there is no store-limit fraction.");
+  else
+    s.notes.push_back(
+        "of store limit = the strategy's points/s over the limit-store-bandwidth row's points/s "
+        "for the same scene, samples and precision: the fraction of the machine's write bandwidth "
+        "its output reaches.");
+  if (any_too_small)
+    s.notes.push_back(fmt::format(
+        "—†: the limit row's output is under {} KiB, where a store pass times the threads' fork "
+        "and join rather than the memory, so no fraction is given.",
+        kStoreLimitMinBytes / 1024));
+  s.tables.push_back(std::move(table));
+  return s;
+}
+
+}  // namespace nurbs::report
