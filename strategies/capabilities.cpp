@@ -121,6 +121,16 @@ std::string sampling_mode_name(SamplingMode mode) {
   return "explicit";
 }
 
+namespace {
+constexpr std::string_view kNurbsOnly = "the strategy evaluates NURBS only";
+constexpr std::string_view kTsplinesOnly = "the strategy evaluates T-splines only";
+}  // namespace
+
+bool is_kind_refusal(std::string_view reason) {
+  return reason.find(kNurbsOnly) != std::string_view::npos ||
+         reason.find(kTsplinesOnly) != std::string_view::npos;
+}
+
 std::optional<std::string> refusal_reason(const Capabilities& caps, const Scene& scene,
                                           const EvalRequest& request) {
   if (!caps.supports(request.precision))
@@ -130,10 +140,9 @@ std::optional<std::string> refusal_reason(const Capabilities& caps, const Scene&
   if (request.normals && !caps.normals) return std::string("normals not supported");
   for (const Surface& s : scene.surfaces) {
     if (s.is_tspline() && !caps.tspline)
-      return fmt::format("surface '{}' is a T-spline, the strategy evaluates NURBS only", s.name);
+      return fmt::format("surface '{}' is a T-spline, {}", s.name, kNurbsOnly);
     if (!s.is_tspline() && caps.tspline_only)
-      return fmt::format("surface '{}' is a NURBS surface, the strategy evaluates T-splines only",
-                         s.name);
+      return fmt::format("surface '{}' is a NURBS surface, {}", s.name, kTsplinesOnly);
     if (std::max(s.degree_u, s.degree_v) > caps.max_degree)
       return fmt::format("surface '{}' has degree {}x{}, the strategy supports at most {}", s.name,
                          s.degree_u, s.degree_v, caps.max_degree);

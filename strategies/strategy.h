@@ -170,6 +170,9 @@ std::string sampling_mode_name(SamplingMode mode);
 // caller meets the same rule, stated once.
 std::optional<std::string> refusal_reason(const Capabilities& caps, const Scene& scene,
                                           const EvalRequest& request);
+// Whether a refusal's reason is the scene's kind (a T-spline met by a NURBS-only strategy, or a
+// NURBS surface by a T-spline-only one): refused by design, not a missing feature.
+bool is_kind_refusal(std::string_view reason);
 // Throws RefusedError("<strategy>: <reason>") when refusal_reason() gives one.
 void refuse_unsupported(std::string_view strategy, const Capabilities& caps, const Scene& scene,
                         const EvalRequest& request);

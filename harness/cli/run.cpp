@@ -13,6 +13,7 @@
 #include "harness/runner.h"
 #include "harness/store_limit.h"
 #include "harness/strategy_guard.h"
+#include "harness/progress.h"
 #include "harness/summary_table.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
@@ -132,9 +133,8 @@ int run_command(const RunOptions& options) {
   for (const Sampling& s : samplings) settings["samplings"].push_back(s.label());
   ResultsWriter writer(options.out, machine_record(threads), settings);
 
-  const bool progress = ::isatty(STDERR_FILENO);
-  const std::size_t total = scenes.size() * samplings.size() * strategies.size();
-  std::size_t done = 0;
+  RunProgress progress(std::cerr, scenes.size() * samplings.size() * strategies.size(),
+                       ::isatty(STDERR_FILENO));
   ReferenceCache references(reference_precision);
   for (const Scene& scene : scenes)
     for (const Sampling& sampling : samplings) {
@@ -145,10 +145,7 @@ int run_command(const RunOptions& options) {
         writer.append(measure_store_limit(scene, EvalRequest{sampling, precision, options.normals},
                                           options.repetitions));
       for (const StrategyEntry* entry : strategies) {
-        if (progress)
-          std::cerr << fmt::format("\r[{}/{}] {} on {} ({})\x1b[K", ++done, total, entry->name,
-                                   scene.name, sampling.label())
-                    << std::flush;
+        progress.start(fmt::format("{} on {} ({})", entry->name, scene.name, sampling.label()));
         EvalRequest request{sampling, precision, options.normals};
         writer.append(measure_with(isolation,
                                    {entry, strategy_options, request, options.repetitions,
@@ -156,8 +153,19 @@ int run_command(const RunOptions& options) {
                                    scene, references));
       }
     }
-  if (progress) std::cerr << "\r\x1b[K";
-  std::cout << summary_table(writer.records()) << status_counts(writer.records());
+  progress.finish();
+  // A T-spline strategy on a NURBS scene (or the reverse) is refused by design; hundreds of such
+  // rows hide the measurements. The results files keep every record.
+  std::vector<Record> shown;
+  for (const Record& r : writer.records())
+    if (!(r.status == Status::refused && is_kind_refusal(r.reason))) shown.push_back(r);
+  std::cout << summary_table(shown);
+  if (shown.size() < writer.records().size())
+    std::cout << fmt::format(
+        "({} records refused by kind -- a T-spline strategy on a NURBS scene or the reverse -- "
+        "are not shown; the results files keep them)\n",
+        writer.records().size() - shown.size());
+  std::cout << status_counts(writer.records());
   if (deforming)
     std::cout << "\ndeforming, " << options.deforming << " frames:\n"
               << deforming_table(writer.records());

@@ -478,6 +478,34 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
   EXPECT_TRUE(results["machine"].is_object());
 }
 
+// A T-spline strategy meets a NURBS scene (and the reverse) by design: the console table leaves
+// those refusals out and counts them; the results files keep every record.
+TEST(CliRun, SummaryLeavesOutRefusalsByKindAndCountsThem) {
+  TempDir tmp;
+  const std::string out = tmp / "r";
+  const CliResult r =
+      run_cli({"run", "--scenes", "patch144,tspline-tjunction", "--strategies",
+               "cpu-coxdeboor,cpu-tspline", "--samples", "4x4", "--repetitions", "1", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json results = json::parse(read_text(fs::path(out) / "results.json"));
+  ASSERT_EQ(results["records"].size(), 4u);
+  std::size_t refused = 0;
+  for (const json& record : results["records"]) {
+    // patch144 is NURBS, tspline-tjunction a T-spline: each strategy meets the other kind once.
+    const bool mismatch = (record["strategy"] == "cpu-tspline") == (record["scene"] == "patch144");
+    EXPECT_EQ(record["status"], mismatch ? "refused" : "ok") << record.dump();
+    refused += mismatch;
+  }
+  ASSERT_EQ(refused, 2u);
+  EXPECT_NE(r.out.find("(2 records refused by kind"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("statuses: 2 ok, 2 refused"), std::string::npos) << r.out;
+  for (const std::string& line : split_lines(r.out))
+    if (line.find("refused") != std::string::npos) {
+      EXPECT_TRUE(line.starts_with("statuses: ") || line.starts_with("(2 records refused by kind"))
+          << line;
+    }
+}
+
 // The store-bandwidth ceiling is a row of the same run, selectable by name, without accuracy.
 TEST(CliRun, StoreLimitRowIsMeasuredInTheSameRun) {
   TempDir tmp;

@@ -3,15 +3,18 @@
 #include <gtest/gtest.h>
 
 #include <cfloat>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 #include <tuple>
 
 #include "harness/atomic_file.h"
 #include "harness/gates.h"
 #include "harness/metrics.h"
+#include "harness/progress.h"
 #include "harness/record.h"
 #include "harness/runner.h"
 #include "harness/store_limit.h"
@@ -595,6 +598,65 @@ TEST(Metrics, SameSamplesComparesLayoutAndValues) {
   b[0].v[1] = std::nextafter(0.5, 1.0);
   EXPECT_FALSE(same_samples(a, b));
   EXPECT_FALSE(same_samples(a, {}));
+}
+
+// ------------------------------------------------------------------------------ progress line
+
+TEST(RunProgress, LineCountsMeasurementsAndEstimatesTheRest) {
+  using std::chrono::seconds;
+  EXPECT_EQ(RunProgress::line(0, 4, "a on b (8x8)", seconds(0)), "[1/4] a on b (8x8), 0 s");
+  // 2 done in 20 s: 10 s each, 2 left.
+  EXPECT_EQ(RunProgress::line(2, 4, "x", seconds(20)), "[3/4] x, 20 s, about 20 s left");
+  EXPECT_EQ(RunProgress::line(1, 3, "x", seconds(125)), "[2/3] x, 2 min 5 s, about 4 min 10 s left");
+  EXPECT_EQ(RunProgress::duration_text(seconds(3 * 3600 + 120 + 7)), "3 h 2 min");
+}
+
+TEST(RunProgress, TerminalRedrawsOneLineALogGetsPlainLines) {
+  std::ostringstream terminal;
+  RunProgress redrawn(terminal, 2, true);
+  redrawn.start("first");
+  redrawn.start("second");
+  redrawn.finish();
+  EXPECT_EQ(terminal.str().find('\n'), std::string::npos) << terminal.str();
+  EXPECT_NE(terminal.str().find("\r[2/2] second, "), std::string::npos) << terminal.str();
+  EXPECT_TRUE(terminal.str().ends_with("\r\x1b[K"));
+
+  std::ostringstream log;
+  RunProgress every_time(log, 2, false, std::chrono::seconds(0));
+  every_time.start("first");
+  every_time.start("second");
+  every_time.finish();
+  EXPECT_EQ(log.str().find('\r'), std::string::npos) << log.str();
+  EXPECT_TRUE(log.str().starts_with("[1/2] first, ")) << log.str();
+  EXPECT_NE(log.str().find("\n[2/2] second, "), std::string::npos) << log.str();
+
+  // A short run written to a log prints nothing: the first line is due after the interval.
+  std::ostringstream quiet;
+  RunProgress hourly(quiet, 2, false, std::chrono::hours(1));
+  hourly.start("first");
+  hourly.finish();
+  EXPECT_EQ(quiet.str(), "");
+}
+
+// The summary table leaves out refusals by kind; they are told apart by the refusal's own text.
+TEST(KindRefusal, OnlyTheSceneKindCounts) {
+  const Scene nurbs_scene = *make_builtin_scene("patch144");
+  const Scene tspline_scene = *make_builtin_scene("tspline-tjunction");
+  const EvalRequest request{Sampling{}, Precision::f32, false};
+  Capabilities nurbs_only;
+  nurbs_only.max_degree = 1;  // patch144 is bicubic
+  Capabilities tsplines_only = nurbs_only;
+  tsplines_only.tspline = tsplines_only.tspline_only = true;
+  tsplines_only.max_degree = 15;
+
+  const auto tspline_met = refusal_reason(nurbs_only, tspline_scene, request);
+  const auto nurbs_met = refusal_reason(tsplines_only, nurbs_scene, request);
+  const auto degree = refusal_reason(nurbs_only, nurbs_scene, request);
+  ASSERT_TRUE(tspline_met && nurbs_met && degree);
+  EXPECT_TRUE(is_kind_refusal(*tspline_met)) << *tspline_met;
+  EXPECT_TRUE(is_kind_refusal(*nurbs_met)) << *nurbs_met;
+  EXPECT_FALSE(is_kind_refusal(*degree)) << *degree;
+  EXPECT_FALSE(is_kind_refusal("normals not supported"));
 }
 
 }  // namespace
