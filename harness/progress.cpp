@@ -17,12 +17,10 @@ std::string RunProgress::duration_text(Clock::duration d) {
 
 std::string RunProgress::line(std::size_t done, std::size_t total, const std::string& what,
                               Clock::duration elapsed) {
-  std::string text =
-      fmt::format("[{}/{}] {}, {}", done + 1, total, what, duration_text(elapsed));
+  std::string text = fmt::format("[{}/{}] {}, {}", done + 1, total, what, duration_text(elapsed));
   if (done > 0 && done < total)
-    text += fmt::format(", about {} left",
-                        duration_text(elapsed / static_cast<long>(done) *
-                                      static_cast<long>(total - done)));
+    text += fmt::format(", about {} left", duration_text(elapsed / static_cast<long>(done) *
+                                                         static_cast<long>(total - done)));
   return text;
 }
 

@@ -119,9 +119,8 @@ DeviceInfo device_info(cl_platform_id platform, cl_device_id device) {
   info.details["local_mem_size"] =
       std::to_string(device_value<cl_ulong>(device, CL_DEVICE_LOCAL_MEM_SIZE));
   info.details["fp64"] =
-      device_string(device, CL_DEVICE_EXTENSIONS).find("cl_khr_fp64") != std::string::npos
-          ? "yes"
-          : "no";
+      device_string(device, CL_DEVICE_EXTENSIONS).find("cl_khr_fp64") != std::string::npos ? "yes"
+                                                                                           : "no";
   return info;
 }
 

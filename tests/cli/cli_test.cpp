@@ -483,9 +483,9 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
 TEST(CliRun, SummaryLeavesOutRefusalsByKindAndCountsThem) {
   TempDir tmp;
   const std::string out = tmp / "r";
-  const CliResult r =
-      run_cli({"run", "--scenes", "patch144,tspline-tjunction", "--strategies",
-               "cpu-coxdeboor,cpu-tspline", "--samples", "4x4", "--repetitions", "1", "--out", out});
+  const CliResult r = run_cli({"run", "--scenes", "patch144,tspline-tjunction", "--strategies",
+                               "cpu-coxdeboor,cpu-tspline", "--samples", "4x4", "--repetitions",
+                               "1", "--out", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json results = json::parse(read_text(fs::path(out) / "results.json"));
   ASSERT_EQ(results["records"].size(), 4u);

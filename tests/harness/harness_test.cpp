@@ -7,8 +7,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <tuple>
 
 #include "harness/atomic_file.h"
@@ -607,7 +607,8 @@ TEST(RunProgress, LineCountsMeasurementsAndEstimatesTheRest) {
   EXPECT_EQ(RunProgress::line(0, 4, "a on b (8x8)", seconds(0)), "[1/4] a on b (8x8), 0 s");
   // 2 done in 20 s: 10 s each, 2 left.
   EXPECT_EQ(RunProgress::line(2, 4, "x", seconds(20)), "[3/4] x, 20 s, about 20 s left");
-  EXPECT_EQ(RunProgress::line(1, 3, "x", seconds(125)), "[2/3] x, 2 min 5 s, about 4 min 10 s left");
+  EXPECT_EQ(RunProgress::line(1, 3, "x", seconds(125)),
+            "[2/3] x, 2 min 5 s, about 4 min 10 s left");
   EXPECT_EQ(RunProgress::duration_text(seconds(3 * 3600 + 120 + 7)), "3 h 2 min");
 }
 
