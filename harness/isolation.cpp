@@ -388,6 +388,7 @@ MeasurementServer& measurement_server() {
 Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpec& spec,
                         const Scene& scene, ReferenceCache& references) {
   Record r = spec_record(spec, scene);
+  if (refused_by_kind(*spec.entry, scene, spec.request, r)) return r;
   SpecDirectory dir;
   write_file_atomically(dir.path() / "scene.json", scene_to_json(scene));
   json spec_json = spec_to_json(spec);

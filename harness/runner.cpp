@@ -28,6 +28,15 @@ const std::vector<ReferenceSurface>& ReferenceCache::get(const Scene& scene,
   return it->second;
 }
 
+bool refused_by_kind(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
+                     Record& r) {
+  const auto refused = refusal_reason(entry.capabilities(), scene, request);
+  if (!refused || !is_kind_refusal(*refused)) return false;
+  r.status = Status::refused;
+  r.reason = *refused;
+  return true;
+}
+
 namespace {
 
 Record skeleton(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
@@ -49,9 +58,12 @@ Record skeleton(const StrategyEntry& entry, const Scene& scene, const EvalReques
   return r;
 }
 
-// Unavailable and refused strategies are results, not runs: fills r and returns false.
+// Unavailable and refused strategies are results, not runs: fills r and returns false. The
+// scene's kind first: refused by design on every machine, so the same record whether or not this
+// one can run the strategy (and the isolated run says it without a child, refused_by_kind).
 bool runnable(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
               Record& r) {
+  if (refused_by_kind(entry, scene, request, r)) return false;
   const Availability availability = entry.probe();
   if (!availability.available) {
     r.status = Status::unavailable;

@@ -59,6 +59,11 @@ Record measure_deforming(const StrategyEntry& entry, const StrategyOptions& opti
 // The record measure() starts from: what, where, how many samples; status ok.
 Record measurement_record(const StrategyEntry& entry, const Scene& scene,
                           const EvalRequest& request, int repetitions, int deforming_frames);
+// A request the strategy refuses for the scene's kind (a T-spline scene met by a NURBS strategy or
+// the reverse): fills r (refused, the reason) and returns true. Nothing is probed or started, so
+// the isolated run says it without a child process: a quarter of the main job's records.
+bool refused_by_kind(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
+                     Record& r);
 // The strategy's half: availability, refusal, setup, warm-up, repetitions (or frames), read back,
 // timings into r. Returns the last read back when there is something to score; nullopt when r is
 // already final (unavailable, refused, failed, timed_out). Writes the picture into `images`: the

@@ -80,7 +80,7 @@ class GuardedStrategy final : public Strategy {
   DeviceInfo device() const override { return inner_->device(); }
   DeviceTimes device_times() const override { return inner_->device_times(); }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     enter("prepare");
     inner_->prepare(scene, request);
   }

@@ -163,4 +163,9 @@ void refuse_unsupported(std::string_view strategy, const Capabilities& caps, con
     throw RefusedError(fmt::format("{}: {}", strategy, *reason));
 }
 
+void Strategy::prepare(const Scene& scene, const EvalRequest& request) {
+  refuse_unsupported(name(), capabilities(), scene, request);
+  prepare_checked(scene, request);
+}
+
 }  // namespace nurbs

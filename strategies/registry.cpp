@@ -25,6 +25,27 @@
 
 namespace nurbs {
 
+StrategyEntry make_entry(StrategyDescriptor descriptor, std::function<Availability()> probe,
+                         std::function<std::unique_ptr<Strategy>(const StrategyOptions&)> create) {
+  return {std::move(descriptor.name),
+          std::move(descriptor.source),
+          std::move(descriptor.role),
+          std::move(probe),
+          [capabilities = descriptor.capabilities] { return capabilities; },
+          std::move(create)};
+}
+
+StrategyEntry unavailable_entry(StrategyDescriptor descriptor, std::string reason) {
+  return make_entry(
+      std::move(descriptor),
+      [reason] {
+        return Availability{false, reason};
+      },
+      [reason](const StrategyOptions&) -> std::unique_ptr<Strategy> {
+        throw std::runtime_error(reason);
+      });
+}
+
 const std::vector<StrategyEntry>& strategy_registry() {
   // One entry a line, in the order `list` and `run` show them: the papers' strategies, then the
   // baselines and peers a user would pick instead.

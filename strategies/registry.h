@@ -21,6 +21,23 @@ struct StrategyEntry {
   std::function<std::unique_ptr<Strategy>(const StrategyOptions&)> create;
 };
 
+// What a strategy is, whether or not this build can run it: written once in the strategy's folder
+// (`<name>_descriptor.cpp`, compiled in every build) and used both by its entry and, in a build
+// without its API, by the stub that says why it is unavailable, so `list --json` and the results
+// state the same capabilities either way.
+struct StrategyDescriptor {
+  std::string name;
+  std::string source;
+  std::string role;
+  Capabilities capabilities;
+};
+
+// The entry of a strategy this build has: its descriptor, a probe and a factory.
+StrategyEntry make_entry(StrategyDescriptor descriptor, std::function<Availability()> probe,
+                         std::function<std::unique_ptr<Strategy>(const StrategyOptions&)> create);
+// The entry of a strategy this build does not have: never available, for `reason`.
+StrategyEntry unavailable_entry(StrategyDescriptor descriptor, std::string reason);
+
 // Where a strategy added at run time (role "plugin", harness/plugins) came from: the shared
 // library's absolute path and the SHA-256 of its bytes (hex), which its records carry.
 struct StrategyLibrary {

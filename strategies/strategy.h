@@ -102,7 +102,10 @@ class Strategy {
   virtual std::string_view name() const = 0;
   virtual Capabilities capabilities() const = 0;
   virtual DeviceInfo device() const = 0;
-  virtual void prepare(const Scene& scene, const EvalRequest& request) = 0;
+  // Refuses what capabilities() rules out (RefusedError, the rule of refusal_reason()), then
+  // calls the strategy's own prepare_checked(): every strategy meets the same check whoever calls
+  // it, the harness or a test or a user's program, and none can forget it.
+  void prepare(const Scene& scene, const EvalRequest& request);
   virtual void evaluate() = 0;
   virtual EvalResult read_back() = 0;
   // read_back() into `out`, which holds the previous read back of this request (or is empty): the
@@ -128,6 +131,10 @@ class Strategy {
   // What the last render() drew (outside-the-trim fragments discarded for trimmed surfaces), read
   // back untimed; nullopt when the strategy does not draw or has not drawn yet.
   virtual std::optional<RenderedImage> last_render() { return std::nullopt; }
+
+ protected:
+  // prepare() once the request is known to be within capabilities(): builds and uploads.
+  virtual void prepare_checked(const Scene& scene, const EvalRequest& request) = 0;
 };
 
 // One surface's read back into `out`, reusing its storage (copy-assigning a vector of the same size
@@ -166,7 +173,7 @@ class RefusedError : public std::runtime_error {
 std::string sampling_mode_name(SamplingMode mode);
 
 // Why `request` on `scene` is outside what a strategy with `caps` can do, if it is. The harness
-// asks before it runs a strategy; a strategy's prepare() calls refuse_unsupported() so a direct
+// asks before it runs a strategy; Strategy::prepare() calls refuse_unsupported() so a direct
 // caller meets the same rule, stated once.
 std::optional<std::string> refusal_reason(const Capabilities& caps, const Scene& scene,
                                           const EvalRequest& request);

@@ -187,8 +187,7 @@ class PluginStrategy final : public Strategy {
              {"library_sha256", library_->sha256}}};
   }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
-    refuse_unsupported(name(), caps_, scene, request);
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     request_ = request;
     plain_ = std::make_unique<PlainScene>(scene);
     const std::vector<SurfaceSamples> samples = sample_parameters(scene, request.sampling);

@@ -28,16 +28,6 @@ constexpr int kSurfaceInts = 12;  // stair.cl: surfaces record
 constexpr int kQuadInts = 8;      // stair.cl: ksquads record
 constexpr std::size_t kGroupSize = 64;
 
-Capabilities stair_capabilities() {
-  Capabilities c;
-  c.max_degree = kStairMaxDegree;
-  c.normals = false;  // positions only, as the paper's pipeline
-  c.sampling.explicit_list = false;
-  c.trims = true;  // classify(): direct trimming, strategies/trim_direct/ (classify.cl)
-  c.updates_control_points = true;  // re-sends only the control points (003 §5)
-  return c;
-}
-
 struct Program {
   cl_program program = nullptr;
   ~Program() {
@@ -78,15 +68,14 @@ class ClStair final : public Strategy {
   ~ClStair() override { release(); }
 
   std::string_view name() const override { return "cl-stair"; }
-  Capabilities capabilities() const override { return stair_capabilities(); }
+  Capabilities capabilities() const override { return cl_stair_descriptor().capabilities; }
   DeviceInfo device() const override { return record_; }
 
   // The programs are built on the first prepare() of their precision and kept (a JIT build is
   // tens of milliseconds on PoCL, far more than an upload): "program_builds" in the record counts
   // them.
-  void prepare(const Scene& scene, const EvalRequest& request) override {
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     release();
-    refuse_unsupported(name(), capabilities(), scene, request);
     request_ = request;
     refuse_local_memory(scene);
     samples_ = sample_parameters(scene, request.sampling);
@@ -501,15 +490,12 @@ std::vector<double> stair_basis_on_device(int span, int degree, const std::vecto
 }
 
 StrategyEntry cl_stair_entry() {
-  return {"cl-stair",
-          "003 §3.2 (RPNS 2014): non-recursive stair basis, one work-group per KSQuad",
-          "strategy",
-          opencl::probe,
-          stair_capabilities,
-          [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-            return std::make_unique<ClStair>(opencl::device_option(options),
-                                             trim_direct::settings_from(options, "cl-stair"));
-          }};
+  return make_entry(cl_stair_descriptor(), opencl::probe,
+                    [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
+                      return std::make_unique<ClStair>(
+                          opencl::device_option(options),
+                          trim_direct::settings_from(options, "cl-stair"));
+                    });
 }
 
 }  // namespace nurbs

@@ -24,6 +24,7 @@
 
 namespace nurbs {
 
+StrategyDescriptor cl_stair_descriptor();
 StrategyEntry cl_stair_entry();
 
 }  // namespace nurbs

@@ -25,15 +25,6 @@ namespace {
 constexpr int kSurfaceLongs = 12;  // tspline_bezier.cl: surfaces record
 constexpr int kElementLongs = 5;   // tspline_bezier.cl: elements record
 
-Capabilities tspline_bezier_capabilities() {
-  Capabilities c;
-  c.max_degree = kMaxDegree;
-  c.tspline = true;
-  c.tspline_only = true;            // its NURBS counterpart is cpu-bezier
-  c.updates_control_points = true;  // control points and the decomposition only
-  return c;
-}
-
 cl_program build_program(const opencl::Context& ctx, Precision precision) {
   if (precision == Precision::f64 && !ctx.has_fp64())
     throw RefusedError("precision f64: the OpenCL device has no cl_khr_fp64");
@@ -63,12 +54,11 @@ class ClTSplineBezier final : public Strategy {
   ~ClTSplineBezier() override { release(); }
 
   std::string_view name() const override { return "cl-tspline-bezier"; }
-  Capabilities capabilities() const override { return tspline_bezier_capabilities(); }
+  Capabilities capabilities() const override { return cl_tspline_bezier_descriptor().capabilities; }
   DeviceInfo device() const override { return record_; }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     release();
-    refuse_unsupported(name(), capabilities(), scene, request);
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     // Every prepare() extracts again rather than caching by topology across calls: `upload` is
@@ -346,15 +336,10 @@ class ClTSplineBezier final : public Strategy {
 }  // namespace
 
 StrategyEntry cl_tspline_bezier_entry() {
-  return {"cl-tspline-bezier",
-          "Scott et al. 2011 Bézier extraction of T-splines, evaluated as rational Bézier patches "
-          "(the T-spline issue's extracted-Bézier path)",
-          "strategy",
-          opencl::probe,
-          tspline_bezier_capabilities,
-          [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-            return std::make_unique<ClTSplineBezier>(opencl::device_option(options));
-          }};
+  return make_entry(cl_tspline_bezier_descriptor(), opencl::probe,
+                    [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
+                      return std::make_unique<ClTSplineBezier>(opencl::device_option(options));
+                    });
 }
 
 }  // namespace nurbs

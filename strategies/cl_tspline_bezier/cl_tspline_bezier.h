@@ -37,6 +37,7 @@
 
 namespace nurbs {
 
+StrategyDescriptor cl_tspline_bezier_descriptor();
 StrategyEntry cl_tspline_bezier_entry();
 
 }  // namespace nurbs

@@ -187,8 +187,7 @@ class CpuBezier final : public Strategy {
             {{"threads", std::to_string(threads_)}}};
   }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
-    refuse_unsupported(name(), capabilities(), scene, request);
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     if (request.precision == Precision::f32)

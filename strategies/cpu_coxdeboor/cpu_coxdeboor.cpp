@@ -23,7 +23,7 @@ class CpuCoxDeBoor final : public Strategy {
   Capabilities capabilities() const override { return coxdeboor_capabilities(); }
   DeviceInfo device() const override { return {"host CPU, 1 thread", "cpu", {}}; }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     if (request.precision == Precision::f32)

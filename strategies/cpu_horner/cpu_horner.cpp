@@ -261,7 +261,7 @@ class CpuHorner final : public Strategy {
              {"horner-tables", tables_ == TableMethod::horner ? "horner" : "forward-differences"}}};
   }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     if (request.precision == Precision::f32)

@@ -197,8 +197,7 @@ class CpuTensor final : public Strategy {
              {"stores", streaming_ ? "streaming (stores=streaming)" : "cached"}}};
   }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
-    refuse_unsupported(name(), capabilities(), scene, request);
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     if (request.precision == Precision::f32)

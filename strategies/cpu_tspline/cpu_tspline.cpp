@@ -24,8 +24,7 @@ class CpuTSpline final : public Strategy {
   Capabilities capabilities() const override { return tspline_capabilities(); }
   DeviceInfo device() const override { return {"host CPU, 1 thread", "cpu", {}}; }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
-    refuse_unsupported(name(), capabilities(), scene, request);
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     surfaces_.clear();

@@ -111,8 +111,7 @@ class CpuTSplineBezier final : public Strategy {
             {{"threads", std::to_string(threads_)}, {"elements", std::to_string(elements_)}}};
   }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
-    refuse_unsupported(name(), capabilities(), scene, request);
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     topology_.clear();

@@ -22,26 +22,6 @@ namespace {
 using gl_pingpong::BasisChunk;
 using gl_pingpong::Programs;
 
-constexpr const char* kSource =
-    "000 §2-3 (Krishnamurthy et al. 2007): knot-array texture, ping-pong basis passes, "
-    "k_u x k_v accumulation passes";
-
-Capabilities pingpong_capabilities() {
-  Capabilities c;
-  c.max_degree = kMaxDegree;  // any order: one program, k-1 passes, 2k+1 knot-array columns
-  c.rational = true;
-  c.normals = false;  // the paper evaluates positions only
-  c.fp32 = true;
-  c.fp64 = false;  // RGBA32F textures, as in the paper
-  c.sampling = SamplingModes{true, true, false};
-  c.trims = true;  // 000 §4's trim texture (strategies/trim_texture)
-  // 000 §5: for a deforming surface "only the control points" are sent again; the knot arrays,
-  // basis chunks, trim textures and targets depend on knots, samples and trims, which a deforming
-  // scene keeps.
-  c.updates_control_points = true;
-  return c;
-}
-
 // The image the render phases draw: glsl-deboor's size, so the two compare.
 constexpr int kRenderSize = 512;
 
@@ -90,7 +70,7 @@ class GlPingPong final : public Strategy {
   }
 
   std::string_view name() const override { return packed_ ? "gl-pingpong-packed" : "gl-pingpong"; }
-  Capabilities capabilities() const override { return pingpong_capabilities(); }
+  Capabilities capabilities() const override { return gl_pingpong_descriptor(false).capabilities; }
 
   DeviceInfo device() const override {
     DeviceInfo d = context_->device_info();
@@ -106,8 +86,7 @@ class GlPingPong final : public Strategy {
     return d;
   }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
-    refuse_unsupported(name(), capabilities(), scene, request);
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     samples_ = sample_parameters(scene, request.sampling);
     view_ = gl::orthographic_view(scene);
     context_->make_current();
@@ -507,20 +486,17 @@ class PingPongLodRenderer final : public gl_pingpong::LodRenderer {
   std::vector<std::pair<int, int>> grids_;
 };
 
-StrategyEntry entry(std::string name, bool packed_entry) {
-  return {std::move(name),
-          kSource,
-          "strategy",
-          gl::Context::probe_any,
-          pingpong_capabilities,
-          [packed_entry](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-            const auto it = options.extra.find("packed");
-            const bool packed = packed_entry || (it != options.extra.end() && it->second == "1");
-            const std::string_view strategy = packed ? "gl-pingpong-packed" : "gl-pingpong";
-            return std::make_unique<GlPingPong>(gl::platform_option(options), packed,
-                                                positive_option(options, "tile", strategy),
-                                                trim_texture::parse_options(options, strategy));
-          }};
+StrategyEntry entry(bool packed_entry) {
+  return make_entry(
+      gl_pingpong_descriptor(packed_entry), gl::Context::probe_any,
+      [packed_entry](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
+        const auto it = options.extra.find("packed");
+        const bool packed = packed_entry || (it != options.extra.end() && it->second == "1");
+        const std::string_view strategy = packed ? "gl-pingpong-packed" : "gl-pingpong";
+        return std::make_unique<GlPingPong>(gl::platform_option(options), packed,
+                                            positive_option(options, "tile", strategy),
+                                            trim_texture::parse_options(options, strategy));
+      });
 }
 
 }  // namespace
@@ -531,10 +507,10 @@ std::unique_ptr<gl_pingpong::LodRenderer> gl_pingpong::make_lod_renderer(
 }
 
 StrategyEntry gl_pingpong_entry() {
-  return entry("gl-pingpong", false);
+  return entry(false);
 }
 StrategyEntry gl_pingpong_packed_entry() {
-  return entry("gl-pingpong-packed", true);
+  return entry(true);
 }
 
 }  // namespace nurbs

@@ -17,6 +17,7 @@
 
 namespace nurbs {
 
+StrategyDescriptor gl_pingpong_descriptor(bool packed);
 StrategyEntry gl_pingpong_entry();
 StrategyEntry gl_pingpong_packed_entry();
 

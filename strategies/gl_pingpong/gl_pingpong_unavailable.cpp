@@ -2,29 +2,11 @@
 // NURBSBENCH_CPU_ONLY): still registered, so `list` and results say why it did not run.
 #include <fmt/format.h>
 
-#include "reference/validation.h"
 #include "strategies/gl_pingpong/curve_eval.h"
 #include "strategies/gl_pingpong/gl_pingpong.h"
 #include "strategies/gl_pingpong/lod_renderer.h"
 
 namespace nurbs {
-namespace {
-
-StrategyEntry unavailable_entry(std::string name) {
-  return {std::move(name),
-          "000 §2-3 (Krishnamurthy et al. 2007): knot-array texture, ping-pong basis passes, "
-          "k_u x k_v accumulation passes",
-          "strategy",
-          [] {
-            return Availability{false, NURBSBENCH_GL_MISSING};
-          },
-          [] { return Capabilities{}; },
-          [](const StrategyOptions&) -> std::unique_ptr<Strategy> {
-            throw std::runtime_error(NURBSBENCH_GL_MISSING);
-          }};
-}
-
-}  // namespace
 
 std::unique_ptr<gl_pingpong::LodRenderer> gl_pingpong::make_lod_renderer(const Scene&, int, int,
                                                                          const StrategyOptions&) {
@@ -32,10 +14,10 @@ std::unique_ptr<gl_pingpong::LodRenderer> gl_pingpong::make_lod_renderer(const S
 }
 
 StrategyEntry gl_pingpong_entry() {
-  return unavailable_entry("gl-pingpong");
+  return unavailable_entry(gl_pingpong_descriptor(false), NURBSBENCH_GL_MISSING);
 }
 StrategyEntry gl_pingpong_packed_entry() {
-  return unavailable_entry("gl-pingpong-packed");
+  return unavailable_entry(gl_pingpong_descriptor(true), NURBSBENCH_GL_MISSING);
 }
 
 // The curve path (curve_eval.h): never constructed here, so the other members are unreachable.

@@ -27,29 +27,9 @@ namespace {
 using gl_tspline::kLinearWidth;
 
 constexpr const char* kName = "gl-tspline";
-constexpr const char* kSource =
-    "001 §T-splines GPU evaluation (T-spline evaluation split into passes)";
 // One bicubic region of a tensor-product mesh (16 points) per pass; T-junction regions of
 // bicubic T-splines take two.
 constexpr int kDefaultPointsPerPass = 16;
-
-Capabilities tspline_capabilities() {
-  Capabilities c;
-  // Every odd degree the data model allows: the shader's arrays are sized per compiled degree
-  // pair (LB_MAX_DEGREE + 2 knots), so no fixed limit below kMaxDegree applies; degrees 1 to 7 are
-  // tested.
-  c.max_degree = kMaxDegree;
-  c.rational = true;
-  c.normals = true;
-  c.fp32 = true;
-  c.fp64 = false;                                // RGBA32F targets, as 001's textures
-  c.sampling = SamplingModes{true, true, true};  // one fragment per sample, any (u, v) list
-  c.tspline = true;
-  c.tspline_only = true;
-  c.updates_control_points = true;  // the points texture alone is re-uploaded  // its NURBS
-                                    // counterpart is gl-pingpong (000 / 001's NURBS section)
-  return c;
-}
 
 // Texture units of the passes' samplers.
 enum Unit : int {
@@ -143,7 +123,7 @@ class GlTSpline final : public Strategy {
   }
 
   std::string_view name() const override { return kName; }
-  Capabilities capabilities() const override { return tspline_capabilities(); }
+  Capabilities capabilities() const override { return gl_tspline_descriptor().capabilities; }
 
   DeviceInfo device() const override {
     DeviceInfo d = context_->device_info();
@@ -156,8 +136,7 @@ class GlTSpline final : public Strategy {
     return d;
   }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
-    refuse_unsupported(name(), capabilities(), scene, request);
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     samples_ = sample_parameters(scene, request.sampling);
     normals_ = request.normals;
     context_->make_current();
@@ -341,16 +320,13 @@ class GlTSpline final : public Strategy {
 }  // namespace
 
 StrategyEntry gl_tspline_entry() {
-  return {kName,
-          kSource,
-          "strategy",
-          gl::Context::probe_any,
-          tspline_capabilities,
-          [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-            const int points = positive_option(options, "tspline-points-per-pass", kName);
-            return std::make_unique<GlTSpline>(gl::platform_option(options),
-                                               points > 0 ? points : kDefaultPointsPerPass);
-          }};
+  return make_entry(gl_tspline_descriptor(), gl::Context::probe_any,
+                    [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
+                      const int points = positive_option(options, "tspline-points-per-pass", kName);
+                      return std::make_unique<GlTSpline>(
+                          gl::platform_option(options),
+                          points > 0 ? points : kDefaultPointsPerPass);
+                    });
 }
 
 }  // namespace nurbs

@@ -37,6 +37,7 @@
 
 namespace nurbs {
 
+StrategyDescriptor gl_tspline_descriptor();
 StrategyEntry gl_tspline_entry();
 
 }  // namespace nurbs

@@ -5,20 +5,7 @@
 namespace nurbs {
 
 StrategyEntry gl_tspline_entry() {
-  return {"gl-tspline",
-          "001 §T-splines GPU evaluation (T-spline evaluation split into passes)",
-          "strategy",
-          [] {
-            return Availability{false, NURBSBENCH_GL_MISSING};
-          },
-          [] {
-            Capabilities c;
-            c.tspline = c.tspline_only = true;
-            return c;
-          },
-          [](const StrategyOptions&) -> std::unique_ptr<Strategy> {
-            throw std::runtime_error(NURBSBENCH_GL_MISSING);
-          }};
+  return unavailable_entry(gl_tspline_descriptor(), NURBSBENCH_GL_MISSING);
 }
 
 }  // namespace nurbs

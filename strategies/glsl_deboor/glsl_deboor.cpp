@@ -18,28 +18,9 @@
 namespace nurbs {
 namespace {
 
-constexpr const char* kSource =
-    "002 §3.3 (Tan et al. 2012): de Boor in one fragment pass per direction, one quad per "
-    "non-empty knot span with its knots as uniforms";
-
 // The image the render phases draw (the size of 002's §4.2 timings is not given; 512² keeps the
 // raster cost visible next to the evaluation without dominating it).
 constexpr int kRenderSize = 512;
-
-Capabilities deboor_capabilities() {
-  Capabilities c;
-  c.max_degree = kMaxDegree;  // one program per degree, compiled in prepare()
-  c.rational = true;
-  c.normals = false;  // 002 evaluates positions only
-  c.fp32 = true;
-  c.fp64 = false;  // RGBA32F textures, as in the paper
-  c.sampling = SamplingModes{true, true, false};
-  c.trims = true;  // 000 §4's trim texture, shared with gl-pingpong (strategies/trim_texture)
-  // 000 §5's deforming surfaces: "only the control points" are sent again; knots, span runs,
-  // parameters and trim textures depend on what a deforming scene keeps.
-  c.updates_control_points = true;
-  return c;
-}
 
 // Option deboor-draw: per-span (default, 002's form) or instanced.
 glsl_deboor::DrawMode draw_option(const StrategyOptions& options) {
@@ -76,7 +57,7 @@ class GlslDeBoor final : public Strategy {
   }
 
   std::string_view name() const override { return "glsl-deboor"; }
-  Capabilities capabilities() const override { return deboor_capabilities(); }
+  Capabilities capabilities() const override { return glsl_deboor_descriptor().capabilities; }
 
   DeviceInfo device() const override {
     DeviceInfo d = context_->device_info();
@@ -95,8 +76,7 @@ class GlslDeBoor final : public Strategy {
     return d;
   }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
-    refuse_unsupported(name(), capabilities(), scene, request);
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     samples_ = sample_parameters(scene, request.sampling);
     view_ = gl::orthographic_view(scene);
     context_->make_current();
@@ -188,16 +168,13 @@ class GlslDeBoor final : public Strategy {
 }  // namespace
 
 StrategyEntry glsl_deboor_entry() {
-  return {"glsl-deboor",
-          kSource,
-          "strategy",
-          gl::Context::probe_any,
-          deboor_capabilities,
-          [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-            return std::make_unique<GlslDeBoor>(
-                gl::platform_option(options), positive_option(options, "tile", "glsl-deboor"),
-                trim_texture::parse_options(options, "glsl-deboor"), draw_option(options));
-          }};
+  return make_entry(
+      glsl_deboor_descriptor(), gl::Context::probe_any,
+      [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
+        return std::make_unique<GlslDeBoor>(
+            gl::platform_option(options), positive_option(options, "tile", "glsl-deboor"),
+            trim_texture::parse_options(options, "glsl-deboor"), draw_option(options));
+      });
 }
 
 }  // namespace nurbs

@@ -21,6 +21,7 @@
 
 namespace nurbs {
 
+StrategyDescriptor glsl_deboor_descriptor();
 StrategyEntry glsl_deboor_entry();
 
 }  // namespace nurbs

@@ -9,17 +9,7 @@
 namespace nurbs {
 
 StrategyEntry glsl_deboor_entry() {
-  return {"glsl-deboor",
-          "002 §3.3 (Tan et al. 2012): de Boor in one fragment pass per direction, one quad per "
-          "non-empty knot span with its knots as uniforms",
-          "strategy",
-          [] {
-            return Availability{false, NURBSBENCH_GL_MISSING};
-          },
-          [] { return Capabilities{}; },
-          [](const StrategyOptions&) -> std::unique_ptr<Strategy> {
-            throw std::runtime_error(NURBSBENCH_GL_MISSING);
-          }};
+  return unavailable_entry(glsl_deboor_descriptor(), NURBSBENCH_GL_MISSING);
 }
 
 namespace glsl_deboor {

@@ -264,8 +264,7 @@ class GluNurbsStrategy final : public Strategy {
                                      version ? reinterpret_cast<const char*>(version) : "?")}}};
   }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
-    refuse_unsupported(name(), capabilities(), scene, request);
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     refuse_trims_beyond_glu(scene);
     request_ = request;
     surfaces_.clear();

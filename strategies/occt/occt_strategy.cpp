@@ -86,7 +86,7 @@ class OcctStrategy final : public Strategy {
              {"path", cached_ ? "GeomAdaptor_Surface (BSplSLib_Cache)" : "Geom_BSplineSurface"}}};
   }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     surfaces_.clear();

@@ -54,7 +54,7 @@ class SislStrategy final : public Strategy {
     return {"host CPU, 1 thread", "cpu", {{"library", "SINTEF SISL (libsisl-dev)"}}};
   }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     request_ = request;
     scene_ = &scene;
     samples_ = sample_parameters(scene, request.sampling);

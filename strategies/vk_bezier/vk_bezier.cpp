@@ -63,19 +63,6 @@ vulkan::Requirements bezier_requirements() {
   return r;
 }
 
-Capabilities bezier_capabilities() {
-  Capabilities c;
-  // bezier.tese's BEZIER_MAX_ORDER; the points are a storage buffer and one vertex is a patch, so
-  // no device limit grows with the degree.
-  c.max_degree = kMaxDegree;
-  c.normals = true;  // Bernstein derivatives of the same triangle (bezier.tese)
-  c.fp64 = false;    // Vulkan tessellation stages in float; shaderFloat64 is optional
-  c.sampling.explicit_list = false;  // the tessellator's lattices are tensors of runs
-  c.chooses_own_samples = true;      // span grid: the tessellator's (a grid's: the requested)
-  c.updates_control_points = true;   // the whole decomposition + upload (update_control_points)
-  return c;
-}
-
 // One surface: its net in double (the decomposition's input, kept so a frame only moves points)
 // and the decomposition's output and scratch, reused frame after frame.
 struct Decomposed {
@@ -108,11 +95,10 @@ class VkBezier final : public Strategy {
   }
 
   std::string_view name() const override { return "vk-bezier"; }
-  Capabilities capabilities() const override { return bezier_capabilities(); }
+  Capabilities capabilities() const override { return vk_bezier_descriptor().capabilities; }
   DeviceInfo device() const override { return record_; }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
-    refuse_unsupported(name(), capabilities(), scene, request);
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     surfaces_.clear();
@@ -340,20 +326,17 @@ class VkBezier final : public Strategy {
 }  // namespace
 
 StrategyEntry vk_bezier_entry() {
-  return {"vk-bezier",
-          std::string(kVkBezierSource),
-          "baseline",
-          [] { return vulkan::probe(bezier_requirements()); },
-          bezier_capabilities,
-          [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-            try {
-              return std::make_unique<VkBezier>(
-                  vulkan::device_option(options),
-                  vk_ksquad::vertices_per_draw_option(options, "vk-bezier"));
-            } catch (const vulkan::MissingFeature& e) {
-              throw std::runtime_error(std::string("unavailable: ") + e.what());
-            }
-          }};
+  return make_entry(
+      vk_bezier_descriptor(), [] { return vulkan::probe(bezier_requirements()); },
+      [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
+        try {
+          return std::make_unique<VkBezier>(
+              vulkan::device_option(options),
+              vk_ksquad::vertices_per_draw_option(options, "vk-bezier"));
+        } catch (const vulkan::MissingFeature& e) {
+          throw std::runtime_error(std::string("unavailable: ") + e.what());
+        }
+      });
 }
 
 }  // namespace nurbs

@@ -22,6 +22,7 @@ namespace nurbs {
 inline constexpr std::string_view kVkBezierSource =
     "RPNS 2014 (003 §2): the Bézier-decomposition baseline, tessellated on the GPU";
 
+StrategyDescriptor vk_bezier_descriptor();
 StrategyEntry vk_bezier_entry();
 
 }  // namespace nurbs

@@ -40,15 +40,6 @@ struct Launch {
   std::int32_t count = 0, normals = 0, paired = 0, tiles_x = 1, params = 0;
 };
 
-Capabilities compute_capabilities() {
-  Capabilities c;
-  c.max_degree = kMaxDegree;
-  c.fp64 = true;  // where the device has shaderFloat64; prepare() refuses it elsewhere
-  c.updates_control_points = true;
-  c.trims = true;
-  return c;
-}
-
 vulkan::Requirements compute_requirements() {
   vulkan::Requirements r;
   r.float64_when_present = true;
@@ -273,11 +264,10 @@ class VkCompute final : public Strategy {
   }
 
   std::string_view name() const override { return "vk-compute"; }
-  Capabilities capabilities() const override { return compute_capabilities(); }
+  Capabilities capabilities() const override { return vk_compute_descriptor().capabilities; }
   DeviceInfo device() const override { return record_; }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override {
-    refuse_unsupported(name(), capabilities(), scene, request);
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override {
     if (request.precision == Precision::f64 && !device_.float64())
       throw RefusedError(
           fmt::format("vk-compute: f64 needs shaderFloat64, not supported by {}", record_.name));
@@ -526,9 +516,9 @@ std::unique_ptr<Strategy> make_vk_compute(const StrategyOptions& options) {
 }  // namespace
 
 StrategyEntry vk_compute_entry() {
-  return {"vk-compute",         std::string(kVkComputeSource),
-          "strategy",           [] { return vulkan::probe(compute_requirements()); },
-          compute_capabilities, make_vk_compute};
+  return make_entry(
+      vk_compute_descriptor(), [] { return vulkan::probe(compute_requirements()); },
+      make_vk_compute);
 }
 
 namespace vk_compute {

@@ -31,6 +31,7 @@ inline constexpr std::string_view kVkComputeSource =
     "issue 29: cpu-tensor's tensor-product separation (004, Macri 1999) as Vulkan compute "
     "dispatches, basis on the device, every surface in one dispatch";
 
+StrategyDescriptor vk_compute_descriptor();
 StrategyEntry vk_compute_entry();
 
 namespace vk_compute {

@@ -128,30 +128,12 @@ vulkan::Requirements ksquad_requirements(bool geometry = false) {
   return r;
 }
 
-Capabilities ksquad_capabilities() {
-  Capabilities c;
-  // 15, the validation limit: no device limit depends on the degree (net and constants are
-  // storage buffers, one control point per patch; push constants and levels do not grow with it).
-  c.max_degree = kStairMaxDegree;
-  c.normals = true;  // both modes: derivatives of the same stair basis (stair_derivative)
-  c.fp64 = false;    // Vulkan tessellation stages in float; shaderFloat64 is optional
-  c.sampling.explicit_list = false;  // not a tensor of runs
-  // The tessellator chooses the samples in adaptive mode and for span grids (the float rounding
-  // of the requested ones); a grid's are the requested ones.
-  c.chooses_own_samples = true;
-  c.updates_control_points = true;  // re-uploads only the control points (and corners)
-  // Uniform mode: direct trimming of the requested samples in a compute pass (the shared
-  // vulkan::TrimClassifier); render() discards outside fragments with the same GLSL.
-  c.trims = true;
-  return c;
-}
-
 }  // namespace
 
 namespace vk_ksquad {
 
 Capabilities VkKsquad::capabilities() const {
-  return ksquad_capabilities();
+  return vk_ksquad_descriptor().capabilities;
 }
 
 VkKsquad::VkKsquad(int device_index, const KsquadSettings& settings,
@@ -188,8 +170,7 @@ VkKsquad::VkKsquad(int device_index, const KsquadSettings& settings,
   create_pipeline();
 }
 
-void VkKsquad::prepare(const Scene& scene, const EvalRequest& request) {
-  refuse_unsupported(name(), capabilities(), scene, request);
+void VkKsquad::prepare_checked(const Scene& scene, const EvalRequest& request) {
   if (settings_.gs) refuse_gs(request);
   const bool trimmed = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
                                    [](const Surface& s) { return s.trim.has_value(); });
@@ -646,12 +627,8 @@ std::size_t ksquad_rendered_pixels(const Strategy& strategy) {
 }
 
 StrategyEntry vk_ksquad_entry() {
-  return {"vk-ksquad",
-          "003 §2-4 (RPNS 2014): KSQuads in Vulkan tessellation stages, stair basis",
-          "strategy",
-          [] { return vulkan::probe(ksquad_requirements()); },
-          ksquad_capabilities,
-          make_vk_ksquad};
+  return make_entry(
+      vk_ksquad_descriptor(), [] { return vulkan::probe(ksquad_requirements()); }, make_vk_ksquad);
 }
 
 }  // namespace nurbs

@@ -27,6 +27,7 @@
 
 namespace nurbs {
 
+StrategyDescriptor vk_ksquad_descriptor();
 StrategyEntry vk_ksquad_entry();
 
 }  // namespace nurbs

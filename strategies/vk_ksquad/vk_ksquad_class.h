@@ -39,7 +39,7 @@ class VkKsquad final : public Strategy {
   Capabilities capabilities() const override;
   DeviceInfo device() const override { return record_; }
 
-  void prepare(const Scene& scene, const EvalRequest& request) override;
+  void prepare_checked(const Scene& scene, const EvalRequest& request) override;
 
   bool classify() override;
 

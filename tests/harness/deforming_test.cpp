@@ -69,7 +69,7 @@ class StaleUpdate final : public Strategy {
   std::string_view name() const override { return "stale"; }
   Capabilities capabilities() const override { return inner_->capabilities(); }
   DeviceInfo device() const override { return inner_->device(); }
-  void prepare(const Scene& s, const EvalRequest& r) override { inner_->prepare(s, r); }
+  void prepare_checked(const Scene& s, const EvalRequest& r) override { inner_->prepare(s, r); }
   void evaluate() override { inner_->evaluate(); }
   EvalResult read_back() override { return inner_->read_back(); }
 

@@ -473,7 +473,7 @@ class OwnSamplesStrategy final : public Strategy {
   std::string_view name() const override { return "own-samples"; }
   Capabilities capabilities() const override { return {}; }
   DeviceInfo device() const override { return {"test", "cpu", {}}; }
-  void prepare(const Scene& scene, const EvalRequest&) override {
+  void prepare_checked(const Scene& scene, const EvalRequest&) override {
     samples_.clear();
     for (const Surface& s : scene.surfaces)
       samples_.push_back({false,
@@ -560,7 +560,7 @@ class DrawingStrategy final : public Strategy {
   std::string_view name() const override { return "drawing"; }
   Capabilities capabilities() const override { return inner_->capabilities(); }
   DeviceInfo device() const override { return inner_->device(); }
-  void prepare(const Scene& s, const EvalRequest& r) override { inner_->prepare(s, r); }
+  void prepare_checked(const Scene& s, const EvalRequest& r) override { inner_->prepare(s, r); }
   void evaluate() override { inner_->evaluate(); }
   EvalResult read_back() override { return inner_->read_back(); }
   bool render() override { return ++draws_ > 0; }
@@ -658,6 +658,83 @@ TEST(KindRefusal, OnlyTheSceneKindCounts) {
   EXPECT_TRUE(is_kind_refusal(*nurbs_met)) << *nurbs_met;
   EXPECT_FALSE(is_kind_refusal(*degree)) << *degree;
   EXPECT_FALSE(is_kind_refusal("normals not supported"));
+}
+
+// A strategy that accepts anything in its own prepare: the refusal it meets is the base class's.
+class CountingPrepare final : public Strategy {
+ public:
+  explicit CountingPrepare(Capabilities caps) : caps_(caps) {}
+  std::string_view name() const override { return "counting-prepare"; }
+  Capabilities capabilities() const override { return caps_; }
+  DeviceInfo device() const override { return {"test", "cpu", {}}; }
+  void evaluate() override {}
+  EvalResult read_back() override { return {}; }
+  int prepared = 0;
+
+ protected:
+  void prepare_checked(const Scene&, const EvalRequest&) override { ++prepared; }
+
+ private:
+  Capabilities caps_;
+};
+
+TEST(StrategyPrepare, RefusesOutsideTheCapabilitiesBeforeTheStrategysOwnPrepare) {
+  const Scene bicubic = *make_builtin_scene("patch144");
+  const EvalRequest request{Sampling{}, Precision::f32, false};
+  Capabilities linear_only;
+  linear_only.max_degree = 1;
+  CountingPrepare refusing(linear_only);
+  try {
+    refusing.prepare(bicubic, request);
+    ADD_FAILURE() << "a degree-3 scene was not refused by a degree-1 strategy";
+  } catch (const RefusedError& e) {
+    EXPECT_NE(std::string(e.what()).find("counting-prepare: "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("degree"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(refusing.prepared, 0);
+
+  CountingPrepare accepting{Capabilities{}};
+  accepting.prepare(bicubic, request);
+  EXPECT_EQ(accepting.prepared, 1);
+}
+
+// What docs/strategies.md says each GPU strategy can do, checked on the registry: in a build with
+// every API these come from the strategies, in one without (the sanitizer build,
+// NURBSBENCH_CPU_ONLY) from the stubs, which used to state default capabilities (normals, f64,
+// lists) they do not have.
+TEST(Registry, GpuStrategiesStateTheirCapabilitiesWithOrWithoutTheirApi) {
+  struct Expected {
+    const char* name;
+    const char* role;
+    bool normals, fp64, explicit_list, trims, tspline_only, chooses_own_samples;
+  };
+  const Expected expected[] = {
+      {"gl-pingpong", "strategy", false, false, false, true, false, false},
+      {"gl-pingpong-packed", "strategy", false, false, false, true, false, false},
+      {"glsl-deboor", "strategy", false, false, false, true, false, false},
+      {"gl-tspline", "strategy", true, false, true, false, true, false},
+      {"cl-stair", "strategy", false, true, false, true, false, false},
+      {"cl-tspline-bezier", "strategy", true, true, true, false, true, false},
+      {"vk-ksquad", "strategy", true, false, false, true, false, true},
+      {"vk-bezier", "baseline", true, false, false, false, false, true},
+      {"vk-compute", "strategy", true, true, true, true, false, false},
+  };
+  for (const Expected& e : expected) {
+    SCOPED_TRACE(e.name);
+    const StrategyEntry* entry = find_strategy(e.name);
+    ASSERT_NE(entry, nullptr);
+    EXPECT_EQ(entry->role, e.role);
+    EXPECT_FALSE(entry->source.empty());
+    const Capabilities c = entry->capabilities();
+    EXPECT_EQ(c.max_degree, 15);
+    EXPECT_EQ(c.normals, e.normals);
+    EXPECT_EQ(c.fp64, e.fp64);
+    EXPECT_EQ(c.sampling.explicit_list, e.explicit_list);
+    EXPECT_EQ(c.trims, e.trims);
+    EXPECT_EQ(c.tspline_only, e.tspline_only);
+    EXPECT_EQ(c.chooses_own_samples, e.chooses_own_samples);
+    EXPECT_TRUE(c.updates_control_points);
+  }
 }
 
 }  // namespace

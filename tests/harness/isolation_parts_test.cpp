@@ -190,7 +190,7 @@ class LostDevice final : public Strategy {
   std::string_view name() const override { return "lost-device"; }
   Capabilities capabilities() const override { return {}; }
   DeviceInfo device() const override { return {"test", "gpu", {}}; }
-  void prepare(const Scene&, const EvalRequest&) override {}
+  void prepare_checked(const Scene&, const EvalRequest&) override {}
   void evaluate() override { throw device_timeout("vkWaitForFences"); }
   EvalResult read_back() override { return {}; }
 };

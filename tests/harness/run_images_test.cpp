@@ -36,7 +36,7 @@ class FakeStrategy final : public Strategy {
   std::string_view name() const override { return "fake"; }
   Capabilities capabilities() const override { return inner_->capabilities(); }
   DeviceInfo device() const override { return inner_->device(); }
-  void prepare(const Scene& s, const EvalRequest& r) override { inner_->prepare(s, r); }
+  void prepare_checked(const Scene& s, const EvalRequest& r) override { inner_->prepare(s, r); }
   void evaluate() override { inner_->evaluate(); }
   bool classify() override { return inner_->classify(); }
   EvalResult read_back() override {

@@ -34,7 +34,7 @@ class HookedStrategy final : public Strategy {
   std::string_view name() const override { return "hooked"; }
   Capabilities capabilities() const override { return inner_->capabilities(); }
   DeviceInfo device() const override { return inner_->device(); }
-  void prepare(const Scene& s, const EvalRequest& r) override { inner_->prepare(s, r); }
+  void prepare_checked(const Scene& s, const EvalRequest& r) override { inner_->prepare(s, r); }
   void evaluate() override { inner_->evaluate(); }
   bool classify() override {
     ++classified_;
