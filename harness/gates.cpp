@@ -6,13 +6,12 @@
 
 #include <algorithm>
 #include <array>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <sstream>
 
 #include "reference/validation.h"
-#include "scenes/json_error.h"
+#include "scenes/json_strict.h"
+#include "scenes/scene_json.h"
 
 namespace nurbs {
 
@@ -65,20 +64,11 @@ bool is_known_metric(std::string_view metric) {
 }
 
 std::vector<Gate> load_gates(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot open gates file", path.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_gates(text.str(), path.string());
+  return parse_gates(read_input_file(path, "gates"), path.string());
 }
 
 std::vector<Gate> parse_gates(std::string_view text, const std::string& source) {
-  nlohmann::json document;
-  try {
-    document = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
-    throw InputError(fmt::format("{}: not valid JSON: {}", source, json_error_text(e)));
-  }
+  const nlohmann::json document = parse_json_strictly(text, source);
   if (!document.is_array())
     throw InputError(fmt::format("{}: (document): must be a JSON list of gates", source));
   std::vector<Gate> gates;

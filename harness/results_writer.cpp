@@ -8,6 +8,7 @@
 #include "harness/atomic_file.h"
 #include "reference/validation.h"
 #include "scenes/json_error.h"
+#include "scenes/scene_json.h"
 
 namespace nurbs {
 
@@ -43,13 +44,9 @@ ResultsFile read_results(const std::filesystem::path& directory_or_file) {
   const std::filesystem::path path = std::filesystem::is_directory(directory_or_file)
                                          ? directory_or_file / "results.json"
                                          : directory_or_file;
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot open results file", path.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
+  const nlohmann::json document = read_json_strictly(path, "results");
   ResultsFile out;
   try {
-    const nlohmann::json document = nlohmann::json::parse(text.str());
     if (document.value("format", "") != kResultsFormat)
       throw InputError(fmt::format("{}: format = {}: must be \"{}\"", path.string(),
                                    document.value("format", "(missing)"), kResultsFormat));

@@ -3,12 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 #include "reference/validation.h"
-#include "scenes/json_error.h"
+#include "scenes/scene_json.h"
 
 namespace nurbs {
 
@@ -102,16 +100,7 @@ class Fields {
 
 // The document of a side file: JSON, an object of the given format (its rows are read by Fields).
 json read_document(const std::filesystem::path& path, std::string_view format) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot open", path.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  json document;
-  try {
-    document = json::parse(text.str());
-  } catch (const json::exception& e) {
-    throw InputError(fmt::format("{}: not JSON: {}", path.string(), json_error_text(e)));
-  }
+  const json document = read_json_strictly(path, "side");
   if (!document.is_object() || !document.contains("format") || document["format"] != format)
     throw InputError(fmt::format("{}: format = {}: must be \"{}\"", path.string(),
                                  document.is_object() && document.contains("format")

@@ -390,6 +390,10 @@ std::string read_input_file(const std::filesystem::path& path, std::string_view 
   return bytes;
 }
 
+nlohmann::json read_json_strictly(const std::filesystem::path& path, std::string_view kind) {
+  return parse_json_strictly(read_input_file(path, kind), path.string());
+}
+
 Scene load_scene_file(const std::filesystem::path& path) {
   Scene scene = parse_scene_json(read_input_file(path, "scene"), path.string());
   if (scene.name.empty()) scene.name = path.stem().string();

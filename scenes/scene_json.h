@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <string_view>
 
@@ -23,6 +24,10 @@ inline constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t{1} << 30;
 // The bytes of an input file of the named kind ("scene", "T-spline"), refused (InputError naming
 // the file) when it cannot be read or is larger than kMaxSceneFileBytes.
 std::string read_input_file(const std::filesystem::path& path, std::string_view kind);
+// Any JSON file the user names (results, gates, side files), read as read_input_file() reads and
+// parsed as scenes are (json_strict.h): one size limit, nesting bound, duplicate-key refusal and
+// message style for every reader.
+nlohmann::json read_json_strictly(const std::filesystem::path& path, std::string_view kind);
 
 // Throws InputError (or its ValidationError) naming `origin`; the result is validated.
 Scene parse_scene_json(std::string_view text, std::string_view origin);

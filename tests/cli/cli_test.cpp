@@ -998,6 +998,11 @@ TEST_F(CliCheck, MalformedGatesFileIsExitTwo) {
       {R"([{"scene": "b", "metric": "max_abs", "max": 1}])", {"gate [0]", "strategy", "(missing)"}},
       {R"([{"strategy": "a", "scene": "b", "metric": "max_abs"}])",
        {"gate [0]", "max", "(missing)"}},
+      // The strict parser every reader of a user's JSON shares (scenes/json_strict.h): a repeated
+      // key would silently mean its last value, and nesting is bounded.
+      {R"([{"strategy": "a", "scene": "b", "metric": "max_abs", "max": 1, "max": 2}])",
+       {"[0].max", "duplicate key"}},
+      {std::string(100, '[') + std::string(100, ']'), {"nesting deeper than 64"}},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.text);
@@ -1008,7 +1013,7 @@ TEST_F(CliCheck, MalformedGatesFileIsExitTwo) {
   }
   const std::string missing = tmp_ / "missing.json";
   expect_usage_error(run_cli({"check", "--gates", missing, "--results", results_.string()}),
-                     {missing, "cannot open"});
+                     {missing, "cannot read gates file"});
 }
 
 TEST_F(CliCheck, MissingResultsIsExitTwo) {

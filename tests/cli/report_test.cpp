@@ -472,12 +472,17 @@ TEST_F(CliReport, ErrorMapsSkipPairsWithoutAnImageLayout) {
 TEST_F(CliReport, BadInputIsExitTwoWithOneLineAndNoOutput) {
   const std::string out = tmp_ / "report";
   expect_usage_error(run_cli({"report", "--results", tmp_ / "missing", "--out", out}),
-                     {"missing", "cannot open results file"});
+                     {"missing", "cannot read results file"});
   const std::string not_results = tmp_ / "not-results";
   fs::create_directories(not_results);
   write_text(fs::path(not_results) / "results.json", R"({"format": "other/1", "records": []})");
   expect_usage_error(run_cli({"report", "--results", not_results, "--out", out}),
                      {"results.json", "format", "other/1"});
+  // Parsed strictly, as scenes are: a repeated key is refused, naming where it is.
+  write_text(fs::path(not_results) / "results.json",
+             R"({"format": "nurbsbench-results/1", "records": [], "records": []})");
+  expect_usage_error(run_cli({"report", "--results", not_results, "--out", out}),
+                     {"results.json", "records", "duplicate key"});
   expect_usage_error(
       run_cli({"report", "--results", results_.string(), "--out", out, "--error-images", "-1"}),
       {"--error-images", "-1"});
@@ -488,7 +493,7 @@ TEST_F(CliReport, BadInputIsExitTwoWithOneLineAndNoOutput) {
     std::vector<std::string> expect;
   };
   const std::vector<Case> cases = {
-      {"lod.json", "{not json", {"lod.json", "not JSON"}},
+      {"lod.json", "{not json", {"lod.json", "not valid JSON"}},
       {"lod.json",
        R"({"format": "nurbsbench-lod/2", "rows": []})",
        {"lod.json", "format", "lod/2"}},
