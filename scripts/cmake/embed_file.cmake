@@ -1,5 +1,10 @@
 # cmake -DINPUT=f -DOUTPUT=f.cpp -DSYMBOL=name -P embed_file.cmake
 file(READ ${INPUT} hex HEX)
+if(PREFIX)
+  # PREFIX's bytes, a newline, then INPUT's (nurbsbench_embed_kernel_header).
+  file(READ ${PREFIX} prefix_hex HEX)
+  set(hex "${prefix_hex}0a${hex}")
+endif()
 string(LENGTH "${hex}" hex_length)
 math(EXPR size "${hex_length} / 2")
 string(REGEX REPLACE "([0-9a-f][0-9a-f])" "0x\\1," bytes "${hex}")

@@ -18,7 +18,7 @@ function(nurbsbench_spirv target symbol file)
     COMMAND ${NURBSBENCH_GLSLANG} -V --target-env vulkan1.1 -I${CMAKE_CURRENT_SOURCE_DIR}
             -o ${spv} ${source}
     COMMAND ${NURBSBENCH_SPIRV_VAL} --target-env vulkan1.1 ${spv}
-    DEPENDS ${source} ${includes}
+    DEPENDS ${source} ${includes} ${NURBSBENCH_KERNEL_LANGUAGE}
     COMMENT "GLSL -> SPIR-V (glslangValidator, spirv-val): ${file}"
     VERBATIM)
   nurbsbench_embed(${target} ${symbol} ${spv})

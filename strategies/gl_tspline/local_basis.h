@@ -12,11 +12,11 @@
 // repeated knots. The derivative is Piegl & Tiller eq. 2.9 from the order degree - 1 values.
 
 #if defined(__cplusplus)
+#include "../kernel_language/kernel_language.h"
+#endif
+#if defined(KL_CPP)
 // The includer defines LB_REAL (float or long double).
-#define LB_FN inline
 #define LB_KNOTS_IN(name) const LB_REAL* name
-#define LB_OUT(name) LB_REAL& name
-#define LB_TO_REAL(x) static_cast<LB_REAL>(x)
 #ifndef LB_MAX_DEGREE
 #define LB_MAX_DEGREE 15  // reference/validation.h kMaxDegree
 #endif
@@ -24,24 +24,21 @@
 // GLSL: the program's defines give LB_MAX_DEGREE (the larger of its two degrees), which sizes
 // the arrays.
 #define LB_REAL float
-#define LB_FN
 #define LB_KNOTS_IN(name) float name[LB_MAX_DEGREE + 2]
-#define LB_OUT(name) out float name
-#define LB_TO_REAL(x) float(x)
 #endif
 
-LB_FN LB_REAL lb_ratio(LB_REAL a, LB_REAL b) {
-  return b == LB_TO_REAL(0) ? LB_TO_REAL(0) : a / b;
+KL_FN LB_REAL lb_ratio(LB_REAL a, LB_REAL b) {
+  return b == KL_CAST(LB_REAL, 0) ? KL_CAST(LB_REAL, 0) : a / b;
 }
 
-LB_FN void lb_local_basis(int degree, LB_KNOTS_IN(k), int span, LB_REAL t, LB_OUT(value),
-                          LB_OUT(derivative)) {
+KL_FN void lb_local_basis(int degree, LB_KNOTS_IN(k), int span, LB_REAL t, KL_OUT(LB_REAL, value),
+                          KL_OUT(LB_REAL, derivative)) {
   LB_REAL n[LB_MAX_DEGREE + 1];
-  for (int i = 0; i <= degree; ++i) n[i] = i == span ? LB_TO_REAL(1) : LB_TO_REAL(0);
-  derivative = LB_TO_REAL(0);
+  for (int i = 0; i <= degree; ++i) n[i] = i == span ? KL_CAST(LB_REAL, 1) : KL_CAST(LB_REAL, 0);
+  derivative = KL_CAST(LB_REAL, 0);
   for (int r = 1; r <= degree; ++r) {
     if (r == degree)
-      derivative = LB_TO_REAL(degree) *
+      derivative = KL_CAST(LB_REAL, degree) *
                    (lb_ratio(n[0], k[degree] - k[0]) - lb_ratio(n[1], k[degree + 1] - k[1]));
     for (int i = 0; i <= degree - r; ++i)
       n[i] = lb_ratio((t - k[i]) * n[i], k[i + r] - k[i]) +

@@ -17,34 +17,32 @@
 // and one sum, in the same order.
 
 #if defined(__cplusplus)
+#include "../kernel_language/kernel_language.h"
+#endif
+#if defined(KL_CPP)
 // The includer defines DB_REAL (float, double or long double); Vec4 is reference/nurbs_math.h's.
-#define DB_FN inline
 #define DB_VEC4 Vec4<DB_REAL>
 #define DB_KNOTS_IN(name) const DB_REAL* name
 #define DB_POINTS_INOUT(name) Vec4<DB_REAL>* name
-#define DB_TO_REAL(x) static_cast<DB_REAL>(x)
 #else
 // GLSL: the program's defines give DEGREE, which sizes the arrays (one program per degree: see
 // de_boor.frag).
 #define DB_REAL float
-#define DB_FN
 #define DB_VEC4 vec4
 #define DB_KNOTS_IN(name) float name[2 * DEGREE]
 #define DB_POINTS_INOUT(name) inout vec4 name[DEGREE + 1]
-#define DB_TO_REAL(x) float(x)
 #endif
 
-DB_FN DB_VEC4 db_de_boor(int degree, DB_KNOTS_IN(K), DB_REAL u, DB_POINTS_INOUT(d)) {
+KL_FN DB_VEC4 db_de_boor(int degree, DB_KNOTS_IN(K), DB_REAL u, DB_POINTS_INOUT(d)) {
   for (int r = 1; r <= degree; ++r)
     for (int j = degree; j >= r; --j) {
       DB_REAL alpha = (u - K[j - 1]) / (K[j + degree - r] - K[j - 1]);
-      for (int c = 0; c < 4; ++c) d[j][c] = (DB_TO_REAL(1) - alpha) * d[j - 1][c] + alpha * d[j][c];
+      for (int c = 0; c < 4; ++c)
+        d[j][c] = (KL_CAST(DB_REAL, 1) - alpha) * d[j - 1][c] + alpha * d[j][c];
     }
   return d[degree];
 }
 
-#undef DB_FN
 #undef DB_VEC4
 #undef DB_KNOTS_IN
 #undef DB_POINTS_INOUT
-#undef DB_TO_REAL

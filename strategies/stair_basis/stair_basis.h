@@ -52,29 +52,19 @@
 //   SB_COLUMN   + c, c = 0..p          A_c h^c (= 1 at c = 0)
 //   SB_DIAGONAL + d, d = 0..p          B_d h^d (= 1 at d = 0)
 
-#if defined(__cplusplus)
-// The includer defines SB_REAL (float, double or long double).
-#define SB_FN inline
-#define SB_CONSTS const SB_REAL*
-#define SB_CONSTS_OUT SB_REAL*
-#define SB_KNOTS_IN const SB_REAL*
+#if defined(__cplusplus) || defined(GL_GOOGLE_include_directive)
+#include "../kernel_language/kernel_language.h"
+#endif
+#if !defined(KL_GLSL)
+// C++: the includer defines SB_REAL (float, double or long double). OpenCL: the build options
+// define SB_REAL (and enable cl_khr_fp64 for double); the constants live in local memory (one
+// copy per work-group, cl-stair), the knots in global memory.
+#define SB_CONSTS KL_LOCAL const SB_REAL*
+#define SB_CONSTS_OUT KL_LOCAL SB_REAL*
+#define SB_KNOTS_IN KL_GLOBAL const SB_REAL*
 #define SB_C(c, i) (c)[i]
 #define SB_C_OUT(c, i) (c)[i]
 #define SB_KNOT_IN(k, i) (k)[i]
-#define SB_OUT_ARRAY(name) SB_REAL* name
-#define SB_TO_REAL(x) static_cast<SB_REAL>(x)
-#elif defined(__OPENCL_VERSION__)
-// The build options define SB_REAL (and enable cl_khr_fp64 for double). The constants live in
-// local memory (one copy per work-group, cl-stair), the knots in global memory.
-#define SB_FN
-#define SB_CONSTS __local const SB_REAL*
-#define SB_CONSTS_OUT __local SB_REAL*
-#define SB_KNOTS_IN __global const SB_REAL*
-#define SB_C(c, i) (c)[i]
-#define SB_C_OUT(c, i) (c)[i]
-#define SB_KNOT_IN(k, i) (k)[i]
-#define SB_OUT_ARRAY(name) SB_REAL* name
-#define SB_TO_REAL(x) ((SB_REAL)(x))
 #else
 // GLSL: a function cannot take a buffer as a parameter, so the includer declares the storage
 // buffer `consts` (float) and a set of constants is its offset there. stair_constants is
@@ -82,15 +72,12 @@
 // `sb_knots` buffer (float; a knot vector is its offset there): vk-ksquad's constants pass,
 // ksquad_constants.comp.
 #define SB_REAL float
-#define SB_FN
 #define SB_CONSTS int
 #define SB_CONSTS_OUT int
 #define SB_KNOTS_IN int
 #define SB_C(c, i) consts[(c) + (i)]
 #define SB_C_OUT(c, i) consts[(c) + (i)]
 #define SB_KNOT_IN(k, i) sb_knots[(k) + (i)]
-#define SB_OUT_ARRAY(name) out float name[SB_MAX_ORDER]
-#define SB_TO_REAL(x) float(x)
 #endif
 
 // reference/validation.h kMaxDegree: the largest degree any scene may have.
@@ -107,16 +94,16 @@
 #if defined(__cplusplus) || defined(__OPENCL_VERSION__) || defined(SB_GLSL_CONSTANTS)
 // The constants of span `span` (= i) of a degree-`degree` direction; `knots` is the whole knot
 // vector. Entries past the degree are left as they were.
-SB_FN void stair_constants(int span, int degree, SB_KNOTS_IN knots, SB_CONSTS_OUT c) {
+KL_FN void stair_constants(int span, int degree, SB_KNOTS_IN knots, SB_CONSTS_OUT c) {
   const int p = degree;
   for (int t = 0; t < 2 * p; ++t) SB_C_OUT(c, SB_KNOTS + t) = SB_KNOT_IN(knots, span - p + 1 + t);
   // x_{i-s} = knot p-1-s, x_{i+1+t} = knot p+t
   for (int s = 0; s < p; ++s)
     for (int t = 0; t < p; ++t)
       SB_C_OUT(c, SB_R + s * SB_MAX_DEG + t) =
-          SB_TO_REAL(1) / (SB_C_OUT(c, SB_KNOTS + p + t) - SB_C_OUT(c, SB_KNOTS + p - 1 - s));
-  SB_C_OUT(c, SB_COLUMN) = SB_TO_REAL(1);
-  SB_C_OUT(c, SB_DIAGONAL) = SB_TO_REAL(1);
+          KL_CAST(SB_REAL, 1) / (SB_C_OUT(c, SB_KNOTS + p + t) - SB_C_OUT(c, SB_KNOTS + p - 1 - s));
+  SB_C_OUT(c, SB_COLUMN) = KL_CAST(SB_REAL, 1);
+  SB_C_OUT(c, SB_DIAGONAL) = KL_CAST(SB_REAL, 1);
   // h/(x_{i+l} - x_i) and h/(x_{i+1} - x_{i+1-l}), each in (0, 1]
   const SB_REAL h = SB_C_OUT(c, SB_KNOTS + p) - SB_C_OUT(c, SB_KNOTS + p - 1);
   for (int l = 1; l <= p; ++l) {
@@ -130,7 +117,8 @@ SB_FN void stair_constants(int span, int degree, SB_KNOTS_IN knots, SB_CONSTS_OU
 // basis[j] = N_{i-p+j,p}(u), j = 0..p (the order of A2.2). `knot_degree` is the degree the
 // constants were built for: a lower degree reuses them -- r, A and B belong to the span alone,
 // only the knot window moves (stair_derivative).
-SB_FN void stair_basis(SB_CONSTS c, int degree, SB_REAL u, SB_OUT_ARRAY(basis), int knot_degree) {
+KL_FN void stair_basis(SB_CONSTS c, int degree, SB_REAL u,
+                       KL_ARRAY_OUT(SB_REAL, basis, SB_MAX_ORDER), int knot_degree) {
   const int p = degree;
   const int o = knot_degree;  // x_{i-s} = knot o-1-s
   SB_REAL dl[SB_MAX_ORDER];   // u - x_{i-s}
@@ -142,10 +130,10 @@ SB_FN void stair_basis(SB_CONSTS c, int degree, SB_REAL u, SB_OUT_ARRAY(basis), 
   // Column and diagonal functions by their closed forms: col[m] = N_{i,m}, diag[m] = N_{i-m,m}.
   SB_REAL col[SB_MAX_ORDER];
   SB_REAL diag[SB_MAX_ORDER];
-  col[0] = SB_TO_REAL(1);
-  diag[0] = SB_TO_REAL(1);
-  SB_REAL pow_l = SB_TO_REAL(1);  // ((u - x_i)/h)^m
-  SB_REAL pow_r = SB_TO_REAL(1);  // ((x_{i+1} - u)/h)^m
+  col[0] = KL_CAST(SB_REAL, 1);
+  diag[0] = KL_CAST(SB_REAL, 1);
+  SB_REAL pow_l = KL_CAST(SB_REAL, 1);  // ((u - x_i)/h)^m
+  SB_REAL pow_r = KL_CAST(SB_REAL, 1);  // ((x_{i+1} - u)/h)^m
   const SB_REAL scaled_l = dl[0] * SB_RS(c, 0, 0);
   const SB_REAL scaled_r = dr[0] * SB_RS(c, 0, 0);
   for (int m = 1; m <= p; ++m) {
@@ -161,13 +149,13 @@ SB_FN void stair_basis(SB_CONSTS c, int degree, SB_REAL u, SB_OUT_ARRAY(basis), 
     // left step from (r, l):  dl[k-r] * r[k-r][p-k-l-1];  right step: dr[p-k-l] * r[k-r-1][p-k-l]
     const int w = p - k;
     SB_REAL t[SB_MAX_DEG];
-    SB_REAL sum = SB_TO_REAL(0);
+    SB_REAL sum = KL_CAST(SB_REAL, 0);
     for (int r = 0; r < k; ++r) {
       for (int l = 0; l < w; ++l) {
         const SB_REAL from_above =
-            r > 0 ? t[l] * (dr[w - l] * SB_RS(c, k - r, w - l)) : SB_TO_REAL(l == 0 ? 1 : 0);
+            r > 0 ? t[l] * (dr[w - l] * SB_RS(c, k - r, w - l)) : KL_CAST(SB_REAL, l == 0 ? 1 : 0);
         const SB_REAL from_left =
-            l == 0 ? SB_TO_REAL(0) : t[l - 1] * (dl[k - r] * SB_RS(c, k - r, w - l));
+            l == 0 ? KL_CAST(SB_REAL, 0) : t[l - 1] * (dl[k - r] * SB_RS(c, k - r, w - l));
         t[l] = from_above + from_left;
       }
       // left step off the last column of the row lands on the diagonal N_{i-k+r, k-r}
@@ -185,13 +173,14 @@ SB_FN void stair_basis(SB_CONSTS c, int degree, SB_REAL u, SB_OUT_ARRAY(basis), 
 //   x_{i-p+j+1}))
 // where N_{i-p+j,p-1} is lower[j-1] (zero outside 0..p-1) and both denominators are per-span
 // constants: 1 / (x_{i+j} - x_{i-p+j}) = r[p-j][j-1]. (vk-ksquad's normals.)
-SB_FN void stair_derivative(SB_CONSTS c, int degree, SB_REAL u, SB_OUT_ARRAY(derivative)) {
+KL_FN void stair_derivative(SB_CONSTS c, int degree, SB_REAL u,
+                            KL_ARRAY_OUT(SB_REAL, derivative, SB_MAX_ORDER)) {
   const int p = degree;
   SB_REAL lower[SB_MAX_ORDER];
   stair_basis(c, p - 1, u, lower, p);
   for (int j = 0; j <= p; ++j) {
-    const SB_REAL left = j >= 1 ? lower[j - 1] * SB_RS(c, p - j, j - 1) : SB_TO_REAL(0);
-    const SB_REAL right = j <= p - 1 ? lower[j] * SB_RS(c, p - j - 1, j) : SB_TO_REAL(0);
-    derivative[j] = SB_TO_REAL(p) * (left - right);
+    const SB_REAL left = j >= 1 ? lower[j - 1] * SB_RS(c, p - j, j - 1) : KL_CAST(SB_REAL, 0);
+    const SB_REAL right = j <= p - 1 ? lower[j] * SB_RS(c, p - j - 1, j) : KL_CAST(SB_REAL, 0);
+    derivative[j] = KL_CAST(SB_REAL, p) * (left - right);
   }
 }

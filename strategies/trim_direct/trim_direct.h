@@ -28,29 +28,22 @@
 // special case. A row k holds the samples with b_k < v <= b_{k+1}: the pieces that span it are
 // exactly those whose half-open v-range contains every such v.
 
-#if defined(__cplusplus)
-// The includer defines TD_REAL (float or double).
-#define TD_FN inline
-#define TD_REALS_PARAM const TD_REAL *td_reals,
-#define TD_BUFFER_PARAMS const TD_REAL *td_reals, const int *td_ints,
+#if defined(__cplusplus) || defined(GL_GOOGLE_include_directive)
+#include "../kernel_language/kernel_language.h"
+#endif
+#if !defined(KL_GLSL)
+// C++: the includer defines TD_REAL (float or double). OpenCL: the build options define TD_REAL
+// (and enable cl_khr_fp64 for double).
+#define TD_REALS_PARAM KL_GLOBAL const TD_REAL *td_reals,
+#define TD_BUFFER_PARAMS KL_GLOBAL const TD_REAL *td_reals, KL_GLOBAL const int *td_ints,
 #define TD_REALS_ARG td_reals,
-#define TD_TO_REAL(x) static_cast<TD_REAL>(x)
-#elif defined(__OPENCL_VERSION__)
-// The build options define TD_REAL (and enable cl_khr_fp64 for double).
-#define TD_FN
-#define TD_REALS_PARAM __global const TD_REAL *td_reals,
-#define TD_BUFFER_PARAMS __global const TD_REAL *td_reals, __global const int *td_ints,
-#define TD_REALS_ARG td_reals,
-#define TD_TO_REAL(x) ((TD_REAL)(x))
 #else
 // GLSL: the includer declares the storage buffers `td_reals` (float) and `td_ints` (int); a
 // function cannot take a buffer as a parameter, so the buffers are globals here.
 #define TD_REAL float
-#define TD_FN
 #define TD_REALS_PARAM
 #define TD_BUFFER_PARAMS
 #define TD_REALS_ARG
-#define TD_TO_REAL(x) float(x)
 #endif
 
 // The largest piece order (reference/validation.h kMaxDegree + 1).
@@ -63,7 +56,7 @@
 // `epsilon` in u or after `iterations` halvings and then decides by the box's middle: exact
 // except for samples within epsilon (plus the scalar's rounding) of the curve. The control points
 // are read once into registers; the halvings read no buffer.
-TD_FN int td_piece_crosses_right(TD_REALS_PARAM int piece, int degree, TD_REAL u, TD_REAL v,
+KL_FN int td_piece_crosses_right(TD_REALS_PARAM int piece, int degree, TD_REAL u, TD_REAL v,
                                  TD_REAL epsilon, int iterations) {
   TD_REAL hu[TD_MAX_ORDER];
   TD_REAL hv[TD_MAX_ORDER];
@@ -77,8 +70,8 @@ TD_FN int td_piece_crosses_right(TD_REALS_PARAM int piece, int degree, TD_REAL u
     hv[i] = td_reals[piece + 2 + 3 * i + 1] * w;
     hw[i] = w;
   }
-  TD_REAL t0 = TD_TO_REAL(0);
-  TD_REAL t1 = TD_TO_REAL(1);
+  TD_REAL t0 = KL_CAST(TD_REAL, 0);
+  TD_REAL t1 = KL_CAST(TD_REAL, 1);
   TD_REAL u0 = td_reals[piece + 2];
   TD_REAL v0 = td_reals[piece + 3];
   TD_REAL u1 = td_reals[piece + 2 + 3 * degree];
@@ -90,7 +83,7 @@ TD_FN int td_piece_crosses_right(TD_REALS_PARAM int piece, int degree, TD_REAL u
     if (u < lo) return 1;
     if (u >= hi) return 0;
     if (hi - lo <= epsilon || iteration == iterations) break;
-    const TD_REAL tm = (t0 + t1) * TD_TO_REAL(0.5);
+    const TD_REAL tm = (t0 + t1) * KL_CAST(TD_REAL, 0.5);
     if (!(tm > t0 && tm < t1)) break;
     // de Casteljau in homogeneous (w·u, w·v, w) at tm.
     for (int i = 0; i <= degree; ++i) {
@@ -100,9 +93,9 @@ TD_FN int td_piece_crosses_right(TD_REALS_PARAM int piece, int degree, TD_REAL u
     }
     for (int r = 1; r <= degree; ++r)
       for (int i = 0; i <= degree - r; ++i) {
-        wu[i] = (TD_TO_REAL(1) - tm) * wu[i] + tm * wu[i + 1];
-        wv[i] = (TD_TO_REAL(1) - tm) * wv[i] + tm * wv[i + 1];
-        ww[i] = (TD_TO_REAL(1) - tm) * ww[i] + tm * ww[i + 1];
+        wu[i] = (KL_CAST(TD_REAL, 1) - tm) * wu[i] + tm * wu[i + 1];
+        wv[i] = (KL_CAST(TD_REAL, 1) - tm) * wv[i] + tm * wv[i + 1];
+        ww[i] = (KL_CAST(TD_REAL, 1) - tm) * ww[i] + tm * ww[i + 1];
       }
     const TD_REAL um = wu[0] / ww[0];
     const TD_REAL vm = wv[0] / ww[0];
@@ -120,14 +113,14 @@ TD_FN int td_piece_crosses_right(TD_REALS_PARAM int piece, int degree, TD_REAL u
       v0 = vm;
     }
   }
-  return u < (u0 + u1) * TD_TO_REAL(0.5) ? 1 : 0;
+  return u < (u0 + u1) * KL_CAST(TD_REAL, 0.5) ? 1 : 0;
 }
 
 // Classifies (u, v) against the trim whose tables start at ints[base]: returns
 // 2 * (buffer elements read) + (1 when inside, by the even-odd rule). The read count is the cost
 // counter (gpucast's cost view counts the same kind of fetches). One packed int because GLSL and
 // OpenCL C share no way to return two values.
-TD_FN int td_classify(TD_BUFFER_PARAMS int base, TD_REAL u, TD_REAL v, TD_REAL epsilon,
+KL_FN int td_classify(TD_BUFFER_PARAMS int base, TD_REAL u, TD_REAL v, TD_REAL epsilon,
                       int iterations) {
   const int rows = td_ints[base];
   int reads = 1;
@@ -169,10 +162,8 @@ TD_FN int td_classify(TD_BUFFER_PARAMS int base, TD_REAL u, TD_REAL v, TD_REAL e
 }
 
 #if defined(__cplusplus)
-#undef TD_FN
 #undef TD_REALS_PARAM
 #undef TD_BUFFER_PARAMS
 #undef TD_REALS_ARG
-#undef TD_TO_REAL
 #undef TD_MAX_ORDER
 #endif

@@ -14,19 +14,23 @@
 // denominator spans the non-empty span, so no 0/0 can occur.
 #if defined(__cplusplus)
 #pragma once
-#define TB_FN template <typename TB_REAL>
+#endif
+#if defined(__cplusplus) || defined(GL_GOOGLE_include_directive)
+#include "../kernel_language/kernel_language.h"
+#endif
+#if defined(KL_CPP)
+// C++: function templates on the scalar TB_REAL.
+#define TB_FN                 \
+  template <typename TB_REAL> \
+  KL_FN
 #define TB_KNOTS const TB_REAL*
 #define TB_KNOT(k, i) (k)[i]
-#define TB_OUT(name) TB_REAL* name
-#define TB_CAST(x) static_cast<TB_REAL>(x)
 #else
 // GLSL: the includer defines TB_REAL (float or double) and declares the storage buffer
 // `tb_knots` of TB_REAL; a knot vector is its offset there (a function cannot take a buffer).
-#define TB_FN
+#define TB_FN KL_FN
 #define TB_KNOTS int
 #define TB_KNOT(k, i) tb_knots[(k) + (i)]
-#define TB_OUT(name) out TB_REAL name[TB_MAX_ORDER]
-#define TB_CAST(x) TB_REAL(x)
 #endif
 
 // reference/validation.h kMaxDegree.
@@ -59,26 +63,27 @@ TB_FN int tb_find_span(int degree, int count, TB_KNOTS knots, TB_REAL u) {
 
 // basis[j] = N_{span-p+j,p}(u), j = 0..p (A2.2); with `derivatives`, ders[j] = N'_{span-p+j,p}(u)
 // (eq. 2.7 on the degree p-1 functions), else ders is not written.
-TB_FN void tb_basis(int span, TB_REAL u, int degree, TB_KNOTS knots, TB_OUT(basis), TB_OUT(ders),
-                    bool derivatives) {
+TB_FN void tb_basis(int span, TB_REAL u, int degree, TB_KNOTS knots,
+                    KL_ARRAY_OUT(TB_REAL, basis, TB_MAX_ORDER),
+                    KL_ARRAY_OUT(TB_REAL, ders, TB_MAX_ORDER), bool derivatives) {
   TB_REAL left[TB_MAX_ORDER];
   TB_REAL right[TB_MAX_ORDER];
-  basis[0] = TB_CAST(1);
+  basis[0] = KL_CAST(TB_REAL, 1);
   for (int j = 1; j <= degree; ++j) {
     if (derivatives && j == degree) {
       // basis[r] = N_{span-p+1+r,p-1}, r = 0..p-1
       for (int r = 0; r <= degree; ++r) {
-        TB_REAL d = TB_CAST(0);
+        TB_REAL d = KL_CAST(TB_REAL, 0);
         if (r >= 1)
           d += basis[r - 1] / (TB_KNOT(knots, span + r) - TB_KNOT(knots, span + r - degree));
         if (r < degree)
           d -= basis[r] / (TB_KNOT(knots, span + r + 1) - TB_KNOT(knots, span + r + 1 - degree));
-        ders[r] = TB_CAST(degree) * d;
+        ders[r] = KL_CAST(TB_REAL, degree) * d;
       }
     }
     left[j] = u - TB_KNOT(knots, span + 1 - j);
     right[j] = TB_KNOT(knots, span + j) - u;
-    TB_REAL saved = TB_CAST(0);
+    TB_REAL saved = KL_CAST(TB_REAL, 0);
     for (int r = 0; r < j; ++r) {
       const TB_REAL temp = basis[r] / (right[r + 1] + left[j - r]);
       basis[r] = saved + right[r + 1] * temp;
