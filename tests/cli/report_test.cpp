@@ -304,6 +304,23 @@ TEST_F(CliReport, GroupsRefusalsByReasonWithASceneCount) {
           << strategy << " on " << scene;
 }
 
+// The memory section's regenerate command as sections.cpp states it: `memory --json` into a
+// directory of its own, then report on that directory, which holds no results.json.
+TEST_F(CliReport, MemoryFileAloneIsAResultsSet) {
+  const fs::path dir = tmp_ / "memory-alone";
+  fs::create_directories(dir);
+  const CliResult memory = run_cli({"memory", "--scenes", "teapot", "--json"});
+  ASSERT_EQ(memory.exit_code, 0) << memory.err;
+  write_text(dir / "memory.json", memory.out);
+  const std::string out = tmp_ / "report";
+  const CliResult r =
+      run_cli({"report", "--results", dir.string(), "--out", out, "--error-images", "0"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string md = read_text(fs::path(out) / "REPORT.md");
+  EXPECT_NE(md.find("Control-point memory (from memory.json)"), std::string::npos) << md;
+  EXPECT_NE(md.find("| teapot | 32 |"), std::string::npos) << md;
+}
+
 TEST_F(CliReport, ReadsLodAndMemoryFilesBesideTheResults) {
   const std::string dir = copy_results("with-side-files");
   write_text(fs::path(dir) / "lod.json", R"JSON({"format": "nurbsbench-lod/1",
