@@ -63,18 +63,21 @@ Record skeleton(const StrategyEntry& entry, const Scene& scene, const EvalReques
 // one can run the strategy (and the isolated run says it without a child, refused_by_kind).
 bool runnable(const StrategyEntry& entry, const Scene& scene, const EvalRequest& request,
               Record& r) {
-  if (refused_by_kind(entry, scene, request, r)) return false;
+  // Asked once: the rule scans every control point for the precision's range.
+  const std::optional<std::string> refused = refusal_reason(entry.capabilities(), scene, request);
+  const auto refuse = [&] {
+    r.status = Status::refused;
+    r.reason = *refused;
+    return false;
+  };
+  if (refused && is_kind_refusal(*refused)) return refuse();
   const Availability availability = entry.probe();
   if (!availability.available) {
     r.status = Status::unavailable;
     r.reason = availability.reason;
     return false;
   }
-  if (auto refused = refusal_reason(entry.capabilities(), scene, request)) {
-    r.status = Status::refused;
-    r.reason = *refused;
-    return false;
-  }
+  if (refused) return refuse();
   return true;
 }
 

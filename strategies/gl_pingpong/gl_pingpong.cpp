@@ -70,7 +70,9 @@ class GlPingPong final : public Strategy {
   }
 
   std::string_view name() const override { return packed_ ? "gl-pingpong-packed" : "gl-pingpong"; }
-  Capabilities capabilities() const override { return gl_pingpong_descriptor(false).capabilities; }
+  Capabilities capabilities() const override {
+    return gl_pingpong_descriptor(packed_).capabilities;
+  }
 
   DeviceInfo device() const override {
     DeviceInfo d = context_->device_info();
