@@ -222,10 +222,11 @@ constexpr std::uint32_t kCornerGroup = 64;  // ksquad_corners.comp: local_size_x
 
 // Adaptive mode: the levels the control stage chose, read back from its storage buffer.
 KsquadStatistics VkKsquad::statistics() const {
-  if (!settings_.adaptive || patch_count_ == 0) return stats_;
-  const KsquadStatistics st = vk_ksquad::adaptive_statistics(
-      stats_, tables_, read_levels(), settings_.max_level * settings_.pieces, settings_.nonuniform);
-  return settings_.nonuniform ? vk_ksquad::nonuniform_statistics(st, ksdice()) : st;
+  if (!settings_.camera_levels() || patch_count_ == 0) return stats_;
+  const KsquadStatistics st = vk_ksquad::adaptive_statistics(stats_, tables_, read_levels(),
+                                                             settings_.max_level * settings_.pieces,
+                                                             settings_.is(Mapping::nonuniform));
+  return settings_.is(Mapping::nonuniform) ? vk_ksquad::nonuniform_statistics(st, ksdice()) : st;
 }
 
 std::vector<float> VkKsquad::read_levels() const {
@@ -235,12 +236,12 @@ std::vector<float> VkKsquad::read_levels() const {
 }
 
 std::vector<PatchLevels> VkKsquad::patch_levels() const {
-  if (!settings_.adaptive || patch_count_ == 0) return {};
+  if (!settings_.camera_levels() || patch_count_ == 0) return {};
   return vk_ksquad::adaptive_patch_levels(tables_, read_levels());
 }
 
 std::vector<CapturedEdge> VkKsquad::captured_edges() const {
-  if (!settings_.adaptive || settings_.nonuniform) return {};
+  if (!settings_.camera_levels() || settings_.is(Mapping::nonuniform)) return {};
   return vk_ksquad::adaptive_edges(tables_, read_slots(), region_, settings_.max_level);
 }
 
@@ -264,13 +265,13 @@ void VkKsquad::record_eq3_details(const KsquadStatistics& st) {
   record_.details["eq3_shared_edges"] = std::to_string(st.shared_edges);
   record_.details["eq3_cracked_edges"] = std::to_string(st.cracked_edges);
   record_.details["eq3_max_level"] = std::to_string(st.max_level);
-  if (!settings_.nonuniform)
+  if (!settings_.is(Mapping::nonuniform))
     record_.details["tessellated_triangles"] = std::to_string(st.tessellated_triangles);
 }
 
 // vk-corners=device: the corner pass, then a barrier so the control stage reads its corners.
 void VkKsquad::record_corners(VkCommandBuffer cb) const {
-  if (!settings_.adaptive || !settings_.device_corners || corner_jobs_.empty()) return;
+  if (!settings_.camera_levels() || !settings_.device_corners || corner_jobs_.empty()) return;
   const auto count = static_cast<std::uint32_t>(corner_jobs_.size() / kCornerInts);
   corner_pass_->bind(cb, *set_);
   ModeConstants mode = mode_;

@@ -19,12 +19,25 @@ extern const std::string_view vk_ksquad_nonuniform_geom;
 
 namespace nurbs::vk_ksquad {
 
-PipelineShaders ksquad_shaders(bool nonuniform) {
-  if (nonuniform)
+PipelineShaders ksquad_shaders(Mapping mapping) {
+  if (mapping == Mapping::nonuniform)
     return {embedded::vk_ksquad_vert, embedded::vk_ksquad_tesc, embedded::vk_ksquad_nonuniform_tese,
             embedded::vk_ksquad_nonuniform_geom, embedded::vk_ksquad_frag};
   return {embedded::vk_ksquad_vert, embedded::vk_ksquad_tesc, embedded::vk_ksquad_tese,
           embedded::vk_ksquad_geom, embedded::vk_ksquad_frag};
+}
+
+Stages mapping_stages(Mapping mapping) {
+  switch (mapping) {
+    case Mapping::gs:
+      return Stages::geometry;
+    case Mapping::nonuniform:
+      return Stages::tessellation_geometry;
+    case Mapping::uniform:
+    case Mapping::adaptive:
+      break;
+  }
+  return Stages::tessellation;
 }
 
 VkPipeline make_pipeline(const vulkan::Device& device, const PipelineShaders& shaders,

@@ -15,6 +15,7 @@
 
 #include "strategies/strategy.h"
 #include "strategies/vk_ksquad/ksquad_layout.h"
+#include "strategies/vk_ksquad/ksquad_settings.h"
 #include "strategies/vk_ksquad/patches.h"
 #include "strategies/vulkan/vk_device.h"
 
@@ -29,11 +30,13 @@ struct PipelineShaders {
 // vk-ksquad's (ksquad.vert, .tesc, .tese, .geom, .frag); `nonuniform`: the nonuniform mapping's
 // evaluation and geometry stages (ksquad_nonuniform.tese, .geom) instead. vk-bezier draws with its
 // vertex and control stages and its own evaluation stage.
-PipelineShaders ksquad_shaders(bool nonuniform = false);
+PipelineShaders ksquad_shaders(Mapping mapping = Mapping::uniform);
 
 // The stages between the vertex and fragment stages: the tessellator's (uniform, adaptive), the
 // GS mapping's geometry stage alone (ksquad.geom), or both (nonuniform).
 enum class Stages { tessellation, geometry, tessellation_geometry };
+// uniform, adaptive: tessellation; gs: geometry; nonuniform: tessellation_geometry.
+Stages mapping_stages(Mapping mapping);
 
 // Capture (rasterization discarded) or raster (the evaluation stage's kRaster = 1, a fragment
 // stage, depth test, a width x height viewport); the degrees are the evaluation stage's

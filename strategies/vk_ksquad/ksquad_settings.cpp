@@ -86,16 +86,34 @@ std::array<float, 16> view_projection(const std::array<double, 3>& eye,
 // evaluation. Bounded draws keep it linear; on a GPU they are a handful of
 // draw calls more. Measured on lavapipe, patch144 at 1024x1024: 14 s per evaluation in one draw,
 // 1.2 s with 1024 to 16384 vertices per draw, 2.9 s with 262144.
+namespace {
+constexpr Mapping kMappings[] = {Mapping::uniform, Mapping::adaptive, Mapping::gs,
+                                 Mapping::nonuniform};
+}  // namespace
+
+const char* mapping_name(Mapping mapping) {
+  switch (mapping) {
+    case Mapping::uniform:
+      return "uniform";
+    case Mapping::adaptive:
+      return "adaptive";
+    case Mapping::gs:
+      return "gs";
+    case Mapping::nonuniform:
+      return "nonuniform";
+  }
+  return "?";
+}
+
 KsquadSettings ksquad_settings(const StrategyOptions& options) {
   KsquadSettings a;
   if (auto it = options.extra.find("vk-mode"); it != options.extra.end() && !it->second.empty()) {
-    if (it->second != "uniform" && it->second != "adaptive" && it->second != "gs" &&
-        it->second != "nonuniform")
+    const auto known = std::find_if(std::begin(kMappings), std::end(kMappings),
+                                    [&](Mapping m) { return it->second == mapping_name(m); });
+    if (known == std::end(kMappings))
       throw std::invalid_argument("vk-ksquad option vk-mode = '" + it->second +
                                   "': must be uniform, adaptive, gs or nonuniform");
-    a.nonuniform = it->second == "nonuniform";
-    a.adaptive = it->second == "adaptive" || a.nonuniform;
-    a.gs = it->second == "gs";
+    a.mapping = *known;
   }
   const auto choice = [&](const char* key, const char* first, const char* second) {
     const auto it = options.extra.find(key);
@@ -108,7 +126,7 @@ KsquadSettings ksquad_settings(const StrategyOptions& options) {
   a.eq3_literal = choice("vk-eq3", "edge", "literal");
   a.surface_thresholds = choice("vk-thresholds", "global", "surface");
   for (const char* key : {"vk-eq3", "vk-thresholds"})
-    if (!a.adaptive && options.extra.count(key))
+    if (!a.camera_levels() && options.extra.count(key))
       throw std::invalid_argument(fmt::format(
           "vk-ksquad: {} applies to vk-mode=adaptive and vk-mode=nonuniform only", key));
   if (auto it = options.extra.find("vk-corners");
@@ -140,7 +158,7 @@ KsquadSettings ksquad_settings(const StrategyOptions& options) {
   a.max_level = positive_option(options, "vk-max-level", "vk-ksquad");
   if (const int pieces = positive_option(options, "vk-pieces", "vk-ksquad"); pieces > 0)
     a.pieces = pieces;
-  if (a.nonuniform) {
+  if (a.mapping == Mapping::nonuniform) {
     // one patch per KSQuad: its lattice is capped, not cut (ksquad.tesc's nonuniform branch)
     if (options.extra.count("vk-pieces"))
       throw std::invalid_argument("vk-ksquad: vk-pieces does not apply to vk-mode=nonuniform");

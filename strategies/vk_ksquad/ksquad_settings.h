@@ -32,11 +32,27 @@ inline constexpr int kNonuniformMaxLevel = 16;
 // Adaptive and nonuniform: vk-eq3 = edge|literal (how eq. 3 is read, ksquad.tesc; edge),
 // vk-thresholds = global|surface (μ, ε, η as given, or scaled per surface by
 // surface_threshold_scales; global).
+// vk-mode: how KSQuads become what the pipeline draws (003 §3-4).
+enum class Mapping {
+  uniform,     // one tessellation level per surface, from the requested sampling
+  adaptive,    // levels from the camera (eq. 3, the control stage ksquad.tesc)
+  gs,          // §4's GS-based mapping (ksquad.geom), span grid T <= 8
+  nonuniform,  // adaptive's control stage and corner table, then a geometry stage (eqs. 4-5)
+};
+// "uniform", "adaptive", "gs", "nonuniform": the vk-mode value and the records' vk_mode detail.
+const char* mapping_name(Mapping mapping);
+
 struct KsquadSettings {
-  bool adaptive = false;  // also true in nonuniform mode, which shares its control stage
-  bool nonuniform = false;
+  Mapping mapping = Mapping::uniform;
+  bool is(Mapping m) const { return mapping == m; }
+  // adaptive and nonuniform: levels chosen from the camera by the control stage (eq. 3), with its
+  // corner table, camera and thresholds; uniform and gs take theirs from the sampling
+  bool camera_levels() const {
+    return mapping == Mapping::adaptive || mapping == Mapping::nonuniform;
+  }
+  // gs and nonuniform draw through a geometry stage (the device needs geometryShader)
+  bool geometry_stage() const { return mapping == Mapping::gs || mapping == Mapping::nonuniform; }
   double epsilon = 0.5, eta = 4;
-  bool gs = false;  // vk-mode = gs: 003 §4's GS-based mapping (ksquad.geom), span grid T <= 8
   std::vector<double> eye, center, viewport;
   double fov = 45, mu = 4;
   int max_level = 0;

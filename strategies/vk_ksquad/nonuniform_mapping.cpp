@@ -138,7 +138,7 @@ void VkKsquad::check_nonuniform_limits() const {
 }
 
 std::vector<KsdieRecord> VkKsquad::ksdice() const {
-  if (!settings_.nonuniform || patch_count_ == 0) return {};
+  if (!settings_.is(Mapping::nonuniform) || patch_count_ == 0) return {};
   std::vector<int> records(patch_count_ * vk_ksquad::ksdie_slots(settings_.max_level) *
                            kNuKsdieInts);
   ksdice_.read(records.data(), records.size() * sizeof(int));

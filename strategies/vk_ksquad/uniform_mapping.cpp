@@ -143,7 +143,7 @@ std::vector<std::int32_t> VkKsquad::trim_surface_rows() const {
 
 // Uniform span grid: the tessellator chooses the parameters (ksquad.tese span_parameter).
 bool VkKsquad::span_grid_samples() const {
-  return !settings_.adaptive && request_.sampling.mode == SamplingMode::span_grid;
+  return !settings_.camera_levels() && request_.sampling.mode == SamplingMode::span_grid;
 }
 
 }  // namespace nurbs::vk_ksquad

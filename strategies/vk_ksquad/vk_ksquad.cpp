@@ -98,6 +98,7 @@ using vk_ksquad::kSlotFloats;
 using vk_ksquad::ksquad_settings;
 using vk_ksquad::KsquadSettings;
 using vk_ksquad::kSurfaceInts;
+using vk_ksquad::Mapping;
 using vk_ksquad::ModeConstants;
 using vulkan::memory_barrier;
 
@@ -138,7 +139,7 @@ Capabilities VkKsquad::capabilities() const {
 
 VkKsquad::VkKsquad(int device_index, const KsquadSettings& settings,
                    const trim_direct::Settings& trim)
-    : device_(device_index, ksquad_requirements(settings.gs || settings.nonuniform)),
+    : device_(device_index, ksquad_requirements(settings.geometry_stage())),
       queries_(device_, kStatistics),
       classifier_(device_),
       trim_settings_(trim),
@@ -151,18 +152,17 @@ VkKsquad::VkKsquad(int device_index, const KsquadSettings& settings,
     throw std::invalid_argument(
         fmt::format("vk-ksquad: vk-max-level {} exceeds maxTessellationGenerationLevel {}",
                     settings_.max_level, cap));
-  if (settings_.gs) check_gs_limits();
-  if (settings_.nonuniform) check_nonuniform_limits();
+  if (settings_.is(Mapping::gs)) check_gs_limits();
+  if (settings_.is(Mapping::nonuniform)) check_nonuniform_limits();
   // the report labels vk-ksquad's series by the mapping
-  record_.details["vk_mode"] = settings_.gs ? "gs" : "uniform";
+  record_.details["vk_mode"] = vk_ksquad::mapping_name(settings_.mapping);
   record_.details["vk_constants"] = settings_.device_constants ? "device" : "host";
-  if (settings_.adaptive) {
-    record_.details["vk_mode"] = settings_.nonuniform ? "nonuniform" : "adaptive";
+  if (settings_.camera_levels()) {
     record_.details["vk_corners"] = settings_.device_corners ? "device" : "host";
     record_.details["vk_eq3"] = settings_.eq3_literal ? "literal" : "edge";
     record_.details["vk_thresholds"] = settings_.surface_thresholds ? "surface" : "global";
   }
-  if (settings_.nonuniform) {
+  if (settings_.is(Mapping::nonuniform)) {
     record_.details["vk_epsilon"] = fmt::format("{}", settings_.epsilon);
     record_.details["vk_eta"] = fmt::format("{}", settings_.eta);
     record_.details["vk_max_level"] = std::to_string(settings_.max_level);
@@ -171,10 +171,10 @@ VkKsquad::VkKsquad(int device_index, const KsquadSettings& settings,
 }
 
 void VkKsquad::prepare_checked(const Scene& scene, const EvalRequest& request) {
-  if (settings_.gs) refuse_gs(request);
+  if (settings_.is(Mapping::gs)) refuse_gs(request);
   const bool trimmed = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
                                    [](const Surface& s) { return s.trim.has_value(); });
-  if (settings_.adaptive && trimmed)
+  if (settings_.camera_levels() && trimmed)
     throw RefusedError(
         "vk-ksquad: trimmed scenes are classified in uniform mode only (adaptive samples are "
         "the tessellator's, known only after evaluate())");
@@ -191,11 +191,12 @@ void VkKsquad::prepare_checked(const Scene& scene, const EvalRequest& request) {
 
 void VkKsquad::evaluate() {
   device_.submit_and_wait([&](VkCommandBuffer cb) {
-    if (settings_.adaptive) {
+    if (settings_.camera_levels()) {
       // Unwritten capture slots read back as NaN (a quiet NaN's bits in every word); nonuniform:
       // KSDice the tessellator did not start keep status 0.
       vkCmdFillBuffer(cb, positions_.handle(), 0, VK_WHOLE_SIZE, 0x7fc00000u);
-      if (settings_.nonuniform) vkCmdFillBuffer(cb, ksdice_.handle(), 0, VK_WHOLE_SIZE, 0u);
+      if (settings_.is(Mapping::nonuniform))
+        vkCmdFillBuffer(cb, ksdice_.handle(), 0, VK_WHOLE_SIZE, 0u);
       memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                      writing_stages(), VK_ACCESS_SHADER_WRITE_BIT);
     }
@@ -217,8 +218,8 @@ void VkKsquad::evaluate() {
 }
 
 EvalResult VkKsquad::read_back() {
-  if (settings_.nonuniform) return read_back_nonuniform();
-  if (settings_.adaptive) return read_back_adaptive();
+  if (settings_.is(Mapping::nonuniform)) return read_back_nonuniform();
+  if (settings_.camera_levels()) return read_back_adaptive();
   return read_back_uniform();
 }
 
@@ -229,7 +230,7 @@ void VkKsquad::update_control_points(const Scene& scene) {
   if (points.size() * sizeof(float) != points_.size())
     throw std::invalid_argument("vk-ksquad: update_control_points changed the control nets");
   points_.write(points.data(), points.size() * sizeof(float));
-  if (settings_.adaptive && !settings_.device_corners) {  // the corners move with the points
+  if (settings_.camera_levels() && !settings_.device_corners) {  // the corners move with the points
     corners_ = vk_ksquad::corner_table(scene, true).rows;
     corners_buf_.write(corners_.data(), corners_.size() * sizeof(float));
   }
@@ -289,16 +290,16 @@ std::vector<float> VkKsquad::homogeneous_points(const Scene& scene) {
 // The adaptive camera: given, or fitted to the scene's control-point bounding sphere.
 void VkKsquad::set_mode(const Scene& scene) {
   mode_ = {};
-  mode_.adaptive = settings_.adaptive ? 1 : 0;
+  mode_.adaptive = settings_.camera_levels() ? 1 : 0;
   mode_.max_level = settings_.max_level;
   mode_.pieces = settings_.pieces;
   mode_.region = static_cast<std::int32_t>(region_);
   mode_.normals = request_.normals ? 1 : 0;
   mode_.span_grid = span_grid_samples() ? 1 : 0;
   // nonuniform: the control stage's lower level (ksquad.tesc)
-  mode_.mu =
-      static_cast<float>(settings_.nonuniform ? settings_.mu * (1 << kNuDepth) : settings_.mu);
-  mode_.nonuniform = settings_.nonuniform ? 1 : 0;
+  mode_.mu = static_cast<float>(settings_.is(Mapping::nonuniform) ? settings_.mu * (1 << kNuDepth)
+                                                                  : settings_.mu);
+  mode_.nonuniform = settings_.is(Mapping::nonuniform) ? 1 : 0;
   mode_.eq3_literal = settings_.eq3_literal ? 1 : 0;
   mode_.epsilon = static_cast<float>(settings_.epsilon);
   mode_.eta = static_cast<float>(settings_.eta);
@@ -312,12 +313,12 @@ void VkKsquad::set_mode(const Scene& scene) {
 void VkKsquad::build_tables(const Scene& scene) {
   vk_ksquad::SurfaceTable table = vk_ksquad::surface_table(scene, samples_);
   tables_.surfaces = std::move(table.surfaces);
-  if (settings_.nonuniform) {
+  if (settings_.is(Mapping::nonuniform)) {
     const std::vector<int> friendless = vk_ksquad::friendless_sides(scene);
     for (std::size_t i = 0; i < friendless.size(); ++i)
       tables_.surfaces[i * kSurfaceInts + vk_ksquad::kSurfaceFriendless] = friendless[i];
   }
-  if (settings_.adaptive && settings_.surface_thresholds) {
+  if (settings_.camera_levels() && settings_.surface_thresholds) {
     const std::vector<double> scales = vk_ksquad::surface_threshold_scales(
         scene, vk_ksquad::scene_camera(scene, settings_), settings_.viewport);
     for (std::size_t i = 0; i < scales.size(); ++i)
@@ -363,23 +364,24 @@ void VkKsquad::build_tables(const Scene& scene) {
   };
   const int cap = static_cast<int>(device_.limits().maxTessellationGenerationLevel);
   stats_ = {};
-  stats_.level_cap = settings_.adaptive ? settings_.max_level : cap;
+  stats_.level_cap = settings_.camera_levels() ? settings_.max_level : cap;
   surface_count_ = scene.surfaces.size();
   // Adaptive: one patch per KSQuad of the span grid (the tessellator chooses the samples).
   Sampling one_per_span;
   one_per_span.mode = SamplingMode::span_grid;
   one_per_span.span_steps = 1;
   const auto quads =
-      settings_.adaptive
+      settings_.camera_levels()
           ? ksquad::build_ksquads<float>(scene, sample_parameters(scene, one_per_span),
                                          one_per_span)
           : (span_grid_samples() ? ksquad::build_ksquads<float>(scene, samples_, request_.sampling)
                                  : vk_ksquad::grid_ksquads(scene, samples_));
-  corner_table_ = settings_.adaptive ? vk_ksquad::corner_table(scene, !settings_.device_corners)
-                                     : vk_ksquad::Corners{};
+  corner_table_ = settings_.camera_levels()
+                      ? vk_ksquad::corner_table(scene, !settings_.device_corners)
+                      : vk_ksquad::Corners{};
   corners_ = corner_table_.rows;
   corner_jobs_.clear();
-  if (settings_.adaptive && settings_.device_corners)
+  if (settings_.camera_levels() && settings_.device_corners)
     for (const auto& [surface, span_u, span_v, end_u, end_v] : corner_table_.spans)
       corner_jobs_.insert(corner_jobs_.end(),
                           {surface * kSurfaceInts, span_u, span_v, constants(surface, 0, span_u),
@@ -392,7 +394,7 @@ void VkKsquad::build_tables(const Scene& scene) {
   // the run over that span: it evaluates all of it at x_i, the span's start (share 0) or, at the
   // domain's end, its end (1); -1 = an ordinary run. (Grids are evaluated at their own
   // parameters; adaptive mode tessellates the whole KSQuad of the span it is given.)
-  const bool collapsible = !settings_.adaptive && span_grid_samples();
+  const bool collapsible = !settings_.camera_levels() && span_grid_samples();
   const auto collapsed_share = [&](int surface, int direction, const ksquad::SpanRun& run) {
     if (!collapsible || run.count < 2) return -1.0f;
     const std::vector<double>& params = direction == 0 ? samples_[surface].u : samples_[surface].v;
@@ -408,7 +410,7 @@ void VkKsquad::build_tables(const Scene& scene) {
     const float share_v = collapsed_share(q.surface, 1, q.v);
     const int cu = constants(q.surface, 0, q.u.span), cv = constants(q.surface, 1, q.v.span);
     int c[4] = {0, 0, 0, 0};
-    if (settings_.adaptive)
+    if (settings_.camera_levels())
       for (int k = 0; k < 4; ++k)
         c[k] = corner_table_.at(s, q.surface, q.u.span + (k & 1), q.v.span + (k >> 1));
     // A2.1 puts a span's end knot in the next non-empty span (the last span keeps the end).
@@ -423,8 +425,8 @@ void VkKsquad::build_tables(const Scene& scene) {
     const int cv_next = constants(q.surface, 1, next_v);
     // Uniform: runs past the cap cut on the host; adaptive: vk-pieces^2 rows per KSQuad, the
     // control stage uses those its levels need (ksquad.tesc).
-    const int piece_cap = settings_.adaptive ? std::numeric_limits<int>::max() : cap;
-    const int pieces = settings_.adaptive ? settings_.pieces * settings_.pieces : 1;
+    const int piece_cap = settings_.camera_levels() ? std::numeric_limits<int>::max() : cap;
+    const int pieces = settings_.camera_levels() ? settings_.pieces * settings_.pieces : 1;
     for (const ksquad::SpanRun& a : vk_ksquad::split_run(q.u, piece_cap))
       for (const ksquad::SpanRun& b : vk_ksquad::split_run(q.v, piece_cap))
         for (int piece = 0; piece < pieces; ++piece) {
@@ -465,8 +467,9 @@ void VkKsquad::build_tables(const Scene& scene) {
   vk_ksquad::sort_by_degrees(tables_.patches, scene);
   // Adaptive patches are counted at the level cap (the control stage sets their levels).
   const std::uint64_t fixed_vertices =
-      settings_.adaptive ? vk_ksquad::quad_domain_vertices(settings_.max_level, settings_.max_level)
-                         : 0;
+      settings_.camera_levels()
+          ? vk_ksquad::quad_domain_vertices(settings_.max_level, settings_.max_level)
+          : 0;
   const auto make_draws = [&](bool with_empty) {
     return vk_ksquad::make_draws(tables_.patches, scene, with_empty, settings_.vertices_per_draw,
                                  fixed_vertices);
@@ -481,16 +484,17 @@ void VkKsquad::build_tables(const Scene& scene) {
 
 void VkKsquad::upload_tables(const Scene& scene) {
   const int level = settings_.max_level;
-  region_ = settings_.adaptive
+  region_ = settings_.camera_levels()
                 ? static_cast<std::size_t>(4 * (level + 1) + (level - 1) * (level - 1))
                 : 0;
   set_mode(scene);
-  const std::size_t ksdie_slots =
-      settings_.nonuniform ? patch_count_ * vk_ksquad::ksdie_slots(settings_.max_level) : 0;
+  const std::size_t ksdie_slots = settings_.is(Mapping::nonuniform)
+                                      ? patch_count_ * vk_ksquad::ksdie_slots(settings_.max_level)
+                                      : 0;
   const std::size_t output_floats =
-      settings_.nonuniform
+      settings_.is(Mapping::nonuniform)
           ? ksdie_slots * kNuLattice * kNuLattice * kNuVertexFloats
-          : (settings_.adaptive ? patch_count_ * region_ * kSlotFloats : total_ * 3);
+          : (settings_.camera_levels() ? patch_count_ * region_ * kSlotFloats : total_ * 3);
   ksdice_ = vulkan::Buffer(device_, ksdie_slots * kNuKsdieInts * sizeof(int),
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "KSDie records");
   corners_buf_ = storage(corners_, "KSQuad corners");
@@ -506,7 +510,9 @@ void VkKsquad::upload_tables(const Scene& scene) {
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output positions");
   // nonuniform: the normals are in the vertex slots
   const std::size_t normal_slots =
-      settings_.nonuniform ? 0 : (settings_.adaptive ? patch_count_ * region_ : total_);
+      settings_.is(Mapping::nonuniform)
+          ? 0
+          : (settings_.camera_levels() ? patch_count_ * region_ : total_);
   normals_ = vulkan::Buffer(device_, (request_.normals ? normal_slots * 3 : 0) * sizeof(float),
                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "output normals");
   sample_params_ = vulkan::Buffer(device_, (span_grid_samples() ? total_ * 2 : 0) * sizeof(float),
@@ -563,23 +569,20 @@ VkPipeline VkKsquad::pipeline_for(Pipelines& pipelines, bool raster, const Draw&
   auto& pipeline = pipelines[{draw.du, draw.dv}];
   if (!pipeline)
     pipeline = vk_ksquad::make_pipeline(
-        device_, vk_ksquad::ksquad_shaders(settings_.nonuniform), layout_, raster,
-        settings_.gs ? vk_ksquad::Stages::geometry
-                     : (settings_.nonuniform ? vk_ksquad::Stages::tessellation_geometry
-                                             : vk_ksquad::Stages::tessellation),
-        raster ? raster_->pass() : capture_->pass(), draw.du, draw.dv, image_width(),
-        image_height());
+        device_, vk_ksquad::ksquad_shaders(settings_.mapping), layout_, raster,
+        vk_ksquad::mapping_stages(settings_.mapping), raster ? raster_->pass() : capture_->pass(),
+        draw.du, draw.dv, image_width(), image_height());
   return pipeline;
 }
 
 VkShaderStageFlags VkKsquad::draw_stages() const {
-  return kModeStages | (settings_.gs || settings_.nonuniform ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
+  return kModeStages | (settings_.geometry_stage() ? VK_SHADER_STAGE_GEOMETRY_BIT : 0);
 }
 
 // The stages that write the capture buffers.
 VkPipelineStageFlags VkKsquad::writing_stages() const {
   return VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT |
-         (settings_.gs || settings_.nonuniform ? VK_PIPELINE_STAGE_GEOMETRY_SHADER_BIT : 0);
+         (settings_.geometry_stage() ? VK_PIPELINE_STAGE_GEOMETRY_SHADER_BIT : 0);
 }
 
 }  // namespace vk_ksquad
