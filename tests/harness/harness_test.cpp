@@ -1,6 +1,7 @@
 // Metrics, timing statistics, records and gates, on hand-made inputs whose answers are known.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cfloat>
 #include <chrono>
@@ -16,6 +17,7 @@
 #include "harness/metrics.h"
 #include "harness/progress.h"
 #include "harness/record.h"
+#include "harness/results_writer.h"
 #include "harness/runner.h"
 #include "harness/store_limit.h"
 #include "harness/summary_table.h"
@@ -175,6 +177,47 @@ TEST(Record, InfiniteErrorsSurviveJson) {
   r.accuracy->max_abs = r.accuracy->max_ulp = INFINITY;
   const Record back = record_from_json(nlohmann::json::parse(record_to_json(r).dump()));
   EXPECT_TRUE(std::isinf(back.accuracy->max_ulp));
+}
+
+// The writer serialises each record once and splices the texts into the document; the file must
+// be what dumping the whole document gives (what it wrote before, and what readers expect), for
+// no record, one, and several with nested, empty and multi-line values.
+TEST(ResultsWriter, WritesWhatDumpingTheWholeDocumentWrites) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / fmt::format("nb-writer-{}", ::getpid());
+  std::filesystem::remove_all(dir);
+  const nlohmann::json machine = {{"cpu_model", "Test CPU"}, {"records", "not the array"}};
+  const nlohmann::json settings = {{"scenes", {"patch144"}}, {"empty", nlohmann::json::object()}};
+  ResultsWriter writer(dir, machine, settings);
+  std::vector<Record> records;
+  const auto expected = [&] {
+    nlohmann::json document = {{"format", kResultsFormat},
+                               {"machine", machine},
+                               {"settings", settings},
+                               {"records", nlohmann::json::array()}};
+    for (const Record& r : records) document["records"].push_back(record_to_json(r));
+    return document.dump(1) + "\n";
+  };
+  const auto written = [&] {
+    std::ifstream in(dir / "results.json");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(written(), expected());
+  Record first = sample_record();
+  first.reason = "two\nlines, \"quoted\"";
+  Record second = sample_record();
+  second.extra_phases["render"] = {0.5, 0.75, 1.0};
+  second.figures["store_bytes_per_s"] = 1.25e10;
+  second.device.details.clear();
+  Record third = sample_record();
+  third.accuracy.reset();
+  for (const Record& r : {first, second, third}) {
+    records.push_back(r);
+    writer.append(r);
+    EXPECT_EQ(written(), expected()) << records.size() << " records";
+  }
+  EXPECT_EQ(read_results(dir).records.size(), 3u);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Record, CsvHasTheIssueColumnsAndQuotes) {
