@@ -1,4 +1,5 @@
-// The side files a results set may carry beside (or below) its results.json: lod.json
+// The side files a results set may carry beside its results.json, or alone in a folder of their
+// own (load_result_sets, harness/report/report.h): lod.json
 // (`nurbsbench lod`), camera_path.json (`nurbsbench camera-path`) and memory.json (`nurbsbench
 // memory --json`). One type per file, written by its verb through to_json and read back by the
 // report through read_*_file, so a field the writer renames breaks the build, not the report.

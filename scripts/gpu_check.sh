@@ -150,12 +150,17 @@ set_run fig8-many-surfaces "$n" "${fig8[@]}"
 set_run fig14-deboor-vs-basis "$n" "${fig14[@]}"
 set_run deforming "$n" "${deforming[@]}" --deforming "$frames"
 set_run fig8-trimmed-ducks "$n" "${ducks[@]}" --threads 1
-# 002 Fig 15 and 000 §3.2's camera path: side files beside the Fig 14 set, where the report reads them.
-if [ -d "$out/sets/fig14-deboor-vs-basis" ]; then
-  step lod "$n" lod "${lod[@]}" --out "$out/sets/fig14-deboor-vs-basis"
-  step camera-path "$n" camera-path "${camera[@]}" --out "$out/sets/fig14-deboor-vs-basis"
-  "$nb" memory --scenes all --json >"$out/sets/fig14-deboor-vs-basis/memory.json" 2>>"$out/logs/memory.log"
-fi
+# 002 Fig 15 and 000 §3.2's camera path, and the memory figures: each file in its own set.
+for side in lod camera-path; do
+  opts=("${lod[@]}")
+  [ "$side" = camera-path ] && opts=("${camera[@]}")
+  # a step cut before it wrote its file leaves no set
+  step "$side" "$n" "$side" "${opts[@]}" --out "$out/sets/$side" &&
+    ls "$out/sets/$side"/*.json >/dev/null 2>&1 && results+=(--results "$out/sets/$side")
+done
+mkdir -p "$out/sets/memory"
+"$nb" memory --scenes all --json >"$out/sets/memory/memory.json" 2>>"$out/logs/memory.log" &&
+  results+=(--results "$out/sets/memory")
 # Every built-in scene: the accuracy gates under the vendor's shader compiler (checked below).
 set_run accuracy "$n" "${accuracy[@]}"
 set_run fig9-tspline-time-vs-points "$n" "${fig9[@]}"

@@ -237,8 +237,9 @@ static int run_command_line(int argc, char** argv) {
       "report", "REPORT.md, index.html and the paper charts (PNG) from one or more results sets");
   report_cmd
       ->add_option("--results", report.results,
-                   "results directory (repeat for several; lod.json and memory.json beside "
-                   "results.json are read too)")
+                   "results directory (repeat for several; lod.json, camera_path.json and "
+                   "memory.json beside results.json are read too), or a folder of them "
+                   "(results/canonical: every set below it)")
       ->required();
   report_cmd->add_option("--out", report.out, "output directory (default: <first results>/report)");
   report_cmd->add_option("--python", report.python,

@@ -91,7 +91,8 @@ int report_command(const ReportOptions& options) {
   // Every input is read and checked before anything is written.
   if (options.results.empty()) throw InputError("--results: at least one results directory");
   std::vector<ResultSet> sets;
-  for (const std::string& dir : options.results) sets.push_back(load_result_set(dir));
+  for (const std::string& dir : options.results)
+    for (ResultSet& set : load_result_sets(dir)) sets.push_back(std::move(set));
   const fs::path out =
       options.out.empty() ? fs::path(options.results.front()) / "report" : fs::path(options.out);
   if (options.error_images < 0 || options.error_images > 50)

@@ -31,6 +31,11 @@ struct ResultSet {
 // Reads DIR/results.json and, when present, DIR/lod.json, DIR/memory.json and DIR/camera_path.json.
 // Throws InputError naming the file and field for anything malformed.
 ResultSet load_result_set(const std::filesystem::path& directory);
+// `path` as one set (a results.json, or a directory holding results.json or a side file), or else
+// a tree of sets (results/canonical): every directory below it that is a set, in path order, the
+// report folders a set may hold left out. A directory with no set in or below it is read as one
+// set, so its error names the missing results.json.
+std::vector<ResultSet> load_result_sets(const std::filesystem::path& path);
 
 struct ReportTable {
   std::string caption;

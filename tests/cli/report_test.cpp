@@ -321,6 +321,33 @@ TEST_F(CliReport, MemoryFileAloneIsAResultsSet) {
   EXPECT_NE(md.find("| teapot | 32 |"), std::string::npos) << md;
 }
 
+// A folder of sets (what scripts/canonical.sh writes): every set below it, side files in folders
+// of their own included; a report folder inside is not a set. A folder with nothing in or below
+// it is still bad input naming its missing results.json.
+TEST_F(CliReport, FolderOfSetsIsEverySetBelowIt) {
+  const fs::path tree = tmp_ / "tree";
+  for (const char* set : {"fig7", "nested/second"}) {
+    fs::create_directories(tree / set);
+    fs::copy_file(results_ / "results.json", tree / set / "results.json");
+  }
+  fs::create_directories(tree / "memory");
+  const CliResult memory = run_cli({"memory", "--scenes", "teapot", "--json"});
+  ASSERT_EQ(memory.exit_code, 0) << memory.err;
+  write_text(tree / "memory" / "memory.json", memory.out);
+  fs::create_directories(tree / "report");
+  write_text(tree / "report" / "charts.json", "{}");
+  const CliResult r = run_cli({"report", "--results", tree.string(), "--error-images", "0"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string md = read_text(tree / "report" / "REPORT.md");
+  EXPECT_NE(md.find("| fig7 ["), std::string::npos) << md;
+  EXPECT_NE(md.find("| second ["), std::string::npos) << md;
+  EXPECT_NE(md.find("| teapot | 32 |"), std::string::npos) << md;
+  const fs::path empty = tmp_ / "empty-tree";
+  fs::create_directories(empty / "sub");
+  expect_usage_error(run_cli({"report", "--results", empty.string(), "--out", tmp_ / "r2"}),
+                     {"empty-tree", "results.json"});
+}
+
 TEST_F(CliReport, ReadsLodAndMemoryFilesBesideTheResults) {
   const std::string dir = copy_results("with-side-files");
   write_text(fs::path(dir) / "lod.json", R"JSON({"format": "nurbsbench-lod/1",
