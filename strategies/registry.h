@@ -6,6 +6,8 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "strategies/strategy.h"
@@ -37,6 +39,22 @@ StrategyEntry make_entry(StrategyDescriptor descriptor, std::function<Availabili
                          std::function<std::unique_ptr<Strategy>(const StrategyOptions&)> create);
 // The entry of a strategy this build does not have: never available, for `reason`.
 StrategyEntry unavailable_entry(StrategyDescriptor descriptor, std::string reason);
+// The entry of a strategy that runs wherever nurbsbench does (the host CPU ones): always
+// available, S built from the options when it takes them.
+template <class S>
+StrategyEntry host_entry(StrategyDescriptor descriptor) {
+  return make_entry(
+      std::move(descriptor),
+      [] {
+        return Availability{true, ""};
+      },
+      [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
+        if constexpr (std::is_constructible_v<S, const StrategyOptions&>)
+          return std::make_unique<S>(options);
+        else
+          return std::make_unique<S>();
+      });
+}
 
 // Where a strategy added at run time (role "plugin", harness/plugins) came from: the shared
 // library's absolute path and the SHA-256 of its bytes (hex), which its records carry.

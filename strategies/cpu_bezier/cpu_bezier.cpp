@@ -329,17 +329,11 @@ class CpuBezier final : public Strategy {
 }  // namespace
 
 StrategyEntry cpu_bezier_entry() {
-  return {"cpu-bezier",
-          "NURBS to rational Bezier decomposition (The NURBS Book A5.6/A5.7), then Bezier "
-          "evaluation: the baseline of 003 §2 (RPNS 2014)",
-          "baseline",
-          [] {
-            return Availability{true, ""};
-          },
-          bezier_capabilities,
-          [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-            return std::make_unique<CpuBezier>(options);
-          }};
+  return host_entry<CpuBezier>(
+      {"cpu-bezier",
+       "NURBS to rational Bezier decomposition (The NURBS Book A5.6/A5.7), then Bezier "
+       "evaluation: the baseline of 003 §2 (RPNS 2014)",
+       "baseline", bezier_capabilities()});
 }
 
 }  // namespace nurbs

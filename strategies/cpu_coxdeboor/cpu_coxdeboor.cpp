@@ -108,16 +108,9 @@ class CpuCoxDeBoor final : public Strategy {
 }  // namespace
 
 StrategyEntry cpu_coxdeboor_entry() {
-  return {"cpu-coxdeboor",
-          "Piegl & Tiller A2.1/A2.2/A4.3, the CPU baseline of 000 §5 and 002 §5",
-          "strategy",
-          [] {
-            return Availability{true, ""};
-          },
-          coxdeboor_capabilities,
-          [](const StrategyOptions&) -> std::unique_ptr<Strategy> {
-            return std::make_unique<CpuCoxDeBoor>();
-          }};
+  return host_entry<CpuCoxDeBoor>(
+      {"cpu-coxdeboor", "Piegl & Tiller A2.1/A2.2/A4.3, the CPU baseline of 000 §5 and 002 §5",
+       "strategy", coxdeboor_capabilities()});
 }
 
 }  // namespace nurbs

@@ -401,16 +401,10 @@ class CpuHorner final : public Strategy {
 }  // namespace
 
 StrategyEntry cpu_horner_entry() {
-  return {"cpu-horner",
-          "Macri 1999 (004): per-span power-basis coefficients, Horner's rule, SIMD over xyzw",
-          "baseline",
-          [] {
-            return Availability{true, ""};
-          },
-          horner_capabilities,
-          [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-            return std::make_unique<CpuHorner>(options);
-          }};
+  return host_entry<CpuHorner>(
+      {"cpu-horner",
+       "Macri 1999 (004): per-span power-basis coefficients, Horner's rule, SIMD over xyzw",
+       "baseline", horner_capabilities()});
 }
 
 }  // namespace nurbs

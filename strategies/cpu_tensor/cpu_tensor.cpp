@@ -427,17 +427,11 @@ class CpuTensor final : public Strategy {
 }  // namespace
 
 StrategyEntry cpu_tensor_entry() {
-  return {"cpu-tensor",
-          "tensor-product grid evaluation with per-row/column basis tables (004, Macri 1999), "
-          "SIMD across samples, OpenMP across rows",
-          "baseline",
-          [] {
-            return Availability{true, ""};
-          },
-          tensor_capabilities,
-          [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-            return std::make_unique<CpuTensor>(options);
-          }};
+  return host_entry<CpuTensor>(
+      {"cpu-tensor",
+       "tensor-product grid evaluation with per-row/column basis tables (004, Macri 1999), "
+       "SIMD across samples, OpenMP across rows",
+       "baseline", tensor_capabilities()});
 }
 
 }  // namespace nurbs

@@ -106,18 +106,11 @@ class CpuTSpline final : public Strategy {
 }  // namespace
 
 StrategyEntry cpu_tspline_entry() {
-  return {
-      "cpu-tspline",
-      "001 (Krishnamurthy & Yasui) eq. 4 and Fig 7: point-based T-spline, region pre-processing "
-      "+ direct blending functions, on the CPU",
-      "strategy",
-      [] {
-        return Availability{true, ""};
-      },
-      tspline_capabilities,
-      [](const StrategyOptions&) -> std::unique_ptr<Strategy> {
-        return std::make_unique<CpuTSpline>();
-      }};
+  return host_entry<CpuTSpline>(
+      {"cpu-tspline",
+       "001 (Krishnamurthy & Yasui) eq. 4 and Fig 7: point-based T-spline, region pre-processing "
+       "+ direct blending functions, on the CPU",
+       "strategy", tspline_capabilities()});
 }
 
 }  // namespace nurbs

@@ -414,17 +414,11 @@ class CpuTSplineBezier final : public Strategy {
 }  // namespace
 
 StrategyEntry cpu_tspline_bezier_entry() {
-  return {"cpu-tspline-bezier",
-          "Bézier extraction of the T-spline (Scott et al. 2011) evaluated with cpu-tensor's "
-          "kernels: Bernstein tables per row/column, SIMD across samples, OpenMP across rows",
-          "strategy",
-          [] {
-            return Availability{true, ""};
-          },
-          tspline_bezier_capabilities,
-          [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-            return std::make_unique<CpuTSplineBezier>(options);
-          }};
+  return host_entry<CpuTSplineBezier>(
+      {"cpu-tspline-bezier",
+       "Bézier extraction of the T-spline (Scott et al. 2011) evaluated with cpu-tensor's "
+       "kernels: Bernstein tables per row/column, SIMD across samples, OpenMP across rows",
+       "strategy", tspline_bezier_capabilities()});
 }
 
 }  // namespace nurbs
