@@ -244,15 +244,9 @@ class VkCompute final : public Strategy {
     basis32_ = std::make_unique<vulkan::ComputePipeline>(
         device_, set_, sizeof(Launch), embedded::vk_compute_basis_f32_comp, "basis_f32.comp",
         std::vector<std::uint32_t>{group_, layout_tile32_});
-    eval32_ = std::make_unique<vulkan::ComputePipeline>(
-        device_, set_, sizeof(Launch), embedded::vk_compute_eval_f32_comp, "eval_f32.comp",
-        std::vector<std::uint32_t>{group_, layout_tile32_});
     if (device_.float64()) {
       basis64_ = std::make_unique<vulkan::ComputePipeline>(
           device_, set_, sizeof(Launch), embedded::vk_compute_basis_f64_comp, "basis_f64.comp",
-          std::vector<std::uint32_t>{group_, layout_tile64_});
-      eval64_ = std::make_unique<vulkan::ComputePipeline>(
-          device_, set_, sizeof(Launch), embedded::vk_compute_eval_f64_comp, "eval_f64.comp",
           std::vector<std::uint32_t>{group_, layout_tile64_});
     }
     record_ = device_.record();
@@ -279,12 +273,13 @@ class VkCompute final : public Strategy {
     else
       upload(TableBuilder<double>(group_, layout_tile64_, row_cap_).build(scene, samples_));
     classifier_.prepare(scene, samples_, trim_settings_);
+    eval_ = &eval_pipeline(request.precision == Precision::f64, scene);
   }
 
   void evaluate() override {
     const bool f64 = request_.precision == Precision::f64;
     const vulkan::ComputePipeline& basis = f64 ? *basis64_ : *basis32_;
-    const vulkan::ComputePipeline& eval = f64 ? *eval64_ : *eval32_;
+    const vulkan::ComputePipeline& eval = *eval_;
     const auto& limits = device_.limits();
     const auto param_grid = grid_of((param_count_ + group_ - 1) / group_, limits);
     const auto tile_grid = grid_of(tile_count_, limits);
@@ -458,6 +453,25 @@ class VkCompute final : public Strategy {
     }
   }
 
+  // The scene's one degree pair as constants, or (0, 0) when its surfaces differ.
+  const vulkan::ComputePipeline& eval_pipeline(bool f64, const Scene& scene) {
+    int p = scene.surfaces.empty() ? 0 : scene.surfaces.front().degree_u;
+    int q = scene.surfaces.empty() ? 0 : scene.surfaces.front().degree_v;
+    for (const Surface& s : scene.surfaces)
+      if (s.degree_u != p || s.degree_v != q) p = q = 0;
+    auto& pipeline = eval_pipelines_[{f64, p, q}];
+    if (!pipeline)
+      pipeline = std::make_unique<vulkan::ComputePipeline>(
+          device_, set_, sizeof(Launch),
+          f64 ? embedded::vk_compute_eval_f64_comp : embedded::vk_compute_eval_f32_comp,
+          f64 ? "eval_f64.comp" : "eval_f32.comp",
+          std::vector<std::uint32_t>{group_, f64 ? layout_tile64_ : layout_tile32_,
+                                     static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)});
+    record_.details["vk_compute_degrees"] =
+        p > 0 ? fmt::format("{}x{} (constants)", p, q) : "per surface (mixed)";
+    return *pipeline;
+  }
+
   vulkan::Device device_;
   vulkan::StorageSet set_;
   vulkan::QueryPools queries_;
@@ -465,7 +479,11 @@ class VkCompute final : public Strategy {
   trim_direct::Settings trim_settings_;
   std::uint32_t group_, row_cap_;
   std::uint32_t layout_tile32_ = 0, layout_tile64_ = 0;  // curve points a tile may use
-  std::unique_ptr<vulkan::ComputePipeline> basis32_, eval32_, basis64_, eval64_;
+  std::unique_ptr<vulkan::ComputePipeline> basis32_, basis64_;
+  // The evaluation pass per precision and degree pair (eval.glsl's kDegreeU, kDegreeV; 0, 0: the
+  // degrees read from the table), made when a scene first needs it and kept for the next prepare.
+  std::map<std::tuple<bool, int, int>, std::unique_ptr<vulkan::ComputePipeline>> eval_pipelines_;
+  const vulkan::ComputePipeline* eval_ = nullptr;
   DeviceInfo record_;
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;

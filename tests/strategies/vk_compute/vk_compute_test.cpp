@@ -84,6 +84,32 @@ TEST(vk_compute, ManyMixedFacesInOneDispatchF32AndF64) {
     }
 }
 
+// A scene whose surfaces share one degree pair gets an evaluation pass with the degrees as
+// specialization constants; a scene of mixed degrees the pass that reads them from the table; one
+// strategy going back and forth keeps both, and each is accurate.
+TEST(vk_compute, OneDegreePairIsCompiledInMixedDegreesReadTheirs) {
+  SKIP_UNLESS_AVAILABLE();
+  test::Rng rng(30);
+  Scene same{"same", "one degree pair", {}};
+  for (int k = 0; k < 6; ++k)
+    same.surfaces.push_back(
+        unit_domain(test::random_surface(rng, 3, 2, 7, 5, test::Ends::clamped, k % 2 == 0)));
+  const Scene mixed = mixed_faces();
+  auto s = entry().create({});
+  for (const Scene* scene : std::vector<const Scene*>{&same, &mixed, &same}) {
+    const EvalRequest request{grid(9, 11), Precision::f32, true};
+    s->prepare(*scene, request);
+    EXPECT_EQ(s->device().details.at("vk_compute_degrees"),
+              scene == &same ? "3x2 (constants)" : "per surface (mixed)");
+    s->evaluate();
+    const Accuracy a = measure_accuracy(
+        *scene, s->read_back(),
+        evaluate_reference(*scene, sample_parameters(*scene, request.sampling), true));
+    EXPECT_EQ(a.non_finite, 0u) << scene->name;
+    EXPECT_LE(a.max_ulp, 64.0) << scene->name;
+  }
+}
+
 // A wide net (200 control points along v) on a grid wider than a work-group, with tiles capped at
 // 24 curve points: many column runs per row, each with its own window of the net. f64 against the
 // reference (a random net this wide has v-derivatives where f32 parameter rounding alone costs
