@@ -151,13 +151,13 @@ set_run fig14-deboor-vs-basis "$n" "${fig14[@]}"
 set_run deforming "$n" "${deforming[@]}" --deforming "$frames"
 set_run fig8-trimmed-ducks "$n" "${ducks[@]}" --threads 1
 # 002 Fig 15 and 000 §3.2's camera path, and the memory figures: each file in its own set.
-for side in lod camera-path; do
-  opts=("${lod[@]}")
-  [ "$side" = camera-path ] && opts=("${camera[@]}")
-  # a step cut before it wrote its file leaves no set
-  step "$side" "$n" "$side" "${opts[@]}" --out "$out/sets/$side" &&
-    ls "$out/sets/$side"/*.json >/dev/null 2>&1 && results+=(--results "$out/sets/$side")
-done
+side_set() {  # side_set VERB [options...]: the verb's file in sets/VERB, a set when it was written
+  step "$1" "$n" "$@" --out "$out/sets/$1" &&
+    ls "$out/sets/$1"/*.json >/dev/null 2>&1 && results+=(--results "$out/sets/$1")
+  return 0
+}
+side_set lod "${lod[@]}"
+side_set camera-path "${camera[@]}"
 mkdir -p "$out/sets/memory"
 "$nb" memory --scenes all --json >"$out/sets/memory/memory.json" 2>>"$out/logs/memory.log" &&
   results+=(--results "$out/sets/memory")
