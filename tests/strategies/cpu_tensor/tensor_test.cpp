@@ -8,8 +8,11 @@
 #include <string>
 
 #include "harness/runner.h"
+#include "reference/nurbs_math.h"
+#include "reference/sampling.h"
 #include "scenes/builtin_scenes.h"
 #include "strategies/registry.h"
+#include "tests/reference/random_nurbs.h"
 #include "tests/reference/test_support.h"
 
 namespace nurbs {
@@ -150,6 +153,35 @@ TEST(CpuTensor, StreamingStoresWriteTheSameValues) {
     FAIL() << "stores=fast accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("stores = 'fast'"), std::string::npos) << e.what();
+  }
+}
+
+// Where Su x Sv vanishes (an edge of the net collapsed to a point) the kernel flags the samples
+// and the reference's own surface_normal finishes them: every normal, the edge's limit normals
+// included, is the reference's, unit length and finite. A row whose flags went unseen would keep
+// the kernel's 0/0 there.
+TEST(CpuTensor, CollapsedEdgeNormalsAreTheReferencesLimitNormals) {
+  test::Rng rng(61);
+  Surface s = test::random_surface(rng, 3, 3, 7, 6, test::Ends::clamped, true);
+  for (int j = 1; j < s.count_v; ++j) s.points[j] = s.points[0];  // the edge u = u_min
+  const Scene scene{"collapsed", "first row of the net one point", {s}};
+  Sampling grid;
+  grid.grid_u = 9;
+  grid.grid_v = 11;
+  const SurfaceNet<double> net(s);
+  const SurfaceSamples samples = sample_parameters(scene, grid)[0];
+  // Sv = 0 along it, up to the rounding of equal points' weighted sums
+  ASSERT_LT(norm(surface_derivatives(net, samples.u[0], samples.v[5], 1).skl[0][1]), 1e-12)
+      << "the edge u = u_min must be collapsed";
+  for (Precision precision : {Precision::f32, Precision::f64}) {
+    const EvalResult result = run("cpu-tensor", scene, EvalRequest{grid, precision, true}, 2);
+    const double tolerance = precision == Precision::f64 ? 1e-9 : 1e-3;
+    for (std::size_t k = 0; k < samples.count(); ++k) {
+      const Vec3<double> expected = surface_normal(net, samples.u_of(k), samples.v_of(k));
+      const std::array<double, 3>& got = result.surfaces[0].normals[k];
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(got[c], expected[c], tolerance) << to_string(precision) << " sample " << k;
+    }
   }
 }
 
