@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
+#include <string>
 
 #include "strategies/strategy_options.h"
 
@@ -91,6 +93,17 @@ constexpr Mapping kMappings[] = {Mapping::uniform, Mapping::adaptive, Mapping::g
                                  Mapping::nonuniform};
 }  // namespace
 
+namespace {
+// "uniform, adaptive, gs or nonuniform", read off kMappings so that the error names every mapping.
+std::string mapping_choices() {
+  std::string out;
+  const std::size_t n = std::size(kMappings);
+  for (std::size_t k = 0; k < n; ++k)
+    out += std::string(k == 0 ? "" : k + 1 == n ? " or " : ", ") + mapping_name(kMappings[k]);
+  return out;
+}
+}  // namespace
+
 const char* mapping_name(Mapping mapping) {
   switch (mapping) {
     case Mapping::uniform:
@@ -111,8 +124,8 @@ KsquadSettings ksquad_settings(const StrategyOptions& options) {
     const auto known = std::find_if(std::begin(kMappings), std::end(kMappings),
                                     [&](Mapping m) { return it->second == mapping_name(m); });
     if (known == std::end(kMappings))
-      throw std::invalid_argument("vk-ksquad option vk-mode = '" + it->second +
-                                  "': must be uniform, adaptive, gs or nonuniform");
+      throw std::invalid_argument("vk-ksquad option vk-mode = '" + it->second + "': must be " +
+                                  mapping_choices());
     a.mapping = *known;
   }
   const auto choice = [&](const char* key, const char* first, const char* second) {

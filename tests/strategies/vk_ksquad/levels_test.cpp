@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -182,6 +183,24 @@ TEST(vk_ksquad_levels, LiteralEquation3CracksAreCounted) {
                 << st.evaluation_invocations << " TES invocations, " << st.tessellated_triangles
                 << " triangles\n";
     }
+}
+
+// An unknown vk-mode is refused with the option, the value and every mapping the strategy has.
+TEST(VkKsquadSettings, UnknownModeNamesEveryMapping) {
+  StrategyOptions options;
+  options.extra = {{"vk-mode", "sometimes"}};
+  try {
+    vk_ksquad::ksquad_settings(options);
+    FAIL() << "vk-mode = sometimes accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "vk-ksquad option vk-mode = 'sometimes': must be uniform, adaptive, gs or "
+                 "nonuniform");
+  }
+  for (const char* mode : {"uniform", "adaptive", "gs", "nonuniform"}) {
+    options.extra = {{"vk-mode", mode}};
+    EXPECT_STREQ(vk_ksquad::mapping_name(vk_ksquad::ksquad_settings(options).mapping), mode);
+  }
 }
 
 }  // namespace
