@@ -394,30 +394,39 @@ Buffer::Buffer(const Device& device, VkDeviceSize bytes, VkBufferUsageFlags usag
   vkGetBufferMemoryRequirements(device.handle(), buffer_, &req);
   // Device-local first (a real GPU); lavapipe's memory is device-local and host-visible at once.
   // A buffer with no usage of its own (usage 0) is a staging buffer: host-visible first, and
-  // host-cached where there is such memory, since the host reads results through it.
+  // host-cached where there is such memory, since the host reads results through it. Each kind is
+  // tried in turn when the one before has no room: a GPU's device-local, host-visible memory can be
+  // a 256 MiB window (no resizable BAR) that a large output does not fit, while its plain
+  // device-local heap does.
   const VkMemoryPropertyFlags host =
       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  std::vector<VkMemoryPropertyFlags> wanted;
+  if (usage == 0) wanted.push_back(host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  wanted.push_back(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | host);
+  if (usage == 0) wanted.push_back(host);
+  wanted.push_back(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  wanted.push_back(host);
   int type = -1;
-  if (usage == 0)
-    type = device.memory_type(req.memoryTypeBits, host | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
-  if (type < 0)
-    type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT | host);
-  if (usage == 0 && type < 0) type = device.memory_type(req.memoryTypeBits, host);
-  if (type < 0) type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  if (type < 0)
-    type = device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                                      VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  VkResult result = VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  std::vector<int> tried;
+  for (const VkMemoryPropertyFlags flags : wanted) {
+    const int candidate = device.memory_type(req.memoryTypeBits, flags);
+    if (candidate < 0 || std::find(tried.begin(), tried.end(), candidate) != tried.end()) continue;
+    tried.push_back(candidate);
+    VkMemoryAllocateInfo alloc{};
+    alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+    alloc.allocationSize = req.size;
+    alloc.memoryTypeIndex = static_cast<std::uint32_t>(candidate);
+    result = vkAllocateMemory(device.handle(), &alloc, nullptr, &memory_);
+    if (result == VK_SUCCESS) {
+      type = candidate;
+      break;
+    }
+    if (result != VK_ERROR_OUT_OF_DEVICE_MEMORY && result != VK_ERROR_OUT_OF_HOST_MEMORY) break;
+  }
   if (type < 0) {
     reset();
-    throw std::runtime_error(fmt::format("no memory type for {}", what));
-  }
-  VkMemoryAllocateInfo alloc{};
-  alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-  alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex = static_cast<std::uint32_t>(type);
-  const VkResult result = vkAllocateMemory(device.handle(), &alloc, nullptr, &memory_);
-  if (result != VK_SUCCESS) {
-    reset();
+    if (tried.empty()) throw std::runtime_error(fmt::format("no memory type for {}", what));
     if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
       throw RefusedError(fmt::format("{} needs {} bytes: out of device memory", what, bytes));
     check(result, "vkAllocateMemory");
