@@ -77,11 +77,37 @@ std::size_t result_bytes_per_point(const EvalRequest& request) {
   return (request.normals ? 6 : 3) * scalar;
 }
 
-Record measure_store_limit(const Scene& scene, const EvalRequest& request, int repetitions) {
+Record limit_record(std::string_view name, const Scene& scene, const EvalRequest& request,
+                    int repetitions) {
   Record r;
   r.scene = scene.name;
-  r.strategy = std::string(kStoreLimitName);
+  r.strategy = std::string(name);
   r.role = "limit";
+  r.precision = std::string(to_string(request.precision));
+  r.sampling = sampling_mode_name(request.sampling.mode);
+  r.samples = request.sampling.label();
+  r.points = total_samples(sample_parameters(scene, request.sampling));
+  r.surfaces = scene.surfaces.size();
+  r.repetitions = repetitions;
+  return r;
+}
+
+void set_limit_seconds(Record& r, std::vector<double> seconds, std::size_t pass_bytes,
+                       std::size_t bytes_per_point) {
+  // The pass moved `pass_bytes`; the request's points would have been written in the share of its
+  // time their bytes are of it.
+  const double share =
+      static_cast<double>(r.points * bytes_per_point) / static_cast<double>(pass_bytes);
+  for (double& s : seconds) s *= share;
+  r.evaluate = PhaseStats::of(seconds);
+  r.throughput_pts_per_s = r.evaluate.median_s > 0 ? r.points / r.evaluate.median_s : 0;
+  r.figures["pass_bytes"] = static_cast<double>(pass_bytes);
+  r.figures["bytes_per_point"] = static_cast<double>(bytes_per_point);
+  r.status = Status::ok;
+}
+
+Record measure_store_limit(const Scene& scene, const EvalRequest& request, int repetitions) {
+  Record r = limit_record(kStoreLimitName, scene, request, repetitions);
   r.device = {
       fmt::format("host CPU ({})", cpu_model()),
       "cpu",
@@ -89,12 +115,6 @@ Record measure_store_limit(const Scene& scene, const EvalRequest& request, int r
        {"kernel",
         "OpenMP static store loop (STREAM-like), one share per thread, over at least 4x the "
         "last-level cache"}}};
-  r.precision = std::string(to_string(request.precision));
-  r.sampling = sampling_mode_name(request.sampling.mode);
-  r.samples = request.sampling.label();
-  r.points = total_samples(sample_parameters(scene, request.sampling));
-  r.surfaces = scene.surfaces.size();
-  r.repetitions = repetitions;
   const std::size_t scalar = request.precision == Precision::f32 ? sizeof(float) : sizeof(double);
   const std::size_t bytes_per_point = result_bytes_per_point(request);
   const std::size_t bytes = store_pass_bytes(r.points * bytes_per_point);
@@ -109,32 +129,23 @@ Record measure_store_limit(const Scene& scene, const EvalRequest& request, int r
   std::vector<double> seconds;
   for (int i = 0; i < repetitions; ++i)
     seconds.push_back(time_store_pass(buffer.data(), values, scalar, i + 1));
-  // The pass wrote `bytes`; the request's points would have been written in the share of its time
-  // their bytes are of it.
-  const double share = static_cast<double>(r.points * bytes_per_point) / static_cast<double>(bytes);
-  for (double& s : seconds) s *= share;
-  r.evaluate = PhaseStats::of(seconds);
-  r.throughput_pts_per_s = r.evaluate.median_s > 0 ? r.points / r.evaluate.median_s : 0;
-  r.figures["pass_bytes"] = static_cast<double>(bytes);
-  r.figures["bytes_per_point"] = static_cast<double>(bytes_per_point);
+  set_limit_seconds(r, std::move(seconds), bytes, bytes_per_point);
   r.figures["store_bytes_per_s"] = r.throughput_pts_per_s * static_cast<double>(bytes_per_point);
-  r.status = Status::ok;
   return r;
 }
 
-namespace {
-
-const Record* limit_for(const Record& r, const std::vector<Record>& records) {
+const Record* limit_row_for(const Record& r, const std::vector<Record>& records,
+                            std::string_view limit_name) {
   if (r.role == "limit" || r.status != Status::ok) return nullptr;
   const Record* found = nullptr;
   for (const Record& l : records)
-    if (l.role == "limit" && l.status == Status::ok && l.scene == r.scene &&
+    if (l.strategy == limit_name && l.status == Status::ok && l.scene == r.scene &&
         l.samples == r.samples && l.precision == r.precision && l.throughput_pts_per_s > 0)
       found = &l;
   return found;
 }
 
-bool too_small(const Record& limit) {
+bool limit_too_small(const Record& limit) {
   const auto bytes = limit.figures.find("bytes_per_point");
   // A row without the figure (older results) is judged as holding 12 bytes a point, f32 xyz, the
   // least any request writes.
@@ -142,17 +153,15 @@ bool too_small(const Record& limit) {
   return static_cast<double>(limit.points) * per_point < static_cast<double>(kStoreLimitMinBytes);
 }
 
-}  // namespace
-
 std::optional<double> fraction_of_store_limit(const Record& r, const std::vector<Record>& records) {
-  const Record* limit = limit_for(r, records);
-  if (!limit || too_small(*limit)) return std::nullopt;
+  const Record* limit = limit_row_for(r, records, kStoreLimitName);
+  if (!limit || limit_too_small(*limit)) return std::nullopt;
   return r.throughput_pts_per_s / limit->throughput_pts_per_s;
 }
 
 bool store_limit_too_small(const Record& r, const std::vector<Record>& records) {
-  const Record* limit = limit_for(r, records);
-  return limit && too_small(*limit);
+  const Record* limit = limit_row_for(r, records, kStoreLimitName);
+  return limit && limit_too_small(*limit);
 }
 
 }  // namespace nurbs

@@ -52,6 +52,22 @@ std::size_t result_bytes_per_point(const EvalRequest& request);
 // request's bytes a point. figures: bytes_per_point, store_bytes_per_s, pass_bytes.
 Record measure_store_limit(const Scene& scene, const EvalRequest& request, int repetitions);
 
+// The parts every limit row shares. limit_record: a row of role "limit" named `name` for `scene`
+// and `request`, nothing measured yet. set_limit_seconds: its evaluate phase and points/s from
+// `seconds` of passes that each moved `pass_bytes`, scaled to the request's share of them
+// (points x `bytes_per_point`), figures pass_bytes and bytes_per_point, status ok.
+Record limit_record(std::string_view name, const Scene& scene, const EvalRequest& request,
+                    int repetitions);
+void set_limit_seconds(Record& r, std::vector<double> seconds, std::size_t pass_bytes,
+                       std::size_t bytes_per_point);
+// The last ok row named `limit_name` for `r`'s scene, samples and precision; none when `r` is a
+// limit row or not ok.
+const Record* limit_row_for(const Record& r, const std::vector<Record>& records,
+                            std::string_view limit_name);
+// Whether `limit` wrote under kStoreLimitMinBytes for its request: a pass that small times the
+// launch (threads' fork and join, a queue submission), not the memory.
+bool limit_too_small(const Record& limit);
+
 // `r`'s points/s over the limit row of `records` for the same scene, samples and precision; none
 // when there is no such row, `r` is a limit row or not ok, or the limit's output is under
 // kStoreLimitMinBytes (store_limit_too_small).

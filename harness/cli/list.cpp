@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/commands.h"
+#include "harness/copy_limit.h"
 #include "harness/drivers.h"
 #include "harness/plugins/plugin.h"
 #include "harness/store_limit.h"
@@ -100,12 +101,20 @@ int list_command(const ListOptions& options) {
       text +=
           fmt::format("  {:<20} {:<9} {} (sha256 {})\n", "", "", library->path, library->sha256);
   }
-  // Not strategies: machine ceilings `run` measures beside them (harness/store_limit.h).
-  const std::string limit_description =
-      "memory store bandwidth for the request's output (points x bytes per point), same threads";
-  text += fmt::format("limits:\n  {:<20} {:<9} {}\n", kStoreLimitName, "limit", limit_description);
-  nlohmann::json limits = nlohmann::json::array(
-      {{{"name", kStoreLimitName}, {"role", "limit"}, {"description", limit_description}}});
+  // Not strategies: machine ceilings `run` measures beside them (harness/store_limit.h,
+  // harness/copy_limit.h).
+  const std::pair<std::string_view, std::string> limit_rows[] = {
+      {kStoreLimitName,
+       "memory store bandwidth for the request's output (points x bytes per point), same threads"},
+      {kDeviceCopyLimitName,
+       "device-to-device copy of the request's output on the Vulkan device (a CPU figure on "
+       "lavapipe)"}};
+  text += "limits:\n";
+  nlohmann::json limits = nlohmann::json::array();
+  for (const auto& [name, description] : limit_rows) {
+    text += fmt::format("  {:<20} {:<9} {}\n", name, "limit", description);
+    limits.push_back({{"name", name}, {"role", "limit"}, {"description", description}});
+  }
   nlohmann::json scenes = nlohmann::json::array();
   text += "scenes:\n";
   for (const BuiltinSceneInfo& s : builtin_scenes()) {

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/commands.h"
+#include "harness/copy_limit.h"
 #include "harness/error_image.h"
 #include "harness/gates.h"
 #include "harness/machine.h"
@@ -31,15 +32,17 @@ namespace {
 
 struct StrategySelection {
   std::vector<const StrategyEntry*> entries;
-  bool store_limit = false;  // the limit-store-bandwidth row (harness/store_limit.h)
+  bool store_limit = false;        // the limit-store-bandwidth row (harness/store_limit.h)
+  bool device_copy_limit = false;  // the limit-device-copy row (harness/copy_limit.h)
 };
 
-// "all": every registered strategy and the store-bandwidth limit row.
+// "all": every registered strategy and both limit rows.
 StrategySelection strategy_list(const std::string& text) {
   StrategySelection out;
   if (text == "all") {
     out.entries = all_strategies();
     out.store_limit = true;
+    out.device_copy_limit = true;
     return out;
   }
   for (const std::string& name : split_list(text)) {
@@ -47,13 +50,19 @@ StrategySelection strategy_list(const std::string& text) {
       out.store_limit = true;
       continue;
     }
+    if (name == kDeviceCopyLimitName) {
+      out.device_copy_limit = true;
+      continue;
+    }
     const StrategyEntry* e = find_strategy(name);
     if (!e)
-      throw InputError(fmt::format("--strategies: '{}' is not a strategy (known: {}, {})", name,
-                                   fmt::join(strategy_names(), ", "), kStoreLimitName));
+      throw InputError(fmt::format("--strategies: '{}' is not a strategy (known: {}, {}, {})", name,
+                                   fmt::join(strategy_names(), ", "), kStoreLimitName,
+                                   kDeviceCopyLimitName));
     out.entries.push_back(e);
   }
-  if (out.entries.empty() && !out.store_limit) throw InputError("--strategies: empty list");
+  if (out.entries.empty() && !out.store_limit && !out.device_copy_limit)
+    throw InputError("--strategies: empty list");
   return out;
 }
 
@@ -130,6 +139,7 @@ int run_command(const RunOptions& options) {
   for (const Scene& s : scenes) settings["scenes"].push_back(s.name);
   for (const StrategyEntry* e : strategies) settings["strategies"].push_back(e->name);
   if (selection.store_limit) settings["strategies"].push_back(kStoreLimitName);
+  if (selection.device_copy_limit) settings["strategies"].push_back(kDeviceCopyLimitName);
   for (const Sampling& s : samplings) settings["samplings"].push_back(s.label());
   ResultsWriter writer(options.out, machine_record(threads), settings);
 
@@ -141,9 +151,13 @@ int run_command(const RunOptions& options) {
       // The machine's ceiling for this request, measured in the same run as the strategies so
       // their ratios to it are comparable.
       // Not in the deforming benchmark: the limit is an evaluate-only ceiling, not a frame's.
+      const EvalRequest limit_request{sampling, precision, options.normals};
       if (selection.store_limit && !deforming)
-        writer.append(measure_store_limit(scene, EvalRequest{sampling, precision, options.normals},
-                                          options.repetitions));
+        writer.append(measure_store_limit(scene, limit_request, options.repetitions));
+      // In this process, as `list` enumerates the devices: a copy runs no strategy code.
+      if (selection.device_copy_limit && !deforming)
+        writer.append(
+            measure_device_copy_limit(scene, limit_request, options.repetitions, strategy_options));
       for (const StrategyEntry* entry : strategies) {
         progress.start(fmt::format("{} on {} ({})", entry->name, scene.name, sampling.label()));
         EvalRequest request{sampling, precision, options.normals};

@@ -16,6 +16,7 @@
 #include <string_view>
 #include <vector>
 
+#include "harness/copy_limit.h"
 #include "harness/report/report.h"
 #include "harness/store_limit.h"
 #include "harness/summary_table.h"

@@ -24,6 +24,12 @@ ReportSection measurements_section(const SectionInput& in) {
   for (const ResultSet& set : sets)
     for (const Record& r : set.results.records) trims = trims || !r.trimming.empty();
   if (trims) table.header.insert(table.header.end() - 1, "trim");
+  // Where a run measured the GPU's own copy ceiling, a column for the strategies on that device.
+  bool copies = false;
+  for (const ResultSet& set : sets)
+    for (const Record& r : set.results.records)
+      copies = copies || (r.strategy == kDeviceCopyLimitName && r.status == Status::ok);
+  if (copies) table.header.insert(table.header.begin() + 8, "of device copy");
   if (sets.size() > 1) table.header.insert(table.header.begin(), "set");
   bool any_limit = false, any_too_small = false;
   for (const ResultSet& set : sets)
@@ -49,6 +55,10 @@ ReportSection measurements_section(const SectionInput& in) {
                                                              : report_number(r.accuracy->max_ulp))
                            : "-",
           ok ? "ok" : fmt::format("{}: {}", to_string(r.status), r.reason)};
+      if (copies) {
+        const std::optional<double> of_copy = fraction_of_device_copy_limit(r, set.results.records);
+        cells.insert(cells.begin() + 8, of_copy ? fmt::format("{:.1f}%", 100 * *of_copy) : "-");
+      }
       if (trims) cells.insert(cells.end() - 1, r.trimming.empty() ? "-" : trim_text(r));
       if (sets.size() > 1) cells.insert(cells.begin(), label.set_name(set));
       table.rows.push_back(std::move(cells));
@@ -68,6 +78,12 @@ ReportSection measurements_section(const SectionInput& in) {
         "of store limit = the strategy's points/s over the limit-store-bandwidth row's points/s "
         "for the same scene, samples and precision: the fraction of the machine's write bandwidth "
         "its output reaches.");
+  if (copies)
+    s.notes.push_back(
+        "of device copy = the strategy's points/s over the limit-device-copy row's points/s for "
+        "the same scene, samples and precision, for strategies on the device that copied: the "
+        "fraction of the device's own copy bandwidth (a copy of the output's bytes, which reads "
+        "them too) its output reaches. On lavapipe the device is the host: a CPU figure.");
   if (any_too_small)
     s.notes.push_back(fmt::format(
         "—†: the limit row's output is under {} KiB, where a store pass times the threads' fork "

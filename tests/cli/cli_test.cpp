@@ -72,6 +72,7 @@ TEST(CliList, TextNamesStrategiesAndScenes) {
   for (const BuiltinSceneInfo& s : builtin_scenes())
     EXPECT_NE(r.out.find(s.name), std::string::npos) << s.name;
   EXPECT_NE(r.out.find("limits:\n  limit-store-bandwidth"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\n  limit-device-copy"), std::string::npos) << r.out;
 }
 
 TEST(CliList, JsonDescribesEveryStrategyAndScene) {
@@ -80,8 +81,9 @@ TEST(CliList, JsonDescribesEveryStrategyAndScene) {
   const json doc = json::parse(r.out);  // throws (fails the test) when not valid JSON
   ASSERT_TRUE(doc.contains("strategies") && doc["strategies"].is_array());
   ASSERT_TRUE(doc.contains("scenes") && doc["scenes"].is_array());
-  ASSERT_EQ(doc["limits"].size(), 1u);
+  ASSERT_EQ(doc["limits"].size(), 2u);
   EXPECT_EQ(doc["limits"][0]["name"], "limit-store-bandwidth");
+  EXPECT_EQ(doc["limits"][1]["name"], "limit-device-copy");
 
   std::set<std::string> strategies;
   for (const json& s : doc["strategies"]) {
@@ -435,8 +437,8 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
   const CliResult r = run_cli({"run", "--scenes", "patch144,sphere", "--samples", "8x8",
                                "--repetitions", "1", "--out", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  // Every strategy plus the store-bandwidth limit row, per scene.
-  const std::size_t measurements = 2 * (strategy_registry().size() + 1);
+  // Every strategy plus the two limit rows (store bandwidth, device copy), per scene.
+  const std::size_t measurements = 2 * (strategy_registry().size() + 2);
 
   const std::vector<std::string> lines = split_lines(read_text(fs::path(out) / "results.csv"));
   ASSERT_EQ(lines.size(), 1 + measurements);
@@ -458,6 +460,9 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
       EXPECT_EQ(row[19], "ok") << lines[k];
       EXPECT_GT(parse_exact(row[14]), 0.0) << "throughput";
       EXPECT_EQ(row[18], "") << "a limit row has no accuracy";
+    }
+    if (row[1] == "limit-device-copy") {  // ok on lavapipe; unavailable without Vulkan
+      EXPECT_TRUE(row[19] == "ok" || row[19] == "unavailable") << lines[k];
     }
   }
   EXPECT_EQ(scenes.count("patch144"), measurements / 2);
@@ -526,6 +531,32 @@ TEST(CliRun, StoreLimitRowIsMeasuredInTheSameRun) {
                    48 * limit["throughput_pts_per_s"].get<double>());
   EXPECT_EQ(results["settings"]["strategies"][1], "limit-store-bandwidth");
   EXPECT_EQ(results["records"][1]["strategy"], "cpu-coxdeboor");
+}
+
+// The device-copy ceiling likewise, and alone: a run of only limit rows is a valid run.
+TEST(CliRun, DeviceCopyLimitRowIsMeasuredInTheSameRun) {
+  TempDir tmp;
+  const std::string out = tmp / "r";
+  const CliResult r =
+      run_cli({"run", "--scenes", "many-4", "--strategies", "limit-device-copy", "--samples",
+               "16x8", "--precision", "f64", "--repetitions", "2", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json results = json::parse(read_text(fs::path(out) / "results.json"));
+  ASSERT_EQ(results["records"].size(), 1u);
+  const json& limit = results["records"][0];
+  EXPECT_EQ(limit["strategy"], "limit-device-copy");
+  EXPECT_EQ(limit["role"], "limit");
+  EXPECT_EQ(limit["points"], 4 * 16 * 8);
+  EXPECT_TRUE(limit["accuracy"].is_null());
+  EXPECT_EQ(results["settings"]["strategies"][0], "limit-device-copy");
+  if (limit["status"] == "ok") {
+    EXPECT_EQ(limit["figures"]["bytes_per_point"], 24);  // xyz, doubles
+    EXPECT_DOUBLE_EQ(limit["figures"]["copy_bytes_per_s"].get<double>(),
+                     24 * limit["throughput_pts_per_s"].get<double>());
+  } else {
+    EXPECT_EQ(limit["status"], "unavailable");
+    EXPECT_FALSE(limit["reason"].get<std::string>().empty());
+  }
 }
 
 // Both samplings in one run: the grids, then the span grids (a study compares a strategy's modes

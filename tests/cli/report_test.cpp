@@ -136,6 +136,14 @@ TEST_F(CliReport, WritesTablesChartsAndHtmlListingEveryStrategy) {
   // withheld and the footnote says why.
   EXPECT_NE(md.find("| —† |"), std::string::npos) << md;
   EXPECT_NE(md.find("—†: the limit row's output is under 1024 KiB"), std::string::npos);
+  // Where the run could copy on a Vulkan device, the table has the device-copy column and says
+  // what it is; where it could not, neither appears.
+  bool copied = false;
+  const json results = json::parse(read_text(results_ / "results.json"));
+  for (const json& rec : results["records"])
+    copied = copied || (rec["strategy"] == "limit-device-copy" && rec["status"] == "ok");
+  EXPECT_EQ(md.find("| of device copy |") != std::string::npos, copied) << md;
+  EXPECT_EQ(md.find("of device copy = the strategy's points/s") != std::string::npos, copied);
   // Absent side data says what to run instead of failing.
   EXPECT_NE(md.find("no data in these results: run nurbsbench lod"), std::string::npos);
   EXPECT_NE(md.find("no data in these results: run nurbsbench memory"), std::string::npos);

@@ -1,0 +1,53 @@
+#include "harness/copy_limit.h"
+
+#include <fmt/format.h>
+
+#include "harness/store_limit.h"
+#include "strategies/device_copy.h"
+#include "strategies/device_wait.h"
+
+namespace nurbs {
+
+Record measure_device_copy_limit(const Scene& scene, const EvalRequest& request, int repetitions,
+                                 const StrategyOptions& options) {
+  Record r = limit_record(kDeviceCopyLimitName, scene, request, repetitions);
+  const std::size_t bytes_per_point = result_bytes_per_point(request);
+  const std::size_t bytes = store_pass_bytes(r.points * bytes_per_point);
+  const Availability availability = device_copy_availability(options);
+  if (!availability.available) {
+    r.status = Status::unavailable;
+    r.reason = availability.reason;
+    return r;
+  }
+  try {
+    DeviceCopyTiming copy = time_device_copy(options, bytes, repetitions);
+    r.device = std::move(copy.device);
+    r.device.details["kernel"] =
+        "vkCmdCopyBuffer between two output-like buffers, at least 64 MiB (reads and writes the "
+        "bytes)";
+    r.device.details["clock"] =
+        copy.device_timestamps ? "device timestamps" : "host clock around submission and wait";
+    r.setup_s = copy.setup_s;
+    set_limit_seconds(r, std::move(copy.seconds), bytes, bytes_per_point);
+    r.figures["copy_bytes_per_s"] = r.throughput_pts_per_s * static_cast<double>(bytes_per_point);
+  } catch (const RefusedError& e) {
+    r.status = Status::refused;
+    r.reason = e.what();
+  } catch (const DeviceTimeout& e) {
+    r.status = Status::timed_out;
+    r.reason = fmt::format("in the copy: {}", e.what());
+  } catch (const std::exception& e) {
+    r.status = Status::failed;
+    r.reason = e.what();
+  }
+  return r;
+}
+
+std::optional<double> fraction_of_device_copy_limit(const Record& r,
+                                                    const std::vector<Record>& records) {
+  const Record* limit = limit_row_for(r, records, kDeviceCopyLimitName);
+  if (!limit || limit_too_small(*limit) || limit->device.name != r.device.name) return std::nullopt;
+  return r.throughput_pts_per_s / limit->throughput_pts_per_s;
+}
+
+}  // namespace nurbs
