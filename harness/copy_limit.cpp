@@ -9,18 +9,18 @@
 namespace nurbs {
 
 Record measure_device_copy_limit(const Scene& scene, const EvalRequest& request, int repetitions,
-                                 const StrategyOptions& options) {
+                                 DeviceCopy& device_copy) {
   Record r = limit_record(kDeviceCopyLimitName, scene, request, repetitions);
   const std::size_t bytes_per_point = result_bytes_per_point(request);
   const std::size_t bytes = store_pass_bytes(r.points * bytes_per_point);
-  const Availability availability = device_copy_availability(options);
+  const Availability& availability = device_copy.availability();
   if (!availability.available) {
     r.status = Status::unavailable;
     r.reason = availability.reason;
     return r;
   }
   try {
-    DeviceCopyTiming copy = time_device_copy(options, bytes, repetitions);
+    DeviceCopyTiming copy = device_copy.time(bytes, repetitions);
     r.device = std::move(copy.device);
     r.device.details["kernel"] =
         "vkCmdCopyBuffer between two output-like buffers, at least 64 MiB (reads and writes the "

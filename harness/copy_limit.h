@@ -18,18 +18,20 @@
 
 #include "harness/record.h"
 #include "reference/surface.h"
+#include "strategies/device_copy.h"
 #include "strategies/strategy.h"
 
 namespace nurbs {
 
 inline constexpr std::string_view kDeviceCopyLimitName = "limit-device-copy";
 
-// The limit-device-copy row for `scene` and `request` on the device `options` picks (--device):
-// `repetitions` timed copies after an untimed one. figures: bytes_per_point, pass_bytes,
-// copy_bytes_per_s (bytes written per second). Never throws for the device's sake: a missing
-// device is unavailable, a refused allocation refused, a hang timed_out, a wrong copy failed.
+// The limit-device-copy row for `scene` and `request` on `device_copy`'s device (the run's
+// --device, opened once for all its rows): `repetitions` timed copies after an untimed one.
+// figures: bytes_per_point, pass_bytes, copy_bytes_per_s (bytes written per second). Never throws
+// for the device's sake: a missing device is unavailable, a refused allocation refused, a hang
+// timed_out, a wrong copy failed.
 Record measure_device_copy_limit(const Scene& scene, const EvalRequest& request, int repetitions,
-                                 const StrategyOptions& options);
+                                 DeviceCopy& device_copy);
 
 // `r`'s points/s over the limit-device-copy row for the same scene, samples and precision, when
 // `r` ran on the device that copied (same device name); none otherwise or when the copy wrote

@@ -142,6 +142,8 @@ int run_command(const RunOptions& options) {
   if (selection.device_copy_limit) settings["strategies"].push_back(kDeviceCopyLimitName);
   for (const Sampling& s : samplings) settings["samplings"].push_back(s.label());
   ResultsWriter writer(options.out, machine_record(threads), settings);
+  // The limit-device-copy rows' device, opened on the first and kept for the others.
+  DeviceCopy device_copy(strategy_options);
 
   RunProgress progress(std::cerr, scenes.size() * samplings.size() * strategies.size(),
                        ::isatty(STDERR_FILENO));
@@ -157,7 +159,7 @@ int run_command(const RunOptions& options) {
       // In this process, as `list` enumerates the devices: a copy runs no strategy code.
       if (selection.device_copy_limit && !deforming)
         writer.append(
-            measure_device_copy_limit(scene, limit_request, options.repetitions, strategy_options));
+            measure_device_copy_limit(scene, limit_request, options.repetitions, device_copy));
       for (const StrategyEntry* entry : strategies) {
         progress.start(fmt::format("{} on {} ({})", entry->name, scene.name, sampling.label()));
         EvalRequest request{sampling, precision, options.normals};

@@ -22,13 +22,14 @@ TEST(DeviceCopyLimit, RowTimesACopyOfTheRequestsOutputOrSaysWhyNot) {
   grid.grid_u = 32;
   grid.grid_v = 16;
   const EvalRequest request{grid, Precision::f32, true};  // 24 bytes a point
-  const Record r = measure_device_copy_limit(scene, request, 2, StrategyOptions{});
+  DeviceCopy device_copy(StrategyOptions{});
+  const Record r = measure_device_copy_limit(scene, request, 2, device_copy);
   EXPECT_EQ(r.strategy, "limit-device-copy");
   EXPECT_EQ(r.role, "limit");
   EXPECT_EQ(r.points, 4u * 32 * 16);
   EXPECT_EQ(r.samples, "32x16");
   EXPECT_FALSE(r.accuracy);
-  const Availability availability = device_copy_availability(StrategyOptions{});
+  const Availability availability = device_copy.availability();
   if (!availability.available) {
     EXPECT_EQ(r.status, Status::unavailable);
     EXPECT_EQ(r.reason, availability.reason);
@@ -52,11 +53,31 @@ TEST(DeviceCopyLimit, RowTimesACopyOfTheRequestsOutputOrSaysWhyNot) {
   EXPECT_EQ(r.figures.at("bytes_per_point"), 24.0);
   // A few KiB of output; the copy still goes through memory, as the store pass does.
   EXPECT_EQ(r.figures.at("pass_bytes"), static_cast<double>(store_pass_bytes(r.points * 24)));
+  EXPECT_GT(r.setup_s, 0.0);
+  // The session's next row copies on the same device and buffers, and copies again: the new
+  // words arrive (the row would be failed otherwise).
+  const Record again = measure_device_copy_limit(scene, request, 3, device_copy);
+  ASSERT_EQ(again.status, Status::ok) << again.reason;
+  EXPECT_EQ(again.device.name, r.device.name);
+  EXPECT_EQ(again.repetitions, 3);
+  EXPECT_GT(again.evaluate.min_s, 0.0);
+  // A larger request grows the buffers.
+  grid.grid_u = 1536;
+  grid.grid_v = 1024;
+  const Record larger =
+      measure_device_copy_limit(scene, EvalRequest{grid, Precision::f32, true}, 1, device_copy);
+  ASSERT_EQ(larger.status, Status::ok) << larger.reason;
+  EXPECT_EQ(larger.figures.at("pass_bytes"),
+            static_cast<double>(store_pass_bytes(larger.points * 24)));
+  EXPECT_GT(larger.figures.at("pass_bytes"), r.figures.at("pass_bytes"));
 }
 
 TEST(DeviceCopyLimit, CopyOfAByteCountNotAWholeWordIsRefusedByTheCaller) {
-  if (!device_copy_availability(StrategyOptions{}).available) GTEST_SKIP() << "no Vulkan device";
-  EXPECT_THROW(time_device_copy(StrategyOptions{}, 6, 1), std::invalid_argument);
+  DeviceCopy device_copy(StrategyOptions{});
+  if (!device_copy.availability().available) GTEST_SKIP() << "no Vulkan device";
+  EXPECT_THROW(device_copy.time(6, 1), std::invalid_argument);
+  // The refusal is the caller's mistake, not the device's: the next copy still runs.
+  EXPECT_EQ(device_copy.time(1 << 20, 1).seconds.size(), 1u);
 }
 
 Record row(std::string strategy, std::string role, std::string device, double points_per_s) {
