@@ -68,14 +68,6 @@ struct TableChunk {
 // chunk's cost dwarfs taking it from the shared counter.
 inline constexpr int kTableChunk = 256;
 
-// Rows whose output is at least this large have the next row's output prefetched while they are
-// computed (tensor::prefetch_for_write). Measured on the 2-core EPYC guest (nurbsbench_gbench
-// store-limit cases, old and new binaries alternating, 5 processes each): patch144 4096^2 (48 KiB
-// rows in f32) f32 12.0 -> 11.5 ms, f64 23.7 -> 21.8 ms. Two rows ahead lost the gain (the lines
-// left L1 before their stores); on many-4096 at 64^2 (768-byte rows) prefetching tens of rows
-// ahead was no faster, so small rows are left to the hardware.
-inline constexpr std::size_t kPrefetchRowBytes = std::size_t{16} << 10;
-
 // Everything one surface needs at evaluate time, at scalar T.
 template <typename T>
 struct TensorSurface {
@@ -417,23 +409,6 @@ class CpuTensor final : public Strategy {
   }
 
   template <typename T>
-  std::size_t row_output_bytes(const Prepared<T>& p, int r) const {
-    const std::size_t values = static_cast<std::size_t>(p.surfaces[p.rows[r].first].columns) * 3;
-    return values * sizeof(T) * (request_.normals ? 2 : 1);
-  }
-
-  // Prefetches where row r of p.rows will write (tensor::prefetch_for_write).
-  template <typename T>
-  void prefetch_row_output(Prepared<T>& p, int r) {
-    const auto [surface, a] = p.rows[r];
-    const std::size_t values = static_cast<std::size_t>(p.surfaces[surface].columns) * 3;
-    const std::size_t offset = static_cast<std::size_t>(a) * values;
-    tensor::prefetch_for_write(data_of<T>(positions_[surface]) + offset, values * sizeof(T));
-    if (request_.normals)
-      tensor::prefetch_for_write(data_of<T>(normals_[surface]) + offset, values * sizeof(T));
-  }
-
-  template <typename T>
   void evaluate_all(Prepared<T>& p) {
     const int rows = static_cast<int>(p.rows.size());
     const int chunks = static_cast<int>(p.table_chunks.size());
@@ -451,8 +426,6 @@ class CpuTensor final : public Strategy {
       for (int k = 0; k < v_tables; ++k) find_runs(p.tables[p.v_tables[k]]);
 #pragma omp for schedule(static) nowait
       for (int r = 0; r < rows; ++r) {
-        if (!streaming_ && r + 1 < rows && row_output_bytes(p, r + 1) >= kPrefetchRowBytes)
-          prefetch_row_output(p, r + 1);
         evaluate_row(p, p.rows[r].first, p.rows[r].second, omp_get_thread_num());
       }
       if (streaming_) tensor::stream_fence();

@@ -3,7 +3,6 @@
 // (streaming) stores: they write whole lines through the write-combining buffers without first
 // reading them (no read-for-ownership), so the output stream costs its own bytes rather than
 // twice them, and the caches keep the tables and the net (cpu-tensor's stores=streaming).
-// prefetch_for_write: the default path's lines requested a row ahead of their ordinary stores.
 #pragma once
 
 #include <algorithm>
@@ -39,27 +38,6 @@ void stream_copy(T* dst, const T* src, std::size_t n) {
 #else
   std::copy(src, src + n, dst);
 #endif
-}
-
-// Asks for the cache lines of [p, p + bytes) ahead of the stores that will fill them, so that
-// the stores of a row far larger than the caches wait less on their line fills inside the store
-// queue, where they hold up the arithmetic beside them. A hint: it never faults. On baseline
-// x86-64 it is PREFETCHT0, a read prefetch: a line no other core holds is normally granted
-// exclusive, so the stores that follow need no second request. What it gained where it was
-// measured: cpu_tensor.cpp kPrefetchRowBytes.
-inline void prefetch_for_write(const void* p, std::size_t bytes) {
-  constexpr std::uintptr_t line = 64;
-  const std::uintptr_t begin = reinterpret_cast<std::uintptr_t>(p) & ~(line - 1);
-  const std::uintptr_t end = reinterpret_cast<std::uintptr_t>(p) + bytes;
-  for (std::uintptr_t at = begin; at < end; at += line) {
-#if defined(__SSE__)
-    // Not __builtin_prefetch: with it GCC 12 emitted no prefetch at all here at -O2 and -O3
-    // (objdump of cpu_tensor.cpp.o; -O1 kept them).
-    asm volatile("prefetcht0 %0" : : "m"(*reinterpret_cast<const char*>(at)));
-#else
-    __builtin_prefetch(reinterpret_cast<const void*>(at), 1, 3);
-#endif
-  }
 }
 
 // Orders this thread's streaming stores before whatever follows (the end of the parallel region

@@ -74,24 +74,26 @@ NURBSBENCH_INLINE void run_positions(const RowJob<T>& job, int b0, int b1, const
   }
 }
 
-// Samples per block of the normal kernel: the twelve sums of a block are kept in arrays of this
-// length (1.5 KiB of floats, 3 KiB of doubles: L1), then finished in one sweep.
-inline constexpr int kNormalBlock = 32;
-
-// 32-byte GCC vectors (8 floats, 4 doubles): one AVX2 register, half an AVX-512 one (on Zen 4 the
-// AVX-512 units are 256 bits wide anyway); the baseline clone splits each into two SSE registers.
+// 32-byte GCC vectors (8 floats, 4 doubles): one AVX2 register, half an AVX-512 one; the baseline
+// clone splits each into two SSE registers. Not 64 bytes: twelve accumulators of two registers
+// each would not fit AVX2's sixteen, and on the AVX-512 clone 64-byte vectors of this kernel
+// measured slower (patch144 4096^2 f32 normals, 25 -> 30 ms without the output's memory traffic).
 template <typename T>
 struct LanesOf;
 template <>
 struct LanesOf<float> {
   typedef float type __attribute__((vector_size(32)));
+  typedef int mask __attribute__((vector_size(32)));
 };
 template <>
 struct LanesOf<double> {
   typedef double type __attribute__((vector_size(32)));
+  typedef long long mask __attribute__((vector_size(32)));
 };
 template <typename T>
 using Lanes = typename LanesOf<T>::type;
+template <typename T>
+using LaneIndex = typename LanesOf<T>::mask;
 template <typename T>
 inline constexpr int kLanes = static_cast<int>(32 / sizeof(T));
 
@@ -103,113 +105,136 @@ inline constexpr bool kExplicitVectors = false;
 inline constexpr bool kExplicitVectors = true;
 #endif
 
+// Helpers on vectors take and give them by reference: a vector passed or returned by value in a
+// function built without AVX is an ABI change GCC warns of (-Wpsabi), inlined or not.
+template <typename T>
+NURBSBENCH_INLINE void sqrt_into(const T& v, T& r) {
+  r = std::sqrt(v);
+}
+// Lane by lane; GCC turns the loop into one vector square root (-fno-math-errno).
+template <typename T>
+NURBSBENCH_INLINE void sqrt_into(const Lanes<T>& v, Lanes<T>& r) {
+  for (int k = 0; k < kLanes<T>; ++k) r[k] = std::sqrt(v[k]);
+}
+
+// Writes kLanes samples' x, y and z as 3 kLanes interleaved values (the result's xyz layout):
+// two two-vector shuffles for each output vector (vpermt2ps/pd on AVX-512), no trip through
+// memory. The zeros in the first shuffles are lanes the second one replaces.
+NURBSBENCH_INLINE void store_xyz(float* out, const Lanes<float>& x, const Lanes<float>& y,
+                                 const Lanes<float>& z) {
+  using I = LaneIndex<float>;
+  const Lanes<float> t0 = __builtin_shuffle(x, y, I{0, 8, 0, 1, 9, 0, 2, 10});
+  const Lanes<float> t1 = __builtin_shuffle(x, y, I{0, 3, 11, 0, 4, 12, 0, 5});
+  const Lanes<float> t2 = __builtin_shuffle(x, y, I{13, 0, 6, 14, 0, 7, 15, 0});
+  const Lanes<float> o0 = __builtin_shuffle(t0, z, I{0, 1, 8, 3, 4, 9, 6, 7});
+  const Lanes<float> o1 = __builtin_shuffle(t1, z, I{10, 1, 2, 11, 4, 5, 12, 7});
+  const Lanes<float> o2 = __builtin_shuffle(t2, z, I{0, 13, 2, 3, 14, 5, 6, 15});
+  __builtin_memcpy(out, &o0, sizeof o0);
+  __builtin_memcpy(out + 8, &o1, sizeof o1);
+  __builtin_memcpy(out + 16, &o2, sizeof o2);
+}
+NURBSBENCH_INLINE void store_xyz(double* out, const Lanes<double>& x, const Lanes<double>& y,
+                                 const Lanes<double>& z) {
+  using I = LaneIndex<double>;
+  const Lanes<double> t0 = __builtin_shuffle(x, y, I{0, 4, 0, 1});
+  const Lanes<double> t1 = __builtin_shuffle(x, y, I{5, 0, 2, 6});
+  const Lanes<double> t2 = __builtin_shuffle(x, y, I{0, 3, 7, 0});
+  const Lanes<double> o0 = __builtin_shuffle(t0, z, I{0, 1, 4, 3});
+  const Lanes<double> o1 = __builtin_shuffle(t1, z, I{0, 5, 2, 3});
+  const Lanes<double> o2 = __builtin_shuffle(t2, z, I{6, 1, 2, 7});
+  __builtin_memcpy(out, &o0, sizeof o0);
+  __builtin_memcpy(out + 4, &o1, sizeof o1);
+  __builtin_memcpy(out + 8, &o2, sizeof o2);
+}
+template <typename T>
+NURBSBENCH_INLINE void store_xyz(T* out, const T& x, const T& y, const T& z) {
+  out[0] = x;
+  out[1] = y;
+  out[2] = z;
+}
+
+// The homogeneous sums of one sample or of kLanes samples (V = T or Lanes<T>): S = (x, y, z, w)
+// and its u and v derivatives.
+template <typename V>
+struct HomogeneousSums {
+  V x, y, z, w, xu, yu, zu, wu, xv, yv, zv, wv;
+};
+
+// Position, unit normal and unresolved flag from the sums, written at sample `at`. The normal is
+// (Su x Sv) with each tangent left multiplied by w (Su w = Su_h - w_u P): the factor w^2 scales
+// the cross product, its length and the tangents' squared lengths alike, so neither the direction
+// nor the resolved test changes, and two vector multiplies by 1/w go. The test is a slightly
+// stricter form of the reference's (nurbs_math.h, detail::normalize_if_resolved): the reference's
+// bound is threshold (|Su| + |Sv|)^2; 2 (|Su|^2 + |Sv|^2) is never below it, so with it (and 1/16
+// more for rounding) a sample resolved here is resolved there too, and one near the edge of the
+// rule is flagged and takes the reference's own code (the caller's). It needs no square root of
+// the tangents.
+template <typename T, typename V>
+NURBSBENCH_INLINE void finish_normal(const HomogeneousSums<V>& s, T* positions, T* normals,
+                                     T* unresolved, std::size_t at) {
+  const T threshold = T(1024) * std::numeric_limits<T>::epsilon() * T(2.125);
+  const T largest = std::numeric_limits<T>::max();
+  const V inv = T(1) / s.w;
+  const V px = s.x * inv, py = s.y * inv, pz = s.z * inv;
+  const V sux = s.xu - s.wu * px, suy = s.yu - s.wu * py, suz = s.zu - s.wu * pz;
+  const V svx = s.xv - s.wv * px, svy = s.yv - s.wv * py, svz = s.zv - s.wv * pz;
+  const V nx = suy * svz - suz * svy, ny = suz * svx - sux * svz, nz = sux * svy - suy * svx;
+  V length;
+  sqrt_into<T>(nx * nx + ny * ny + nz * nz, length);
+  const V tangents2 = (sux * sux + suy * suy + suz * suz) + (svx * svx + svy * svy + svz * svz);
+  // & rather than &&: no branch, and lane by lane for vectors. NaN fails both.
+  const auto resolved = (length > threshold * tangents2) & (length <= largest);
+  const V il = T(1) / length;
+  store_xyz(positions + 3 * at, px, py, pz);
+  store_xyz(normals + 3 * at, nx * il, ny * il, nz * il);
+  const V zero{}, one = zero + T(1);
+  const V flag = resolved ? zero : one;  // lane by lane for vectors
+  __builtin_memcpy(unresolved + at, &flag, sizeof flag);
+}
+
+// The sums of the samples from b (kLanes of them with V = Lanes<T>, one with V = T) and their
+// finish: the position and both derivative contractions fused, each basis row read once.
+template <typename T, typename V, int Q>
+NURBSBENCH_INLINE void normal_samples(const RowJob<T>& job, int b, const T* c, const T* cu) {
+  const std::size_t stride = static_cast<std::size_t>(job.count_v_samples);
+  HomogeneousSums<V> s{};
+  for (int l = 0; l <= Q; ++l) {
+    const std::size_t row = static_cast<std::size_t>(l) * stride + static_cast<std::size_t>(b);
+    V n, d;  // unaligned loads (memcpy, not a vector-returning helper: -Wpsabi)
+    __builtin_memcpy(&n, job.basis_v + row, sizeof n);
+    __builtin_memcpy(&d, job.basis_dv + row, sizeof d);
+    s.x += n * c[4 * l];
+    s.y += n * c[4 * l + 1];
+    s.z += n * c[4 * l + 2];
+    s.w += n * c[4 * l + 3];
+    s.xu += n * cu[4 * l];
+    s.yu += n * cu[4 * l + 1];
+    s.zu += n * cu[4 * l + 2];
+    s.wu += n * cu[4 * l + 3];
+    s.xv += d * c[4 * l];
+    s.yv += d * c[4 * l + 1];
+    s.zv += d * c[4 * l + 2];
+    s.wv += d * c[4 * l + 3];
+  }
+  finish_normal<T, V>(s, job.positions, job.normals, job.unresolved, b);
+}
+
 // Positions and unit normals Su x Sv (A4.4 for the first derivatives) of the samples [b0, b1),
-// in blocks of kNormalBlock: first the sums S (xyzw), Su and Sv of every sample of the block, the
-// position and both derivative contractions fused (each basis row read once, the twelve
-// accumulators of kLanes samples held in registers over the q+1 terms), then one sweep divides by
-// w, crosses and normalises. Written so because the one-loop form (each sum a scalar, the l loop
-// inside the sample loop) was not vectorised by GCC 12 (-fopt-info-vec: control flow from sqrt's
-// errno, mixed char/float stores), which made normals 9-17x slower than positions (issue 30), and
-// an auto-vectorised accumulation over arrays stored all twelve sums at every term. The
-// "resolved" test is a slightly stricter form of the reference's (nurbs_math.h,
-// detail::normalize_if_resolved); samples that fail it are flagged (1 in job.unresolved) and
-// finished by the caller with the reference's limit-normal code, off this loop.
+// kLanes at a time, everything in registers: the twelve sums, then the divide by w, the cross
+// product, the normalisation and the interleaved stores. Written so because the one-loop scalar
+// form was not vectorised by GCC 12 (-fopt-info-vec: control flow from sqrt's errno, mixed
+// char/float stores), which made normals 9-17x slower than positions (issue 30), and because the
+// two-sweep form before this one (sums of a block of 32 stored to arrays, then a finishing loop
+// the auto-vectoriser widened to 64 bytes) stalled on store forwarding: its 64-byte loads of the
+// 32-byte stores just made were its hottest instruction (perf annotate). Samples that fail the
+// resolved test are flagged (1 in job.unresolved) and finished by the caller with the reference's
+// limit-normal code, off this loop.
 template <typename T, int Q>
 NURBSBENCH_INLINE void run_normals(const RowJob<T>& job, int b0, int b1, const T* c, const T* cu) {
-  constexpr int W = kLanes<T>;
-  const T* __restrict basis = job.basis_v;
-  const T* __restrict dbasis = job.basis_dv;
-  const int stride = job.count_v_samples;
-  T* __restrict out = job.positions;
-  T* __restrict nout = job.normals;
-  T* __restrict unresolved = job.unresolved;
-  const T threshold = T(1024) * std::numeric_limits<T>::epsilon();
-  const T largest = std::numeric_limits<T>::max();
-  for (int start = b0; start < b1; start += kNormalBlock) {
-    const int m = b1 - start < kNormalBlock ? b1 - start : kNormalBlock;
-    alignas(64) T x[kNormalBlock], y[kNormalBlock], z[kNormalBlock], w[kNormalBlock];
-    alignas(64) T xu[kNormalBlock], yu[kNormalBlock], zu[kNormalBlock], wu[kNormalBlock];
-    alignas(64) T xv[kNormalBlock], yv[kNormalBlock], zv[kNormalBlock], wv[kNormalBlock];
-    int i = 0;
-    for (; kExplicitVectors && i + W <= m; i += W) {
-      Lanes<T> ax{}, ay{}, az{}, aw{}, aux{}, auy{}, auz{}, auw{}, avx{}, avy{}, avz{}, avw{};
-      for (int l = 0; l <= Q; ++l) {
-        const std::size_t row = static_cast<std::size_t>(l) * stride + start + i;
-        Lanes<T> n, d;  // unaligned loads (memcpy, not a vector-returning helper: -Wpsabi)
-        __builtin_memcpy(&n, basis + row, sizeof n);
-        __builtin_memcpy(&d, dbasis + row, sizeof d);
-        ax += n * c[4 * l];
-        ay += n * c[4 * l + 1];
-        az += n * c[4 * l + 2];
-        aw += n * c[4 * l + 3];
-        aux += n * cu[4 * l];
-        auy += n * cu[4 * l + 1];
-        auz += n * cu[4 * l + 2];
-        auw += n * cu[4 * l + 3];
-        avx += d * c[4 * l];
-        avy += d * c[4 * l + 1];
-        avz += d * c[4 * l + 2];
-        avw += d * c[4 * l + 3];
-      }
-      __builtin_memcpy(x + i, &ax, sizeof ax);
-      __builtin_memcpy(y + i, &ay, sizeof ay);
-      __builtin_memcpy(z + i, &az, sizeof az);
-      __builtin_memcpy(w + i, &aw, sizeof aw);
-      __builtin_memcpy(xu + i, &aux, sizeof aux);
-      __builtin_memcpy(yu + i, &auy, sizeof auy);
-      __builtin_memcpy(zu + i, &auz, sizeof auz);
-      __builtin_memcpy(wu + i, &auw, sizeof auw);
-      __builtin_memcpy(xv + i, &avx, sizeof avx);
-      __builtin_memcpy(yv + i, &avy, sizeof avy);
-      __builtin_memcpy(zv + i, &avz, sizeof avz);
-      __builtin_memcpy(wv + i, &avw, sizeof avw);
-    }
-    for (; i < m; ++i) {  // the run's last samples, fewer than a vector
-      T s[12] = {};
-      for (int l = 0; l <= Q; ++l) {
-        const std::size_t row = static_cast<std::size_t>(l) * stride + start + i;
-        const T n = basis[row], d = dbasis[row];
-        for (int k = 0; k < 4; ++k) {
-          s[k] += n * c[4 * l + k];
-          s[4 + k] += n * cu[4 * l + k];
-          s[8 + k] += d * c[4 * l + k];
-        }
-      }
-      x[i] = s[0], y[i] = s[1], z[i] = s[2], w[i] = s[3];
-      xu[i] = s[4], yu[i] = s[5], zu[i] = s[6], wu[i] = s[7];
-      xv[i] = s[8], yv[i] = s[9], zv[i] = s[10], wv[i] = s[11];
-    }
-    T* __restrict p = out + 3 * static_cast<std::size_t>(start);
-    T* __restrict q = nout + 3 * static_cast<std::size_t>(start);
-    T* __restrict flag = unresolved + start;
-    for (int i = 0; i < m; ++i) {
-      const T inv = T(1) / w[i];
-      const T px = x[i] * inv, py = y[i] * inv, pz = z[i] * inv;
-      const T sux = (xu[i] - wu[i] * px) * inv, suy = (yu[i] - wu[i] * py) * inv,
-              suz = (zu[i] - wu[i] * pz) * inv;
-      const T svx = (xv[i] - wv[i] * px) * inv, svy = (yv[i] - wv[i] * py) * inv,
-              svz = (zv[i] - wv[i] * pz) * inv;
-      const T nx = suy * svz - suz * svy, ny = suz * svx - sux * svz, nz = sux * svy - suy * svx;
-      // sqrt needs -fno-math-errno (CMakeLists.txt) to stay a vector instruction.
-      const T length = std::sqrt(nx * nx + ny * ny + nz * nz);
-      // The reference's bound is threshold (|Su| + |Sv|)^2; 2 (|Su|^2 + |Sv|^2) is never below
-      // (|Su| + |Sv|)^2, so with it (and 1/16 more for rounding) a sample resolved here is resolved
-      // there too, and one near the edge of the rule is flagged and takes the reference's own code.
-      // It saves two square roots a sample: in a loop of this kernel alone, writing a row-sized
-      // buffer (no memory traffic), f32 normals at 4096^2 went from 31-36 ms to 27 ms (issue 30).
-      const T tangents2 = (sux * sux + suy * suy + suz * suz) + (svx * svx + svy * svy + svz * svz);
-      // & rather than &&: no branch in the loop.
-      const bool resolved = (length > threshold * T(2.125) * tangents2) & (length <= largest);
-      const T il = T(1) / length;
-      p[3 * i] = px;
-      p[3 * i + 1] = py;
-      p[3 * i + 2] = pz;
-      q[3 * i] = nx * il;
-      q[3 * i + 1] = ny * il;
-      q[3 * i + 2] = nz * il;
-      flag[i] = resolved ? T(0) : T(1);
-    }
-  }
+  int b = b0;
+  for (; kExplicitVectors && b + kLanes<T> <= b1; b += kLanes<T>)
+    normal_samples<T, Lanes<T>, Q>(job, b, c, cu);
+  for (; b < b1; ++b) normal_samples<T, T, Q>(job, b, c, cu);  // the run's last, under a vector
 }
 
 template <typename T, int Q>
