@@ -17,6 +17,7 @@
 #include "nurbsbench/evaluator.h"
 #include "reference/tspline.h"
 #include "reference/validation.h"
+#include "strategies/aligned_vector.h"
 
 namespace nurbs {
 
@@ -24,26 +25,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The header promises 64-byte alignment of every array the harness passes (a cache line, and
-// what AVX-512 loads want).
-template <class T>
-struct Aligned64 {
-  using value_type = T;
-  Aligned64() = default;
-  template <class U>
-  Aligned64(const Aligned64<U>&) {}
-  T* allocate(std::size_t n) {
-    return static_cast<T*>(
-        ::operator new (std::max<std::size_t>(n, 1) * sizeof(T), std::align_val_t{64}));
-  }
-  void deallocate(T* p, std::size_t) { ::operator delete (p, std::align_val_t{64}); }
-  template <class U>
-  bool operator==(const Aligned64<U>&) const {
-    return true;
-  }
-};
-template <class T>
-using AlignedVector = std::vector<T, Aligned64<T>>;
+// The header promises 64-byte alignment of every array the harness passes: AlignedVector.
 
 // The scene as the header's plain arrays, with the storage they point into. Containers whose
 // elements are pointed at are deques or are filled before the pointers are taken.

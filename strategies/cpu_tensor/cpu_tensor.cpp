@@ -13,6 +13,7 @@
 #include <variant>
 
 #include "reference/nurbs_math.h"
+#include "strategies/aligned_vector.h"
 #include "strategies/cpu_tensor/row_trim.h"
 #include "strategies/cpu_tensor/streaming_store.h"
 #include "strategies/cpu_tensor/tensor_kernels.h"
@@ -270,13 +271,14 @@ class CpuTensor final : public Strategy {
   template <typename T>
   struct Prepared {
     std::vector<TensorSurface<T>> surfaces;
-    std::vector<AxisTable<T>> tables;             // shared by the surfaces that index them
-    std::vector<TableChunk> table_chunks;         // the table work, over every table
-    std::vector<int> v_tables;                    // the tables whose runs a row reads
-    std::vector<std::pair<int, int>> rows;        // (surface, u sample): the parallel work items
-    std::vector<std::vector<T>> curve, curve_du;  // per thread scratch
-    std::vector<std::vector<T>> unresolved;       // RowJob::unresolved
-    std::vector<std::vector<T>> staged_positions, staged_normals;  // per thread, when streaming
+    std::vector<AxisTable<T>> tables;       // shared by the surfaces that index them
+    std::vector<TableChunk> table_chunks;   // the table work, over every table
+    std::vector<int> v_tables;              // the tables whose runs a row reads
+    std::vector<std::pair<int, int>> rows;  // (surface, u sample): the parallel work items
+    // Per thread, each on cache lines of its own (AlignedVector: no false sharing between threads).
+    std::vector<AlignedVector<T>> curve, curve_du;                   // scratch
+    std::vector<AlignedVector<T>> unresolved;                        // RowJob::unresolved
+    std::vector<AlignedVector<T>> staged_positions, staged_normals;  // when streaming
   };
 
   template <typename T>
@@ -309,14 +311,14 @@ class CpuTensor final : public Strategy {
       for (int begin = 0; begin < n; begin += kTableChunk)
         p.table_chunks.push_back({static_cast<int>(k), begin, std::min(n, begin + kTableChunk)});
     }
-    p.curve.assign(threads_, std::vector<T>(widest));
+    p.curve.assign(threads_, AlignedVector<T>(widest));
     if (request_.normals) {
-      p.curve_du.assign(threads_, std::vector<T>(widest));
-      p.unresolved.assign(threads_, std::vector<T>(longest_row));
+      p.curve_du.assign(threads_, AlignedVector<T>(widest));
+      p.unresolved.assign(threads_, AlignedVector<T>(longest_row));
     }
     if (streaming_) {
-      p.staged_positions.assign(threads_, std::vector<T>(longest_row * 3));
-      if (request_.normals) p.staged_normals.assign(threads_, std::vector<T>(longest_row * 3));
+      p.staged_positions.assign(threads_, AlignedVector<T>(longest_row * 3));
+      if (request_.normals) p.staged_normals.assign(threads_, AlignedVector<T>(longest_row * 3));
     }
     return p;
   }
