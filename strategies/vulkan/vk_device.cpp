@@ -326,11 +326,17 @@ void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& command
   alloc.commandBufferCount = 1;
   VkCommandBuffer cb = VK_NULL_HANDLE;
   check(vkAllocateCommandBuffers(device_, &alloc, &cb), "vkAllocateCommandBuffers");
+  // Freed on every way out but a timeout: the submission may then still be pending, and a pending
+  // command buffer or fence must not be freed (Vulkan's valid usage); both are left to the
+  // device's destruction, or leaked with a hung device.
   struct Free {
     VkDevice d;
     VkCommandPool p;
     VkCommandBuffer c;
-    ~Free() { vkFreeCommandBuffers(d, p, 1, &c); }
+    bool pending = false;
+    ~Free() {
+      if (!pending) vkFreeCommandBuffers(d, p, 1, &c);
+    }
   } free_cb{device_, pool_, cb};
   VkCommandBufferBeginInfo begin{};
   begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
@@ -351,11 +357,17 @@ void Device::submit_and_wait(const std::function<void(VkCommandBuffer)>& command
   struct DestroyFence {
     VkDevice d;
     VkFence f;
-    ~DestroyFence() { vkDestroyFence(d, f, nullptr); }
+    bool pending = false;
+    ~DestroyFence() {
+      if (!pending) vkDestroyFence(d, f, nullptr);
+    }
   } destroy_fence{device_, fence};
   check(vkQueueSubmit(queue_, 1, &submit, fence), "vkQueueSubmit");
   const VkResult waited = vkWaitForFences(device_, 1, &fence, VK_TRUE, device_wait_limit_ns());
-  if (waited == VK_TIMEOUT) throw device_timeout("vkWaitForFences");
+  if (waited == VK_TIMEOUT) {
+    free_cb.pending = destroy_fence.pending = true;
+    throw device_timeout("vkWaitForFences");
+  }
   check(waited, "vkWaitForFences");
 }
 
