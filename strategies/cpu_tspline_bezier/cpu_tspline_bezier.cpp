@@ -12,6 +12,7 @@
 #include "reference/nurbs_math.h"
 #include "reference/tspline.h"
 #include "reference/tspline_extraction.h"
+#include "strategies/aligned_vector.h"
 #include "strategies/cpu_tensor/tensor_kernels.h"
 #include "strategies/strategy_options.h"
 
@@ -168,7 +169,8 @@ class CpuTSplineBezier final : public Strategy {
     std::vector<SurfaceWork<T>> surfaces;
     std::vector<Chunk> chunks;              // tables, or explicit samples
     std::vector<std::pair<int, int>> rows;  // (surface, u sample) of the tensor samplings
-    std::vector<std::vector<T>> curve, curve_du, unresolved;  // per thread scratch
+    // Per thread, each on cache lines of its own (AlignedVector: no false sharing between threads).
+    std::vector<AlignedVector<T>> curve, curve_du, unresolved;
   };
 
   template <typename T>
@@ -234,10 +236,10 @@ class CpuTSplineBezier final : public Strategy {
       widest = std::max(widest, static_cast<std::size_t>(w.net_columns) * 4);
       longest_row = std::max(longest_row, static_cast<std::size_t>(nv));
     }
-    p.curve.assign(threads_, std::vector<T>(widest));
+    p.curve.assign(threads_, AlignedVector<T>(widest));
     if (request_.normals) {
-      p.curve_du.assign(threads_, std::vector<T>(widest));
-      p.unresolved.assign(threads_, std::vector<T>(longest_row));
+      p.curve_du.assign(threads_, AlignedVector<T>(widest));
+      p.unresolved.assign(threads_, AlignedVector<T>(longest_row));
     }
     return p;
   }
