@@ -76,8 +76,9 @@ NURBSBENCH_INLINE void run_positions(const RowJob<T>& job, int b0, int b1, const
 
 // 32-byte GCC vectors (8 floats, 4 doubles): one AVX2 register, half an AVX-512 one; the baseline
 // clone splits each into two SSE registers. Not 64 bytes: twelve accumulators of two registers
-// each would not fit AVX2's sixteen, and on the AVX-512 clone 64-byte vectors of this kernel
-// measured slower (patch144 4096^2 f32 normals, 25 -> 30 ms without the output's memory traffic).
+// each would not fit AVX2's sixteen, and on the AVX-512 clone 64-byte vectors were no faster
+// (patch144 4096^2 normals, one run on the 2-core EPYC guest: f32 34 ms against 24-30, f64 53
+// against 58-65 ms, the store pass moving by as much between processes).
 template <typename T>
 struct LanesOf;
 template <>
