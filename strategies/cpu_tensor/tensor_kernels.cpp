@@ -17,7 +17,12 @@
 #endif
 #define NURBSBENCH_INLINE inline __attribute__((always_inline))
 
-#ifdef NURBSBENCH_TENSOR_NO_SIMD
+// NURBSBENCH_TENSOR_NAMESPACE: a test's build of the kernels for one instruction set, without
+// clones (tests/strategies/cpu_tensor/isa_kernels_test.cpp), so the clones this machine's loader
+// does not pick are checked too.
+#if defined(NURBSBENCH_TENSOR_NAMESPACE)
+namespace nurbs::tensor::NURBSBENCH_TENSOR_NAMESPACE {
+#elif defined(NURBSBENCH_TENSOR_NO_SIMD)
 namespace nurbs::tensor::no_simd {
 #else
 namespace nurbs::tensor {
@@ -298,4 +303,4 @@ NURBSBENCH_SIMD_CLONES void evaluate_row(const RowJob<double>& job) {
   evaluate_row_impl(job);
 }
 
-}  // namespace nurbs::tensor (or nurbs::tensor::no_simd)
+}  // namespace nurbs::tensor (or nurbs::tensor::no_simd, or a test's namespace)
