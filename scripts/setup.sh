@@ -2,8 +2,9 @@
 # Installs every Debian 12 package nurbsbench needs (all backends, tests, plots). Idempotent:
 # packages already present are not downloaded again, and apt is not touched at all when nothing
 # is missing. Run as root (or with sudo available). `--tests` adds what only the tests need (the
-# report's browser test: Debian's chromium; the bundle test: patchelf, debootstrap), so the main
-# job does not download a browser; `--bundle` adds what scripts/bundle.sh needs (patchelf).
+# report's browser test: Debian's chromium; the bundle test: patchelf, debootstrap; ccache, which
+# lets scripts/test.sh's bundle build reuse its release build's objects), so the main job does not
+# download a browser; `--bundle` adds what scripts/bundle.sh needs (patchelf).
 set -euo pipefail
 
 packages=(
@@ -32,8 +33,8 @@ packages=(
 
 for arg in "$@"; do
   case "$arg" in
-    # the report's browser test, and the bundle test's minimal Debian root (tests/bundle/)
-    --tests) packages+=(chromium patchelf debootstrap) ;;
+    # the report's browser test, the bundle test's minimal Debian root (tests/bundle/), ccache
+    --tests) packages+=(chromium patchelf debootstrap ccache) ;;
     # scripts/bundle.sh: the run path of the bundled binary and libraries
     --bundle) packages+=(patchelf) ;;
     *) echo "setup: unknown argument '$arg' (--tests, --bundle)" >&2; exit 2 ;;
