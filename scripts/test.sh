@@ -22,12 +22,11 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
 # objects from the release build's instead of compiling the project a third time. ccache's
 # preprocessor mode hashes the preprocessed source, not -D and -I, so a file that does not use a
 # definition only one configuration has is still a hit. Not the sanitizer build: nothing reuses
-# its objects, and a miss costs a preprocessor run on top of the compile.
-if command -v ccache >/dev/null; then
-  export CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache
-  export CCACHE_DIR=${CCACHE_DIR:-$PWD/build/ccache}
-  ccache --zero-stats >/dev/null
-fi
+# its objects, and a miss costs a preprocessor run on top of the compile. (setup.sh --tests above
+# installed ccache.)
+export CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache
+export CCACHE_DIR=${CCACHE_DIR:-$PWD/build/ccache}
+ccache --zero-stats >/dev/null
 phase "release build"
 cmake --preset release >/dev/null
 cmake --build --preset release -j "$jobs"
@@ -39,7 +38,7 @@ NURBSBENCH_REQUIRE_ALL_STRATEGIES=1 ctest --preset release
 # the software drivers: what a GPU node without packages runs (issue 27).
 phase "relocatable bundle in a minimal Debian root"
 bash tests/bundle/bundle_test.sh
-if command -v ccache >/dev/null; then ccache --show-stats | sed -n '1,12p'; fi
+ccache --show-stats | sed -n '1,12p'
 
 # Last: a finding here should not hide a failure above. The clang build holds only the parsers.
 phase "fuzzing (libFuzzer + ASan + UBSan, every input parser)"
