@@ -10,7 +10,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -25,6 +27,7 @@
 #include "harness/atomic_file.h"
 #include "harness/plugins/plugin.h"
 #include "harness/strategy_guard.h"
+#include "reference/error_text.h"
 #include "reference/validation.h"
 #include "scenes/scene_json.h"
 #include "strategies/device_wait.h"
@@ -42,6 +45,38 @@ IsolationMode parse_isolation(std::string_view text) {
   if (text == "process") return IsolationMode::process;
   if (text == "none") return IsolationMode::none;
   throw InputError(fmt::format("--isolation = '{}': must be process or none", text));
+}
+
+namespace {
+
+constexpr std::size_t kMiB = std::size_t{1} << 20;
+// Below this a child cannot even start: the binary and its libraries are some 30 MiB resident.
+constexpr std::size_t kMinMemoryLimitMiB = 64;
+
+std::size_t physical_memory_bytes() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES);
+  const long page = ::sysconf(_SC_PAGESIZE);
+  return pages > 0 && page > 0 ? static_cast<std::size_t>(pages) * static_cast<std::size_t>(page)
+                               : 0;
+}
+
+}  // namespace
+
+std::size_t default_memory_limit_bytes() {
+  return physical_memory_bytes() / 4 * 3;
+}
+
+std::size_t parse_memory_limit(std::string_view text) {
+  const std::size_t most = std::max(physical_memory_bytes() / kMiB, kMinMemoryLimitMiB);
+  std::size_t mib = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), mib);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() ||
+      mib < kMinMemoryLimitMiB || mib > most)
+    throw InputError(
+        fmt::format("--memory-limit = '{}': must be a whole number of MiB in {}..{} "
+                    "(this machine's memory)",
+                    printable(text, kQuotedValueBytes), kMinMemoryLimitMiB, most));
+  return mib * kMiB;
 }
 
 namespace {
@@ -155,6 +190,7 @@ json spec_to_json(const MeasurementSpec& spec) {
           {"repetitions", spec.repetitions},
           {"deforming_frames", spec.deforming_frames},
           {"images", spec.images.string()},
+          {"eval_only", spec.eval_only},
           {"device_wait_s", device_wait_limit_s()}};
 }
 
@@ -173,7 +209,7 @@ MeasurementSpec spec_from_json(const json& j) {
   // crash, and the server that forked the child never loads one.
   const std::string plugin = j.value("plugin", "");
   spec.entry = find_strategy(j.at("strategy").get<std::string>());
-  if (!spec.entry && !plugin.empty()) spec.entry = &load_plugin(plugin);
+  if (!spec.entry && !plugin.empty()) spec.entry = &load_plugin_in_process(plugin);
   if (spec.entry && spec.entry->name != j.at("strategy").get<std::string>())
     throw std::runtime_error(
         fmt::format("{} no longer holds strategy {}", plugin, j.at("strategy").get<std::string>()));
@@ -186,6 +222,7 @@ MeasurementSpec spec_from_json(const json& j) {
   spec.repetitions = j.at("repetitions");
   spec.deforming_frames = j.at("deforming_frames");
   spec.images = j.at("images").get<std::string>();
+  spec.eval_only = j.at("eval_only");
   device_wait_limit_s() = j.at("device_wait_s");
   return spec;
 }
@@ -197,28 +234,6 @@ Record spec_record(const MeasurementSpec& spec, const Scene& scene) {
 }
 
 // ------------------------------------------------------------------------- the parent's side
-
-// A private directory for one measurement, removed with its contents.
-class SpecDirectory {
- public:
-  SpecDirectory() {
-    const char* base = std::getenv("TMPDIR");
-    std::string pattern = std::string(base && *base ? base : "/tmp") + "/nurbsbench-measure-XXXXXX";
-    if (!::mkdtemp(pattern.data()))
-      throw std::runtime_error(fmt::format("{}: cannot create: {}", pattern, std::strerror(errno)));
-    path_ = pattern;
-  }
-  ~SpecDirectory() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  SpecDirectory(const SpecDirectory&) = delete;
-  SpecDirectory& operator=(const SpecDirectory&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 // The server's end of the socket, in the server process.
 constexpr int kServerFd = 3;
@@ -233,13 +248,33 @@ std::string signal_text(int sig) {
 
 struct ChildEnd {
   bool timed_out = false;
-  bool server_lost = false;  // the server died or stopped answering (not the measurement's doing)
-  int status = 0;            // waitpid's, when the child ended in time
+  bool out_of_memory = false;  // killed for holding more than the memory limit
+  bool server_lost = false;    // the server died or stopped answering (not the measurement's doing)
+  int status = 0;              // waitpid's, when the child ended in time
 };
 
-// Waits for the child until the deadline; past it, kills the child's process group (the child and
-// any helper process a driver started) and reaps it.
-ChildEnd wait_for(pid_t pid, double timeout_s) {
+// The child's resident memory, from /proc/PID/statm (0 when it cannot be read: the child is gone).
+std::size_t resident_bytes(pid_t pid) {
+  const std::string file = fmt::format("/proc/{}/statm", pid);
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;
+  char text[128] = {};
+  const ssize_t n = ::read(fd, text, sizeof text - 1);
+  ::close(fd);
+  if (n <= 0) return 0;
+  unsigned long long size = 0, resident = 0;
+  if (std::sscanf(text, "%llu %llu", &size, &resident) != 2) return 0;
+  return static_cast<std::size_t>(resident) * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+}
+
+// How often the watchdog looks at a child's memory: a child that allocates as fast as it can
+// (several GiB/s) overshoots the limit by at most that much in between.
+constexpr int kMemoryPollMs = 20;
+
+// Waits for the child until the deadline, or until it holds more than `memory_limit` bytes
+// resident (0: no limit); then kills the child's process group (the child and any helper process
+// a driver started) and reaps it.
+ChildEnd wait_for(pid_t pid, double timeout_s, std::size_t memory_limit = 0) {
   using clock = std::chrono::steady_clock;
   const auto deadline = clock::now() + std::chrono::duration_cast<clock::duration>(
                                            std::chrono::duration<double>(timeout_s));
@@ -254,9 +289,15 @@ ChildEnd wait_for(pid_t pid, double timeout_s) {
       end.timed_out = true;
       break;
     }
+    if (memory_limit > 0 && resident_bytes(pid) > memory_limit) {
+      end.out_of_memory = true;
+      break;
+    }
+    const long long wait_ms =
+        std::min<long long>(left.count(), memory_limit > 0 ? kMemoryPollMs : 1 << 30);
     if (pidfd >= 0) {
       pollfd p{pidfd, POLLIN, 0};
-      const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 1 << 30)));
+      const int ready = ::poll(&p, 1, static_cast<int>(wait_ms));
       if (ready > 0) break;
       if (ready < 0 && errno != EINTR) throw std::runtime_error("poll on the measurement failed");
     } else {
@@ -268,12 +309,70 @@ ChildEnd wait_for(pid_t pid, double timeout_s) {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
   }
-  // The child is a zombie or alive, so its pid (and group id) cannot have been reused yet.
+  // The child is a zombie or alive, so its pid (and group id) cannot have been reused yet. The
+  // child itself too: one that called setsid() or setpgid() is no longer in its group.
   ::kill(-pid, SIGKILL);
+  ::kill(pid, SIGKILL);
   while (::waitpid(pid, &end.status, 0) < 0 && errno == EINTR) {
   }
   if (pidfd >= 0) ::close(pidfd);
   return end;
+}
+
+// This process's children (the server's: only what it adopted as subreaper once a measurement
+// ended), from /proc; empty when there are none.
+std::vector<pid_t> own_children() {
+  std::vector<pid_t> children;
+  const pid_t self = ::getpid();
+  // The kernel's own list (CONFIG_PROC_CHILDREN); the server is single-threaded, so its one task
+  // has them all. Else every process's parent, from /proc/PID/stat.
+  if (std::ifstream list(fmt::format("/proc/self/task/{}/children", self)); list) {
+    for (long pid = 0; list >> pid;) children.push_back(static_cast<pid_t>(pid));
+    return children;
+  }
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator("/proc", ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.empty() || !std::all_of(name.begin(), name.end(), ::isdigit)) continue;
+    std::ifstream stat(e.path() / "stat");
+    std::string line;
+    if (!std::getline(stat, line)) continue;
+    // "pid (comm) state ppid ...": comm may hold spaces and parentheses, so read after the last
+    // ')'.
+    const std::size_t close = line.rfind(')');
+    if (close == std::string::npos) continue;
+    char state = 0;
+    long ppid = 0;
+    if (std::sscanf(line.c_str() + close + 1, " %c %ld", &state, &ppid) == 2 && ppid == self)
+      children.push_back(static_cast<pid_t>(std::stol(name)));
+  }
+  return children;
+}
+
+// A child that left the measurement's process group (setsid(), setpgid()) is not reached by the
+// group kill; the server, as the children's subreaper, adopts every such descendant once its
+// parent dies, so killing and reaping its own children until none is left ends them all.
+void kill_descendants(pid_t group) {
+  using clock = std::chrono::steady_clock;
+  const auto give_up = clock::now() + std::chrono::seconds(5);
+  // Once the group is empty its id may be reused by an unrelated process group: it is signalled
+  // only until the first time it is found gone.
+  bool group_alive = true;
+  while (clock::now() < give_up) {
+    if (group_alive && ::kill(-group, SIGKILL) != 0 && errno == ESRCH) group_alive = false;
+    int status = 0;
+    const pid_t reaped = ::waitpid(-1, &status, WNOHANG);
+    if (reaped > 0) continue;
+    if (reaped < 0) {
+      // No child left and none of the group alive: the group's last members are gone and whatever
+      // they had started has been adopted (and reaped) here. The usual case, in two system calls.
+      if (errno == ECHILD && !group_alive) return;
+    } else {
+      // Adopted children still alive: only now is /proc read for them.
+      for (const pid_t child : own_children()) ::kill(child, SIGKILL);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
 }
 
 // One line from fd (without '\n'); nullopt at end of file or error.
@@ -313,10 +412,13 @@ class MeasurementServer {
  public:
   ~MeasurementServer() { stop(); }
 
-  ChildEnd measure(const fs::path& executable, const fs::path& directory, double timeout_s) {
+  ChildEnd measure(const fs::path& executable, ChildTask task, const fs::path& directory,
+                   double timeout_s, std::size_t memory_limit) {
     if (pid_ <= 0) start(executable);
     ChildEnd end;
-    if (!write_all(socket_, fmt::format("{}\t{}\n", directory.string(), timeout_s))) {
+    if (!write_all(socket_,
+                   fmt::format("{}\t{}\t{}\t{}\n", task == ChildTask::probe ? "probe" : "measure",
+                               directory.string(), timeout_s, memory_limit))) {
       stop();
       end.server_lost = true;
       return end;
@@ -330,6 +432,8 @@ class MeasurementServer {
       end.server_lost = true;
     } else if (*answer == "timed_out") {
       end.timed_out = true;
+    } else if (*answer == "out_of_memory") {
+      end.out_of_memory = true;
     } else {
       end.status = std::stoi(*answer);
     }
@@ -385,54 +489,60 @@ MeasurementServer& measurement_server() {
   return server;
 }
 
-Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpec& spec,
-                        const Scene& scene, ReferenceCache& references) {
-  Record r = spec_record(spec, scene);
-  if (refused_by_kind(*spec.entry, scene, spec.request, r)) return r;
-  SpecDirectory dir;
+// The strategy's half in a child: the record it wrote and its result, or the record of how the
+// child ended. nullopt result: the record is final.
+EvalOutcome run_spec_in_child(const IsolationSettings& isolation, const MeasurementSpec& spec,
+                              const Scene& scene) {
+  EvalOutcome out{spec_record(spec, scene), std::nullopt};
+  Record& r = out.record;
+  if (refused_by_kind(*spec.entry, scene, spec.request, r)) return out;
+  // A plugin the probe found unusable is not loaded again: its record is the probe's reason.
+  if (const std::optional<std::string> problem = plugin_problem(*spec.entry)) {
+    r.status = Status::failed;
+    r.reason = *problem;
+    return out;
+  }
+  IsolationDirectory dir;
   write_file_atomically(dir.path() / "scene.json", scene_to_json(scene));
   json spec_json = spec_to_json(spec);
   spec_json["surfaces"] = surface_extras(scene);
   write_file_atomically(dir.path() / "spec.json", spec_json.dump());
-  const ChildEnd end =
-      measurement_server().measure(isolation.executable, dir.path(), isolation.timeout_s);
-  const std::string phase = read_phase_board(dir.path() / "phase");
-  const std::string in_phase = phase.empty() ? "before any phase" : "in " + phase;
-  if (end.server_lost) {
-    r.status = Status::failed;
-    r.reason = fmt::format("the measurement server was lost {}", in_phase);
-    return r;
-  }
-  if (end.timed_out) {
-    r.status = Status::timed_out;
-    r.reason = fmt::format("no answer within {:g} s (--timeout) {}", isolation.timeout_s, in_phase);
-    return r;
-  }
-  if (WIFSIGNALED(end.status)) {
-    r.status = Status::crashed;
-    r.reason = fmt::format("{} {}", signal_text(WTERMSIG(end.status)), in_phase);
-    return r;
+  if (const auto failure = run_isolated(isolation, ChildTask::measure, dir.path())) {
+    r.status = failure->status;
+    r.reason = failure->reason;
+    return out;
   }
   const fs::path record_file = dir.path() / "record.json";
-  if (WEXITSTATUS(end.status) != 0 || !fs::exists(record_file)) {
+  if (!fs::exists(record_file)) {
+    // Exit status 0 without the record: the strategy ended the process itself (exit(0)).
+    const std::string phase = read_phase_board(dir.path() / "phase");
     r.status = Status::failed;
-    const fs::path error_file = dir.path() / "error.txt";
-    r.reason =
-        fmt::format("measurement process exited with status {} {}{}", WEXITSTATUS(end.status),
-                    in_phase, fs::exists(error_file) ? ": " + read_file(error_file) : "");
-    return r;
+    r.reason = fmt::format(
+        "the measurement process exited with status 0 {} before its record was "
+        "written (the strategy called exit?)",
+        phase.empty() ? "before any phase" : "in " + phase);
+    return out;
   }
-  std::optional<EvalResult> result;
   try {
     r = record_from_json(json::parse(read_file(record_file)));
     const fs::path result_file = dir.path() / "result.bin";
-    if (r.status == Status::ok && fs::exists(result_file)) result = read_eval_result(result_file);
+    if (r.status == Status::ok && fs::exists(result_file))
+      out.result = read_eval_result(result_file);
   } catch (const std::exception& e) {
     r.status = Status::failed;
-    r.reason = fmt::format("the measurement's record could not be read: {}", e.what());
-    return r;
+    r.reason =
+        plugin_text(fmt::format("the measurement's record could not be read: {}", e.what()), 1024);
+    out.result.reset();
   }
-  if (!result) return r;
+  return out;
+}
+
+Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpec& spec,
+                        const Scene& scene, ReferenceCache& references) {
+  EvalOutcome outcome = run_spec_in_child(isolation, spec, scene);
+  Record& r = outcome.record;
+  if (!outcome.result) return r;
+  std::optional<EvalResult>& result = outcome.result;
   if (spec.deforming_frames > 0)
     score_deforming(*spec.entry, scene, spec.request, spec.deforming_frames, *result,
                     references.precision(), spec.trim_band, r);
@@ -442,9 +552,9 @@ Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpe
   return r;
 }
 
-// In a fresh fork of the server: one measurement, then _exit (the server's own state, copied,
-// is not this process's to tear down; the record is already on disk).
-[[noreturn]] void run_measurement_child(int socket, const std::string& directory) {
+// In a fresh fork of the server: one measurement (or plugin probe), then _exit (the server's own
+// state, copied, is not this process's to tear down; the record is already on disk).
+[[noreturn]] void run_measurement_child(int socket, ChildTask task, const std::string& directory) {
   ::close(socket);
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
   // Its own process group, so the watchdog kills the drivers' helpers with it; no core files from
@@ -454,7 +564,7 @@ Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpe
   ::setrlimit(RLIMIT_CORE, &no_core);
   int code = 0;
   try {
-    code = measure_child(directory);
+    code = task == ChildTask::probe ? probe_plugin_child(directory) : measure_child(directory);
   } catch (const std::exception& e) {
     // An error of the harness's side (spec, scene), not the strategy's: the parent reports it.
     std::ofstream(fs::path(directory) / "error.txt") << e.what();
@@ -465,6 +575,83 @@ Record measure_in_child(const IsolationSettings& isolation, const MeasurementSpe
 }
 
 }  // namespace
+
+IsolationDirectory::IsolationDirectory() {
+  const char* base = std::getenv("TMPDIR");
+  std::string pattern = std::string(base && *base ? base : "/tmp") + "/nurbsbench-measure-XXXXXX";
+  if (!::mkdtemp(pattern.data()))
+    throw std::runtime_error(fmt::format("{}: cannot create: {}", pattern, std::strerror(errno)));
+  // Absolute: the child may change its working directory before it writes its answer.
+  path_ = fs::absolute(pattern);
+}
+
+IsolationDirectory::~IsolationDirectory() {
+  std::error_code ignored;
+  fs::remove_all(path_, ignored);
+}
+
+std::optional<ChildFailure> run_isolated(const IsolationSettings& isolation, ChildTask task,
+                                         const fs::path& directory) {
+  const ChildEnd end = measurement_server().measure(
+      isolation.executable, task, directory, isolation.timeout_s, isolation.memory_limit_bytes);
+  const std::string phase = read_phase_board(directory / "phase");
+  const std::string in_phase = phase.empty() ? "before any phase" : "in " + phase;
+  if (end.server_lost)
+    return ChildFailure{Status::failed,
+                        fmt::format("the measurement server was lost {}", in_phase)};
+  if (end.timed_out)
+    return ChildFailure{Status::timed_out, fmt::format("no answer within {:g} s (--timeout) {}",
+                                                       isolation.timeout_s, in_phase)};
+  if (end.out_of_memory)
+    return ChildFailure{
+        Status::out_of_memory,
+        fmt::format("held more than {} MiB resident (--memory-limit) {}",
+                    isolation.memory_limit_bytes / kMiB, in_phase)};
+  if (WIFSIGNALED(end.status))
+    return ChildFailure{Status::crashed,
+                        fmt::format("{} {}", signal_text(WTERMSIG(end.status)), in_phase)};
+  if (WEXITSTATUS(end.status) == 0) return std::nullopt;
+  const fs::path error_file = directory / "error.txt";
+  std::string error;
+  if (fs::exists(error_file)) error = ": " + read_file(error_file);
+  return ChildFailure{Status::failed,
+                      plugin_text(fmt::format("measurement process exited with status {} {}{}",
+                                              WEXITSTATUS(end.status), in_phase, error),
+                                  1024)};
+}
+
+std::optional<EvalResult> evaluate_once(const StrategyEntry& entry, const StrategyOptions& options,
+                                        const Scene& scene, const EvalRequest& request, Record& r) {
+  std::optional<EvalResult> result;
+  try {
+    std::unique_ptr<Strategy> strategy = create_guarded(entry, options);
+    strategy->prepare(scene, request);
+    strategy->evaluate();
+    if (entry.capabilities().trims && scene.has_trims()) strategy->classify();
+    result = strategy->read_back();
+    r.device = strategy->device();
+  } catch (const RefusedError& e) {
+    r.status = Status::refused;
+    r.reason = plugin_text(e.what(), 1024);
+  } catch (const DeviceTimeout& e) {
+    r.status = Status::timed_out;
+    r.reason = plugin_text(fmt::format("in {}: {}", current_phase(), e.what()), 1024);
+  } catch (const std::exception& e) {
+    r.status = Status::failed;
+    r.reason = plugin_text(e.what(), 1024);
+  }
+  if (r.status != Status::ok) result.reset();
+  return result;
+}
+
+EvalOutcome evaluate_with(const IsolationSettings& isolation, const MeasurementSpec& spec,
+                          const Scene& scene) {
+  if (isolation.mode == IsolationMode::process) return run_spec_in_child(isolation, spec, scene);
+  EvalOutcome out{spec_record(spec, scene), std::nullopt};
+  if (refused_by_kind(*spec.entry, scene, spec.request, out.record)) return out;
+  out.result = evaluate_once(*spec.entry, spec.options, scene, spec.request, out.record);
+  return out;
+}
 
 void write_eval_result(const fs::path& file, const EvalResult& result) {
   std::string out(kResultMagic);
@@ -510,22 +697,31 @@ Record measure_with(const IsolationSettings& isolation, const MeasurementSpec& s
 }
 
 int measure_server(int socket) {
+  // Orphans of the measurements (a helper that called setsid()) are re-parented here, not to init,
+  // so kill_descendants can end them.
+  ::prctl(PR_SET_CHILD_SUBREAPER, 1);
   for (;;) {
     const auto request = read_line(socket);
     if (!request) return 0;
-    const std::size_t tab = request->find('\t');
-    if (tab == std::string::npos) return 2;
-    const std::string directory = request->substr(0, tab);
-    const double timeout_s = std::stod(request->substr(tab + 1));
+    std::vector<std::string> fields;
+    std::istringstream line(*request);
+    for (std::string field; std::getline(line, field, '\t');) fields.push_back(field);
+    if (fields.size() != 4) return 2;
+    const ChildTask task = fields[0] == "probe" ? ChildTask::probe : ChildTask::measure;
+    const std::string& directory = fields[1];
+    const double timeout_s = std::stod(fields[2]);
+    const std::size_t memory_limit = std::stoull(fields[3]);
     const pid_t pid = ::fork();
     if (pid < 0) return 2;
-    if (pid == 0) run_measurement_child(socket, directory);
+    if (pid == 0) run_measurement_child(socket, task, directory);
     // Both sides set the group: whichever runs first, the watchdog's kill(-pid) finds it.
     ::setpgid(pid, pid);
-    const ChildEnd end = wait_for(pid, timeout_s);
-    if (!write_all(socket,
-                   end.timed_out ? std::string("timed_out\n") : fmt::format("{}\n", end.status)))
-      return 0;
+    const ChildEnd end = wait_for(pid, timeout_s, memory_limit);
+    kill_descendants(pid);
+    const std::string answer = end.timed_out       ? "timed_out"
+                               : end.out_of_memory ? "out_of_memory"
+                                                   : std::to_string(end.status);
+    if (!write_all(socket, answer + "\n")) return 0;
   }
 }
 
@@ -541,7 +737,8 @@ int measure_child(const fs::path& directory) {
         "(--isolation none measures it in one process)");
   Record r = spec_record(spec, scene);
   const std::optional<EvalResult> result =
-      spec.deforming_frames > 0
+      spec.eval_only ? evaluate_once(*spec.entry, spec.options, scene, spec.request, r)
+      : spec.deforming_frames > 0
           ? time_deforming(*spec.entry, spec.options, scene, spec.request, spec.deforming_frames, r)
           : time_measurement(*spec.entry, spec.options, scene, spec.request, spec.repetitions, r,
                              spec.images);

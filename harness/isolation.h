@@ -8,8 +8,11 @@
 // per run (isolation.cpp says why).
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "harness/record.h"
 #include "harness/runner.h"
@@ -21,11 +24,22 @@ enum class IsolationMode { process, none };
 std::string_view to_string(IsolationMode mode);
 IsolationMode parse_isolation(std::string_view text);
 
+// Three quarters of this machine's physical memory: a measurement that wants more would push the
+// run (and the machine's other work) into swap or the kernel's OOM killer, which picks its victim
+// without asking which process misbehaved.
+std::size_t default_memory_limit_bytes();
+// --memory-limit MIB: a whole number of MiB in 16..the machine's memory; throws InputError naming
+// the option, the value and the range.
+std::size_t parse_memory_limit(std::string_view text);
+
 struct IsolationSettings {
   IsolationMode mode = IsolationMode::process;
   // The watchdog: the whole measurement (setup, warm-up, repetitions, read back) must end within
   // this; then its process group is killed and the record is timed_out.
   double timeout_s = 600;
+  // The most resident memory a child may hold (0: no limit); past it, it is killed like a hang and
+  // its record is failed with "out of memory: ...".
+  std::size_t memory_limit_bytes = default_memory_limit_bytes();
   // The binary that understands the hidden `measure-server` verb (this one: /proc/self/exe).
   std::filesystem::path executable = "/proc/self/exe";
 };
@@ -41,6 +55,8 @@ struct MeasurementSpec {
   // run --images DIR (empty: none). The child writes the picture (only it holds the strategy);
   // the parent, which scores, writes the trim masks. Not for the deforming benchmark.
   std::filesystem::path images{};
+  // `eval`: create, prepare, evaluate, classify, read back once (evaluate_once), nothing timed.
+  bool eval_only = false;
 };
 
 // measure() / measure_deforming() in-process (mode none) or in a child process; the record's
@@ -49,9 +65,53 @@ struct MeasurementSpec {
 Record measure_with(const IsolationSettings& isolation, const MeasurementSpec& spec,
                     const Scene& scene, ReferenceCache& references);
 
-// The server (the hidden `measure-server FD` verb): per request line "DIR\tTIMEOUT" on FD, forks a
-// child that runs measure_child(DIR), waits at most TIMEOUT seconds (then kills its process
-// group), answers "timed_out" or the child's wait status. Returns at end of file.
+// `eval`'s one evaluation, in-process (mode none) or in a child process, unscored: the record says
+// how it ended (ok, or failed / refused / crashed / timed_out with the reason) and `result` holds
+// the points when it is ok.
+struct EvalOutcome {
+  Record record;
+  std::optional<EvalResult> result;
+};
+EvalOutcome evaluate_with(const IsolationSettings& isolation, const MeasurementSpec& spec,
+                          const Scene& scene);
+// create, prepare, evaluate, classify (a strategy that trims, on a trimmed scene), read back; an
+// exception is r's status (refused, timed_out on a device wait, failed) and nullopt.
+std::optional<EvalResult> evaluate_once(const StrategyEntry& entry, const StrategyOptions& options,
+                                        const Scene& scene, const EvalRequest& request, Record& r);
+
+// A private directory for one isolated child's files, removed with its contents.
+class IsolationDirectory {
+ public:
+  IsolationDirectory();
+  ~IsolationDirectory();
+  IsolationDirectory(const IsolationDirectory&) = delete;
+  IsolationDirectory& operator=(const IsolationDirectory&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// How an isolated child that did not finish its work ended: the status its record takes
+// (crashed, timed_out, failed) and the reason, with the phase it was in.
+struct ChildFailure {
+  Status status = Status::failed;
+  std::string reason;
+};
+// What the measurement server's children do: measure_child(DIR), or probe_plugin_child(DIR)
+// (harness/plugins/plugin.h).
+enum class ChildTask { measure, probe };
+// Runs `task` on `directory` in a child of the measurement server, under the watchdog and the
+// memory limit. nullopt when it exited with status 0; a child that exits otherwise is failed with
+// its status and DIR/error.txt.
+std::optional<ChildFailure> run_isolated(const IsolationSettings& isolation, ChildTask task,
+                                         const std::filesystem::path& directory);
+
+// The server (the hidden `measure-server FD` verb): per request line "TASK\tDIR\tTIMEOUT\tBYTES"
+// on FD, forks a child that runs the task on DIR, waits at most TIMEOUT seconds and lets it hold
+// at most BYTES of resident memory (0: any), then kills its process group and every descendant
+// that left it (the server is their subreaper); answers "timed_out", "out_of_memory" or the
+// child's wait status. Returns at end of file.
 int measure_server(int socket);
 
 // The child's side: reads DIR/spec.json and DIR/scene.json, runs

@@ -19,6 +19,8 @@ std::string_view to_string(Status s) {
       return "failed";
     case Status::refused:
       return "refused";
+    case Status::out_of_memory:
+      return "out_of_memory";
     case Status::crashed:
       return "crashed";
     case Status::timed_out:

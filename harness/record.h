@@ -15,11 +15,13 @@
 namespace nurbs {
 
 // Ordered like the Khronos CTS result codes (docs/design.md §Isolation and result codes): the
-// later, the worse for the strategy. crashed and timed_out come only from an isolated measurement
-// (a signal ended its process, or the watchdog did) or a bounded device wait that expired.
-enum class Status { ok, refused, unavailable, failed, crashed, timed_out };
-inline constexpr Status kAllStatuses[] = {Status::ok,     Status::refused, Status::unavailable,
-                                          Status::failed, Status::crashed, Status::timed_out};
+// later, the worse for the strategy. out_of_memory, crashed and timed_out come only from an
+// isolated measurement (its process held more than --memory-limit, a signal ended it, or the
+// watchdog did) or a bounded device wait that expired.
+enum class Status { ok, refused, unavailable, failed, out_of_memory, crashed, timed_out };
+inline constexpr Status kAllStatuses[] = {
+    Status::ok,      Status::refused,  Status::unavailable, Status::failed, Status::out_of_memory,
+    Status::crashed, Status::timed_out};
 std::string_view to_string(Status s);
 bool parse_status(std::string_view text, Status& out);
 

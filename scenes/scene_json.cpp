@@ -288,7 +288,33 @@ class SurfaceReader {
     }
     t.knots_u = local_knot_vectors(r, "knots_u", points.size(), t.degree_u);
     t.knots_v = local_knot_vectors(r, "knots_v", points.size(), t.degree_v);
+    check_domain_covered(r, domain, t.knots_u, t.degree_u, 0, "u");
+    check_domain_covered(r, domain, t.knots_v, t.degree_v, 2, "v");
     return make_tspline_surface(std::move(t));
+  }
+
+  // Outside every point's support the blending functions' sum is 0 and S(u, v) = 0/0: a domain
+  // reaching past the span of the local knot vectors would be evaluated to NaN there. Refused at
+  // load, naming the end and the span (validate_tspline checks the rest of the domain's rules).
+  void check_domain_covered(const ObjectReader& r, const std::vector<double>& domain,
+                            const std::vector<double>& knots, int degree, std::size_t first,
+                            const char* direction) const {
+    const std::size_t n = static_cast<std::size_t>(degree) + 2;
+    if (knots.empty()) return;
+    double low = knots[0], high = knots[n - 1];
+    for (std::size_t k = 0; k + n <= knots.size(); k += n) {
+      low = std::min(low, knots[k]);
+      high = std::max(high, knots[k + n - 1]);
+    }
+    const auto fail = [&](std::size_t index) {
+      r.fail("domain", std::to_string(index), fmt::format("{:g}", domain[index]),
+             fmt::format("the domain must lie within [{:g}, {:g}], where the local knot vectors "
+                         "give {} a blending function (outside, S(u, v) is 0/0)",
+                         low, high, direction));
+    };
+    // !(a >= b): a NaN end is refused here too.
+    if (!(domain[first] >= low)) fail(first);
+    if (!(domain[first + 1] <= high)) fail(first + 1);
   }
 
   // One array of degree+2 knots per point, concatenated.

@@ -18,6 +18,7 @@ namespace nurbs::cli {
 struct ListOptions {
   std::vector<std::string> plugins;  // --plugin PATH (repeatable): harness/plugins/plugin.h
   bool json = false;
+  double timeout_s = 60;  // --timeout: the bound on each plugin's probe
 };
 int list_command(const ListOptions& options);
 
@@ -33,6 +34,15 @@ struct ImportOptions {
   bool strict = false;
 };
 int import_command(const ImportOptions& options);
+
+// --isolation, --timeout, --device-timeout, --memory-limit: how `run`, `recommend` and `eval`
+// survive their strategies (harness/isolation.h).
+struct IsolationOptions {
+  std::string isolation = "process";
+  double timeout_s = 600;
+  double device_timeout_s = 60;
+  std::string memory_limit;  // MiB; empty: default_memory_limit_bytes()
+};
 
 struct EvalOptions {
   std::vector<std::string> plugins;  // --plugin PATH (repeatable): harness/plugins/plugin.h
@@ -51,16 +61,9 @@ struct EvalOptions {
   std::vector<std::string> strategy_options;  // --strategy-option KEY=VALUE (extra[KEY] = VALUE)
   std::string error_image;                    // --error-image F.exr|F.png (harness/error_image.h)
   std::optional<std::string> trim_band;       // --trim-band FRACTION (absent: kDefaultTrimBand)
+  IsolationOptions isolation;
 };
 int eval_command(const EvalOptions& options);
-
-// --isolation, --timeout, --device-timeout: how `run` and `recommend` survive their strategies
-// (harness/isolation.h).
-struct IsolationOptions {
-  std::string isolation = "process";
-  double timeout_s = 600;
-  double device_timeout_s = 60;
-};
 
 struct RunOptions {
   std::vector<std::string> plugins;  // --plugin PATH (repeatable): harness/plugins/plugin.h

@@ -1,11 +1,14 @@
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 
 #include "harness/atomic_file.h"
 #include "harness/cli/commands.h"
 #include "harness/error_image.h"
+#include "harness/isolation.h"
 #include "harness/metrics.h"
 #include "harness/plugins/plugin.h"
 #include "harness/runner.h"
@@ -55,11 +58,46 @@ std::string trim_summary(const TrimAccuracy& t) {
   return text;
 }
 
+// eval's exit codes beyond main's (0 ok, 2 bad input, 3 internal error): the strategy's verdict,
+// 1 -- it produced no points (failed, refused while running, crashed, timed out, out of memory) or
+// points that are not all finite (written, to be looked at).
+constexpr int kExitStrategyVerdict = 1;
+
+// Under --isolation none the strategy runs in this process: what it prints goes to stderr, so the
+// CSV on stdout stays the points alone.
+class StdoutToStderr {
+ public:
+  StdoutToStderr() {
+    std::cout.flush();
+    std::fflush(stdout);
+    saved_ = ::dup(STDOUT_FILENO);
+    if (saved_ >= 0) ::dup2(STDERR_FILENO, STDOUT_FILENO);
+  }
+  ~StdoutToStderr() {
+    std::fflush(stdout);
+    if (saved_ < 0) return;
+    ::dup2(saved_, STDOUT_FILENO);
+    ::close(saved_);
+  }
+  StdoutToStderr(const StdoutToStderr&) = delete;
+  StdoutToStderr& operator=(const StdoutToStderr&) = delete;
+
+ private:
+  int saved_ = -1;
+};
+
 }  // namespace
 
 int eval_command(const EvalOptions& options) {
+  const IsolationSettings isolation = isolation_settings(options.isolation);
   apply_thread_setting(options.threads);
-  load_plugins(options.plugins);
+  // Before any code of a plugin runs: the file it names (absolute, so a strategy's chdir() cannot
+  // move it) can be written.
+  const bool to_stdout = options.out.empty() || options.out == "-";
+  const std::string out = to_stdout ? "" : writable_output_file("--out", options.out);
+  const StrategyOptions strategy_options{
+      options.threads, backend_extra(options.gl, options.device, options.strategy_options)};
+  load_plugins(options.plugins, isolation);
   const Scene scene = load_scene(options.scene);
   const StrategyEntry* entry = find_strategy(options.strategy);
   if (!entry)
@@ -89,24 +127,38 @@ int eval_command(const EvalOptions& options) {
           options.error_image));
   }
 
-  const Availability availability = entry->probe();
-  if (!availability.available)
-    throw InputError(
-        fmt::format("strategy {} is unavailable: {}", entry->name, availability.reason));
-  if (auto refused = refusal_reason(entry->capabilities(), scene, request))
-    throw InputError(
-        fmt::format("strategy {} refuses scene {}: {}", entry->name, scene.name, *refused));
+  // A plugin that cannot be used is the strategy's verdict below, like its other failures.
+  if (!plugin_problem(*entry)) {
+    const Availability availability = entry->probe();
+    if (!availability.available)
+      throw InputError(
+          fmt::format("strategy {} is unavailable: {}", entry->name, availability.reason));
+    if (auto refused = refusal_reason(entry->capabilities(), scene, request))
+      throw InputError(
+          fmt::format("strategy {} refuses scene {}: {}", entry->name, scene.name, *refused));
+  }
 
-  // Guarded like run's strategies, so that NURBSBENCH_INJECT_FAULT reaches eval too.
-  std::unique_ptr<Strategy> strategy = create_guarded(
-      *entry, StrategyOptions{options.threads,
-                              backend_extra(options.gl, options.device, options.strategy_options)});
+  // In a child process like run's measurements (unless --isolation none), guarded like them, so
+  // that NURBSBENCH_INJECT_FAULT reaches eval too; the points come back to this process, which
+  // writes them.
+  MeasurementSpec spec{entry, strategy_options, request, 1, 0, trim_band, {}};
+  spec.eval_only = true;
+  EvalOutcome outcome;
+  if (isolation.mode == IsolationMode::none) {
+    const StdoutToStderr quiet;
+    outcome = evaluate_with(isolation, spec, scene);
+  } else {
+    outcome = evaluate_with(isolation, spec, scene);
+  }
+  if (outcome.record.status != Status::ok || !outcome.result) {
+    std::cerr << fmt::format("nurbsbench: {} on {}: {}: {}\n", entry->name, scene.name,
+                             to_string(outcome.record.status),
+                             plugin_text(outcome.record.reason, 2048));
+    return kExitStrategyVerdict;
+  }
+  EvalResult result = std::move(*outcome.result);
   // The strategy's own classification of its samples, for the CSV's inside column.
   const bool classifies = entry->capabilities().trims && scene.has_trims();
-  strategy->prepare(scene, request);
-  strategy->evaluate();
-  if (classifies) strategy->classify();
-  EvalResult result = strategy->read_back();
   orient_normals(scene, result);  // the CSV and the scoring give the face's normals
 
   // Compared where the strategy sampled: the request's samples, or its own for a strategy that
@@ -153,15 +205,22 @@ int eval_command(const EvalOptions& options) {
       csv += "\n";
     }
   }
-  if (options.out.empty() || options.out == "-")
-    std::cout << csv;
-  else
-    write_file_atomically(options.out, csv);
+  if (to_stdout) {
+    std::cout << csv << std::flush;
+    if (!std::cout) throw InputError("--out = '-': cannot write the points to stdout");
+  } else {
+    try {
+      write_file_atomically(out, csv);
+    } catch (const std::runtime_error& e) {
+      // It was writable a moment ago: the disk filled or the folder went away.
+      throw InputError(fmt::format("--out = '{}': {}", plugin_text(options.out, 256), e.what()));
+    }
+  }
   // The points are written (they are what to look at), but the evaluation failed.
   const std::string non_finite = non_finite_failure(accuracy, total_samples(produced));
   if (!non_finite.empty()) {
     std::cerr << fmt::format("nurbsbench: {} on {}: {}\n", entry->name, scene.name, non_finite);
-    return 1;
+    return kExitStrategyVerdict;
   }
   return 0;
 }

@@ -10,6 +10,9 @@ namespace nurbs::cli {
 
 int import_command(const ImportOptions& options) {
   const bool to_stdout = options.out.empty() || options.out == "-";
+  // Checked before the model is read: a path that cannot be written is bad input, not a failure
+  // after minutes of import.
+  const std::string out = to_stdout ? "" : writable_output_file("--out", options.out);
   // The summary goes where the scene does not.
   std::ostream& log = to_stdout ? std::cerr : std::cout;
   const CadImport imported = import_cad_model(
@@ -20,7 +23,7 @@ int import_command(const ImportOptions& options) {
   if (to_stdout)
     std::cout << json;
   else
-    write_file_atomically(options.out, json);
+    write_file_atomically(out, json);
   log << imported.report.summary();
   return 0;
 }

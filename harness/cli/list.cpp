@@ -80,18 +80,24 @@ nlohmann::json devices_json(std::string& text) {
 }  // namespace
 
 int list_command(const ListOptions& options) {
-  load_plugins(options.plugins);
+  IsolationOptions probe;
+  probe.timeout_s = options.timeout_s;
+  load_plugins(options.plugins, isolation_settings(probe));
   nlohmann::json strategies = nlohmann::json::array();
   std::string text = "strategies:\n";
   for (const StrategyEntry* entry : all_strategies()) {
     const StrategyEntry& e = *entry;
-    const Availability a = e.probe();
+    // A plugin that cannot be used is unavailable here, with its reason and no capabilities (its
+    // table, if it has one, was not read); its measurements are failed records with that reason.
+    const std::optional<std::string> problem = plugin_problem(e);
+    const Availability a = problem ? Availability{false, *problem} : e.probe();
     strategies.push_back({{"name", e.name},
                           {"available", a.available},
                           {"reason", a.reason},
                           {"role", e.role},
                           {"source", e.source},
-                          {"capabilities", capabilities_json(e.capabilities())}});
+                          {"capabilities", problem ? nlohmann::json(nullptr)
+                                                   : capabilities_json(e.capabilities())}});
     const StrategyLibrary* library = strategy_library(e);
     if (library)
       strategies.back()["library"] = {{"path", library->path}, {"sha256", library->sha256}};

@@ -12,6 +12,7 @@
 
 #include "harness/cli/commands.h"
 #include "harness/drivers.h"
+#include "harness/plugins/plugin.h"
 #include "reference/validation.h"
 
 #if defined(__SANITIZE_ADDRESS__)
@@ -25,10 +26,9 @@ namespace {
 constexpr int kExitBadInput = 2;
 constexpr int kExitInternalError = 3;
 
-// One line on stderr, whatever the message holds.
-void print_error(const char* kind, std::string message) {
-  std::replace(message.begin(), message.end(), '\n', ' ');
-  std::cerr << "nurbsbench: " << kind << ": " << message << "\n";
+// One line on stderr, whatever the message holds (a plugin's bytes included).
+void print_error(const char* kind, const std::string& message) {
+  std::cerr << "nurbsbench: " << kind << ": " << nurbs::plugin_text(message, 4096) << "\n";
 }
 
 void add_isolation_options(CLI::App* verb, nurbs::cli::IsolationOptions& options) {
@@ -42,6 +42,10 @@ void add_isolation_options(CLI::App* verb, nurbs::cli::IsolationOptions& options
   verb->add_option("--device-timeout", options.device_timeout_s,
                    "seconds any single wait on a GL/Vulkan/OpenCL device may take before the "
                    "strategy reports timed_out in that phase (default 60)");
+  verb->add_option("--memory-limit", options.memory_limit,
+                   "MiB of resident memory one measurement's process may hold before it is "
+                   "killed and recorded failed: out of memory (default: 3/4 of this machine's)")
+      ->type_name("MIB");
 }
 
 void add_plugin_option(CLI::App* verb, std::vector<std::string>& plugins) {
@@ -76,6 +80,9 @@ static int run_command_line(int argc, char** argv) {
       app.add_subcommand("list", "strategies (available / unavailable: why) and built-in scenes");
   list_cmd->add_flag("--json", list.json, "machine-readable output");
   add_plugin_option(list_cmd, list.plugins);
+  list_cmd->add_option("--timeout", list.timeout_s,
+                       "seconds each --plugin's probe (load, constructors, entry point) may take "
+                       "before it is killed and the plugin is unavailable (default 60)");
 
   SceneOptions scene;
   auto* scene_cmd = app.add_subcommand("scene",
@@ -133,6 +140,7 @@ static int run_command_line(int argc, char** argv) {
   eval_cmd->add_option("--out", eval.out,
                        "CSV file surface,u,v,x,y,z[,nx,ny,nz][,inside] (inside: a strategy that "
                        "trims, on a trimmed scene; default: stdout)");
+  add_isolation_options(eval_cmd, eval.isolation);
 
   RunOptions run;
   auto* run_cmd = app.add_subcommand(

@@ -1,12 +1,17 @@
 #include "harness/cli/parsing.h"
 
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <omp.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <set>
 #include <string>
 #include <thread>
@@ -15,6 +20,7 @@
 #include "reference/error_text.h"
 #include "reference/validation.h"
 #include "scenes/builtin_scenes.h"
+#include "strategies/strategy_options.h"
 
 namespace nurbs::cli {
 
@@ -187,6 +193,10 @@ std::map<std::string, std::string> backend_extra(const std::string& gl, const st
       throw InputError(fmt::format("{}: {} is given twice",
                                    option_text("--strategy-option", option),
                                    printable(option.substr(0, eq), kQuotedValueBytes)));
+    // Before any work: a value out of range is the command line's mistake, not a strategy's
+    // failure halfway through a run.
+    if (const auto problem = strategy_option_problem(option.substr(0, eq), option.substr(eq + 1)))
+      throw InputError(fmt::format("{}: {}", option_text("--strategy-option", option), *problem));
   }
   if (!gl.empty()) extra["gl"] = gl;
   if (!device.empty()) {
@@ -194,6 +204,29 @@ std::map<std::string, std::string> backend_extra(const std::string& gl, const st
     extra["device"] = device;
   }
   return extra;
+}
+
+std::string writable_output_file(std::string_view option, const std::string& path) {
+  namespace fs = std::filesystem;
+  const auto refuse = [&](std::string_view why) {
+    throw InputError(fmt::format("{}: {}", option_text(option, path), why));
+  };
+  if (path.empty()) refuse("the file name is empty");
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(path, ec);
+  if (ec) refuse(ec.message());
+  if (fs::is_directory(absolute, ec)) refuse("is a directory");
+  const fs::path folder = absolute.parent_path();
+  if (!fs::is_directory(folder, ec))
+    refuse(fmt::format("its folder {} does not exist", printable(folder.string(), 256)));
+  std::string probe = (folder / ".nurbsbench-write-check-XXXXXX").string();
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0)
+    refuse(fmt::format("cannot create a file in {}: {}", printable(folder.string(), 256),
+                       std::strerror(errno)));
+  ::close(fd);
+  ::unlink(probe.c_str());
+  return absolute.string();
 }
 
 int apply_thread_setting(int threads) {

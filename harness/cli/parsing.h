@@ -43,6 +43,11 @@ std::vector<std::string> scene_list(std::string_view text, std::string_view opti
 std::map<std::string, std::string> backend_extra(
     const std::string& gl, const std::string& device,
     const std::vector<std::string>& strategy_options = {});
+// An output file the user named (`--out`): absolute (a strategy's chdir() cannot move it), not a
+// directory, in a directory where a file can be created -- tried by creating and removing one, so
+// that the answer is the filesystem's (/proc refuses even root). Throws InputError naming the
+// option, the path and why, before any work is done.
+std::string writable_output_file(std::string_view option, const std::string& path);
 // The thread setting shared by OpenMP, llvmpipe/lavapipe and PoCL; returns the count in force.
 int apply_thread_setting(int threads);
 

@@ -55,9 +55,9 @@ std::string scene_for_parameters(const RecommendOptions& o) {
 }
 
 // The quick measurement: every registered strategy on the workload, a few repetitions.
-std::vector<Record> measure_workload(const RecommendOptions& o, const Scene& scene,
-                                     const Sampling& sampling, Precision precision) {
-  const IsolationSettings isolation = isolation_settings(o.isolation);
+std::vector<Record> measure_workload(const RecommendOptions& o, const IsolationSettings& isolation,
+                                     const Scene& scene, const Sampling& sampling,
+                                     Precision precision) {
   const int threads = apply_thread_setting(o.threads);
   ReferenceCache references;
   std::vector<Record> records;
@@ -75,7 +75,9 @@ std::vector<Record> measure_workload(const RecommendOptions& o, const Scene& sce
 }  // namespace
 
 int recommend_command(const RecommendOptions& o) {
-  load_plugins(o.plugins);
+  // Checked first, and bounding the plugins' probes too.
+  const IsolationSettings isolation = isolation_settings(o.isolation);
+  load_plugins(o.plugins, isolation);
   Workload workload;
   workload.tolerance = parse_tolerance(o.tolerance);
   workload.deforming = o.deforming;
@@ -110,7 +112,7 @@ int recommend_command(const RecommendOptions& o) {
     sample_parameters(scene, sampling);  // size checks before measuring
     workload.scene = scene.name;
     workload.samples = sampling.label();
-    records = measure_workload(o, scene, sampling,
+    records = measure_workload(o, isolation, scene, sampling,
                                parse_precision(o.precision.empty() ? "f32" : o.precision));
   }
   const Recommendation r = recommend(records, workload);

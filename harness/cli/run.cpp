@@ -88,13 +88,14 @@ int run_command(const RunOptions& options) {
   // Everything the run needs is checked before the output directory is touched.
   const IsolationSettings isolation = isolation_settings(options.isolation);
   const int threads = apply_thread_setting(options.threads);
-  load_plugins(options.plugins);
   if (options.repetitions < 1 || options.repetitions > 1000)
     throw InputError(fmt::format("--repetitions = {}: must be in 1..1000", options.repetitions));
   if (options.deforming < 0 || options.deforming > 100000)
     throw InputError(
         fmt::format("--deforming = {}: must be in 1..100000 (frames)", options.deforming));
   const bool deforming = options.deforming > 0;
+  if (!options.memory_limit.empty())
+    settings.memory_limit_bytes = parse_memory_limit(options.memory_limit);
   const StrategySelection selection = strategy_list(options.strategies);
   const std::vector<const StrategyEntry*>& strategies = selection.entries;
   std::vector<Scene> scenes;
@@ -112,6 +113,9 @@ int run_command(const RunOptions& options) {
   for (const Scene& scene : scenes)
     for (const Sampling& sampling : samplings) sample_parameters(scene, sampling);
   const StrategyOptions strategy_options{
+  // After the checks that cost nothing (a plugin's probe can take up to --timeout), before the
+  // strategy list, which may name the plugins.
+  load_plugins(options.plugins, isolation);
       threads, backend_extra(options.gl, options.device, options.strategy_options)};
   if (!options.images.empty()) {
     if (deforming)
@@ -152,6 +156,7 @@ int run_command(const RunOptions& options) {
     for (const Sampling& sampling : samplings) {
       // The machine's ceiling for this request, measured in the same run as the strategies so
       // their ratios to it are comparable.
+                             {"memory_limit_mib", isolation.memory_limit_bytes >> 20},
       // Not in the deforming benchmark: the limit is an evaluate-only ceiling, not a frame's.
       const EvalRequest limit_request{sampling, precision, options.normals};
       if (selection.store_limit && !deforming)

@@ -10,10 +10,16 @@
 #include <cstring>
 #include <deque>
 #include <fstream>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <new>
+#include <nlohmann/json.hpp>
+#include <sstream>
 #include <stdexcept>
 
+#include "harness/atomic_file.h"
+#include "harness/strategy_guard.h"
 #include "nurbsbench/evaluator.h"
 #include "reference/tspline.h"
 #include "reference/validation.h"
@@ -112,16 +118,27 @@ class PlainScene {
   nbe_scene scene_{};
 };
 
-// A loaded library (its handle is never closed) and a copy of its table, zero past the plugin's
-// struct_size so that fields a newer header appends read as absent.
+// A library and, once opened in this process (its handle is never closed), a copy of its table,
+// zero past the plugin's struct_size so that fields a newer header appends read as absent.
 struct Library {
   fs::path path;
   std::string sha256;
   nbe_evaluator table{};
+  // Opened at most once per process: by the measurement child that loads it, or by the first
+  // create() of `--isolation none`; `problem` is why it cannot be used ("" when it can).
+  std::once_flag opened;
+  std::string problem;
 };
 
-Capabilities capabilities_of(const nbe_evaluator& t) {
-  const std::uint32_t f = t.capabilities;
+// What the table says it does: its capability bits, max_degree and whether it offers
+// update_control_points.
+struct TableCapabilities {
+  std::uint32_t flags = 0, max_degree = 0;
+  bool update_control_points = false;
+};
+
+Capabilities capabilities_of(const TableCapabilities& t) {
+  const std::uint32_t f = t.flags;
   Capabilities c;
   c.max_degree = t.max_degree == 0
                      ? kMaxDegree
@@ -135,9 +152,17 @@ Capabilities capabilities_of(const nbe_evaluator& t) {
   c.trims = f & NBE_CAP_TRIMS;
   c.tspline = f & (NBE_CAP_TSPLINES | NBE_CAP_TSPLINES_ONLY);
   c.tspline_only = f & NBE_CAP_TSPLINES_ONLY;
-  c.updates_control_points =
-      (f & NBE_CAP_UPDATES_CONTROL_POINTS) && t.update_control_points != nullptr;
+  c.updates_control_points = (f & NBE_CAP_UPDATES_CONTROL_POINTS) && t.update_control_points;
   return c;
+}
+
+TableCapabilities table_capabilities(const nbe_evaluator& t) {
+  return {t.capabilities, t.max_degree, t.update_control_points != nullptr};
+}
+
+// A string of the table (version, description): any bytes, made printable; absent is "".
+std::string table_text(const char* text, std::size_t max_bytes) {
+  return text ? plugin_text(std::string_view(text, strnlen(text, max_bytes)), max_bytes) : "";
 }
 
 // The strategy over a plugin's table: converts the scene and samples to plain arrays once per
@@ -145,7 +170,9 @@ Capabilities capabilities_of(const nbe_evaluator& t) {
 class PluginStrategy final : public Strategy {
  public:
   PluginStrategy(std::shared_ptr<const Library> library, const StrategyOptions& options)
-      : library_(std::move(library)), table_(library_->table), caps_(capabilities_of(table_)) {
+      : library_(std::move(library)),
+        table_(library_->table),
+        caps_(capabilities_of(table_capabilities(table_))) {
     std::vector<nbe_option> pairs;
     for (const auto& [key, value] : options.extra) pairs.push_back({key.c_str(), value.c_str()});
     const nbe_options o{options.threads, static_cast<std::uint32_t>(pairs.size()), pairs.data()};
@@ -161,10 +188,10 @@ class PluginStrategy final : public Strategy {
   Capabilities capabilities() const override { return caps_; }
   DeviceInfo device() const override {
     const bool gpu = table_.capabilities & NBE_CAP_GPU;
-    return {fmt::format("{} (plugin {} {})", gpu ? "GPU" : "host CPU", table_.name,
-                        table_.version ? table_.version : ""),
+    const std::string version = table_text(table_.version, 64);
+    return {fmt::format("{} (plugin {} {})", gpu ? "GPU" : "host CPU", table_.name, version),
             gpu ? "gpu" : "cpu",
-            {{"plugin_version", table_.version ? table_.version : ""},
+            {{"plugin_version", version},
              {"library", library_->path.string()},
              {"library_sha256", library_->sha256}}};
   }
@@ -260,9 +287,10 @@ class PluginStrategy final : public Strategy {
   }
   [[noreturn]] void fail(const char* function, std::int32_t status, const nbe_error& error) const {
     // The message is the plugin's: bounded by its buffer even when it forgot the terminator, and
-    // kept to one line.
-    std::string message(error.message, strnlen(error.message, sizeof error.message));
-    std::replace(message.begin(), message.end(), '\n', ' ');
+    // made one line of valid UTF-8 (the records are JSON, the table a terminal's).
+    const std::string message =
+        plugin_text(std::string_view(error.message, strnlen(error.message, sizeof error.message)),
+                    sizeof error.message);
     const std::string text = fmt::format("plugin {}: {} returned error {}{}", table_.name, function,
                                          status, message.empty() ? "" : ": " + message);
     if (status == NBE_UNSUPPORTED) throw RefusedError(text);
@@ -293,27 +321,45 @@ bool valid_name(const char* name) {
   });
 }
 
-// The name a library that cannot tell its own goes by: its file name without "lib" and ".so...".
+// The name a library that cannot tell its own goes by: its file name without "lib" and ".so...",
+// held to the name rule like a table's (lower case; any other character becomes '-'), so that it
+// is a name every output can print and every option can take.
 std::string file_name_of(const fs::path& path) {
   std::string name = path.filename().string();
   if (name.starts_with("lib") && name.size() > 3) name.erase(0, 3);
   if (const std::size_t so = name.find(".so"); so != std::string::npos && so > 0) name.erase(so);
-  return name;
+  for (char& c : name) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+    const bool allowed =
+        (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '.' || c == '_' || c == '-';
+    if (!allowed) c = '-';
+  }
+  if (name.size() > 64) name.resize(64);
+  return name.empty() ? "plugin" : name;
 }
 
-// Opens the library and reads its table; the reason it cannot be used otherwise.
+// Phases of loading, on the phase board, so that a crash or hang says where it happened.
+constexpr std::string_view kLoadPhase = "dlopen (the library's constructors)";
+constexpr std::string_view kEntryPhase = "nurbsbench_evaluator()";
+
+// Opens the library and reads its table; the reason it cannot be used otherwise. Runs the
+// plugin's code (constructors, the entry point): only in an isolated child, or in-process under
+// --isolation none.
 std::string open_library(Library& library) {
+  announce_phase(kLoadPhase);
   void* handle = ::dlopen(library.path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!handle) {
     const char* why = ::dlerror();
-    return fmt::format("fails to load: {}", why ? why : "dlopen failed");
+    return fmt::format("fails to load: {}", why ? plugin_text(why, 512) : "dlopen failed");
   }
   void* symbol = ::dlsym(handle, NBE_ENTRY_POINT);
   if (!symbol)
     return fmt::format("missing entry points: the library exports no {}()", NBE_ENTRY_POINT);
   nbe_entry_point entry = nullptr;
   std::memcpy(&entry, &symbol, sizeof entry);  // object to function pointer, as POSIX allows
+  announce_phase(kEntryPhase);
   const nbe_evaluator* table = entry(NBE_ABI_VERSION);
+  announce_phase("reading the table");
   if (!table)
     return fmt::format("wrong ABI version: {}() returned no table for this harness's version {}",
                        NBE_ENTRY_POINT, NBE_ABI_VERSION);
@@ -326,6 +372,12 @@ std::string open_library(Library& library) {
   if (table->struct_size < kVersion1Size)
     return fmt::format("wrong ABI version: struct_size {} is below version 1's {} bytes",
                        table->struct_size, kVersion1Size);
+  // A table of a version up to this header's is at most this header's size: a larger struct_size
+  // is a wrong (or hostile) value, not a newer plugin (that has a larger abi_version).
+  if (table->struct_size > sizeof(nbe_evaluator))
+    return fmt::format(
+        "wrong ABI version: struct_size {} is above version {}'s {} bytes for abi_version {}",
+        table->struct_size, NBE_ABI_VERSION, sizeof(nbe_evaluator), table->abi_version);
   std::memcpy(&library.table, table,
               std::min<std::size_t>(table->struct_size, sizeof(nbe_evaluator)));
   const nbe_evaluator& t = library.table;
@@ -338,11 +390,206 @@ std::string open_library(Library& library) {
   if (!missing.empty()) return fmt::format("missing entry points: {}", fmt::join(missing, ", "));
   if (!valid_name(t.name))
     return fmt::format("invalid name '{}' (1..64 characters of a-z 0-9 . _ -)",
-                       std::string(t.name, strnlen(t.name, 80)));
+                       plugin_text(std::string_view(t.name, strnlen(t.name, 80)), 80));
   return {};
 }
 
+// Why each plugin that cannot be used cannot, by strategy name.
+std::map<std::string, std::string, std::less<>>& problems() {
+  static std::map<std::string, std::string, std::less<>> by_name;
+  return by_name;
+}
+
+const StrategyEntry& add_plugin(StrategyEntry entry, const Library& library,
+                                const fs::path& given) {
+  try {
+    return add_strategy(std::move(entry), {library.path.string(), library.sha256});
+  } catch (const std::invalid_argument& e) {
+    throw InputError(
+        fmt::format("--plugin = {}: strategy name {}", plugin_text(given.string(), 256), e.what()));
+  }
+}
+
+// The entry of a plugin that cannot be used: named after its file, every measurement of it a
+// `failed` record with `reason` (a broken plugin is the plugin's fault, not a missing device, and
+// must not pass a gate by vanishing); `list` says unavailable, with no capabilities.
+const StrategyEntry& add_unusable(std::shared_ptr<Library> library, const fs::path& given,
+                                  const std::string& problem) {
+  StrategyEntry entry;
+  entry.role = "plugin";
+  entry.name = file_name_of(library->path);
+  entry.source = "plugin (unusable)";
+  entry.probe = [] { return Availability{true, ""}; };
+  entry.capabilities = [] { return Capabilities{}; };
+  const std::string reason =
+      fmt::format("plugin {}: {}", plugin_text(library->path.string(), 256), problem);
+  entry.create = [reason](const StrategyOptions&) -> std::unique_ptr<Strategy> {
+    throw std::runtime_error(reason);
+  };
+  const std::string name = entry.name;
+  const StrategyEntry& added = add_plugin(std::move(entry), *library, given);
+  problems()[name] = reason;
+  return added;
+}
+
+// The entry of a usable plugin, from what its table says. Its create() opens the library in the
+// calling process first (once): the measurement's child, or this one under --isolation none.
+const StrategyEntry& add_usable(std::shared_ptr<Library> library, const fs::path& given,
+                                const std::string& name, const std::string& version,
+                                const std::string& description, const TableCapabilities& table) {
+  StrategyEntry entry;
+  entry.role = "plugin";
+  entry.name = name;
+  entry.source =
+      fmt::format("plugin {}{}{}", version, description.empty() ? "" : ": ", description);
+  const Capabilities caps = capabilities_of(table);
+  entry.probe = [] { return Availability{true, ""}; };
+  entry.capabilities = [caps] { return caps; };
+  entry.create = [library, name](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
+    std::call_once(library->opened, [&] { library->problem = open_library(*library); });
+    if (!library->problem.empty())
+      throw std::runtime_error(
+          fmt::format("plugin {}: {}", plugin_text(library->path.string(), 256), library->problem));
+    // The file may have changed since it was probed.
+    if (library->table.name != name)
+      throw std::runtime_error(fmt::format("plugin {} no longer names strategy {}",
+                                           plugin_text(library->path.string(), 256), name));
+    return std::make_unique<PluginStrategy>(library, options);
+  };
+  return add_plugin(std::move(entry), *library, given);
+}
+
+// The library a --plugin names, checked to be a readable regular file (a directory, a device or a
+// missing file is bad input, said as what it is), with its hash.
+std::shared_ptr<Library> library_file(const fs::path& given) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(given, ec);
+  const std::string shown = plugin_text(given.string(), 256);
+  // The path goes into the records, the spec a measurement child reads and list --json: JSON
+  // holds only valid UTF-8, and a control character would move the terminal.
+  if (plugin_text(given.string(), given.string().size() + 1) != given.string())
+    throw InputError(fmt::format(
+        "--plugin = {}: the path is not valid UTF-8 or holds control characters (rename the file)",
+        shown));
+  if (!fs::exists(status)) throw InputError(fmt::format("--plugin = {}: no such file", shown));
+  if (fs::is_directory(status))
+    throw InputError(fmt::format("--plugin = {}: is a directory, not a shared library", shown));
+  if (!fs::is_regular_file(status))
+    throw InputError(
+        fmt::format("--plugin = {}: is not a regular file (a device, a pipe or a socket), not a "
+                    "shared library",
+                    shown));
+  auto library = std::make_shared<Library>();
+  library->path = fs::absolute(given).lexically_normal();
+  try {
+    library->sha256 = file_sha256(library->path);
+  } catch (const std::runtime_error&) {
+    throw InputError(fmt::format("--plugin = {}: cannot be read", shown));
+  }
+  return library;
+}
+
+std::string read_text_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot read", file.string()));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The probe's bound: a library's load and its entry point must be quick (the header says so), and
+// `list` waits for them.
+constexpr double kProbeTimeoutCap = 60;
+
 }  // namespace
+
+std::string plugin_text(std::string_view bytes, std::size_t max_bytes) {
+  std::string out;
+  std::size_t k = 0;
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(bytes[i]); };
+  while (k < bytes.size()) {
+    if (out.size() >= max_bytes) {
+      out += "...";
+      break;
+    }
+    const unsigned char c = byte(k);
+    if (c < 0x80) {
+      if (c == '\n')
+        out += "\\n";
+      else if (c == '\r')
+        out += "\\r";
+      else if (c == '\t')
+        out += "\\t";
+      else if (c < 0x20 || c == 0x7f)
+        out += fmt::format("\\x{:02x}", c);
+      else
+        out += static_cast<char>(c);
+      ++k;
+      continue;
+    }
+    // A well-formed UTF-8 sequence (RFC 3629: no overlong forms, no surrogates, at most U+10FFFF)
+    // is kept; anything else becomes U+FFFD, one per maximal invalid prefix (Unicode's practice).
+    std::size_t length = 0;
+    unsigned char low = 0x80, high = 0xbf;
+    if (c >= 0xc2 && c <= 0xdf) {
+      length = 2;
+    } else if (c >= 0xe0 && c <= 0xef) {
+      length = 3;
+      if (c == 0xe0) low = 0xa0;
+      if (c == 0xed) high = 0x9f;
+    } else if (c >= 0xf0 && c <= 0xf4) {
+      length = 4;
+      if (c == 0xf0) low = 0x90;
+      if (c == 0xf4) high = 0x8f;
+    }
+    std::size_t valid = length == 0 ? 0 : 1;
+    for (; valid > 0 && valid < length && k + valid < bytes.size(); ++valid) {
+      const unsigned char next = byte(k + valid);
+      if (next < (valid == 1 ? low : 0x80) || next > (valid == 1 ? high : 0xbf)) break;
+    }
+    if (length > 0 && valid == length) {
+      // C1 controls (U+0080..U+009F) move a terminal as the C0 ones do.
+      if (c == 0xc2 && byte(k + 1) < 0xa0)
+        out += fmt::format("\\u{:04x}", byte(k + 1));
+      else
+        out.append(bytes.substr(k, length));
+      k += length;
+    } else {
+      out += "\xef\xbf\xbd";
+      k += std::max<std::size_t>(valid, 1);
+    }
+  }
+  return out;
+}
+
+std::optional<std::string> plugin_problem(const StrategyEntry& entry) {
+  if (!strategy_library(entry)) return std::nullopt;
+  const auto it = problems().find(entry.name);
+  if (it == problems().end()) return std::nullopt;
+  return it->second;
+}
+
+int probe_plugin_child(const fs::path& directory) {
+  share_phase_board(directory / "phase");
+  auto library = std::make_shared<Library>();
+  std::ifstream in(directory / "library", std::ios::binary);
+  std::ostringstream path;
+  path << in.rdbuf();
+  library->path = path.str();
+  const std::string problem = open_library(*library);
+  nlohmann::json answer = {{"problem", problem}};
+  if (problem.empty()) {
+    const nbe_evaluator& t = library->table;
+    answer.update({{"name", t.name},
+                   {"version", table_text(t.version, 256)},
+                   {"description", table_text(t.description, 1024)},
+                   {"capabilities", t.capabilities},
+                   {"max_degree", t.max_degree},
+                   {"update_control_points", t.update_control_points != nullptr}});
+  }
+  write_file_atomically(directory / "probe.json", answer.dump());
+  return 0;
+}
 
 std::string file_sha256(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -362,50 +609,64 @@ std::string file_sha256(const fs::path& path) {
   return hex;
 }
 
-const StrategyEntry& load_plugin(const fs::path& given) {
-  std::error_code ec;
-  if (!fs::is_regular_file(given, ec))
-    throw InputError(fmt::format("--plugin = {}: no such file", given.string()));
-  auto library = std::make_shared<Library>();
-  library->path = fs::absolute(given);
-  library->sha256 = file_sha256(library->path);
-  const std::string problem = open_library(*library);
-
-  StrategyEntry entry;
-  entry.role = "plugin";
-  if (problem.empty()) {
-    const nbe_evaluator& t = library->table;
-    entry.name = t.name;
-    entry.source = fmt::format("plugin {}{}{}", t.version ? t.version : "",
-                               t.description ? ": " : "", t.description ? t.description : "");
-    const Capabilities caps = capabilities_of(t);
-    entry.probe = [] { return Availability{true, ""}; };
-    entry.capabilities = [caps] { return caps; };
-    entry.create = [library](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-      return std::make_unique<PluginStrategy>(library, options);
-    };
-  } else {
-    // Available, so that every measurement of it is a `failed` record with the reason (a broken
-    // plugin is the plugin's fault, not a missing device); the default capabilities let each
-    // request reach create(), which fails.
-    entry.name = file_name_of(library->path);
-    entry.source = fmt::format("plugin (unusable: {})", problem);
-    entry.probe = [] { return Availability{true, ""}; };
-    entry.capabilities = [] { return Capabilities{}; };
-    const std::string reason = fmt::format("plugin {}: {}", library->path.string(), problem);
-    entry.create = [reason](const StrategyOptions&) -> std::unique_ptr<Strategy> {
-      throw std::runtime_error(reason);
-    };
+const StrategyEntry& load_plugin(const fs::path& given, const IsolationSettings& isolation) {
+  std::shared_ptr<Library> library = library_file(given);
+  IsolationSettings probe = isolation;
+  probe.timeout_s = std::min(isolation.timeout_s, kProbeTimeoutCap);
+  IsolationDirectory dir;
+  write_file_atomically(dir.path() / "library", library->path.string());
+  const std::optional<ChildFailure> failure = run_isolated(probe, ChildTask::probe, dir.path());
+  if (failure) {
+    const std::string_view what = failure->status == Status::crashed     ? "crashed"
+                                  : failure->status == Status::timed_out ? "timed out"
+                                                                         : "failed";
+    return add_unusable(library, given,
+                        fmt::format("{} while it was probed: {}", what, failure->reason));
   }
+  const fs::path answer_file = dir.path() / "probe.json";
+  if (!fs::exists(answer_file)) {
+    // Exit status 0 without an answer: the library ended the process itself (exit() in a
+    // constructor or the entry point).
+    const std::string phase = read_phase_board(dir.path() / "phase");
+    return add_unusable(library, given,
+                        fmt::format("the probe's process exited with status 0 in {} before it "
+                                    "answered (the library called exit?)",
+                                    phase.empty() ? "its start" : phase));
+  }
+  // The answer was written in a process the library ran in: read as untrusted as the library.
+  std::string problem, name, version, description;
+  TableCapabilities table;
   try {
-    return add_strategy(std::move(entry), {library->path.string(), library->sha256});
-  } catch (const std::invalid_argument& e) {
-    throw InputError(fmt::format("--plugin = {}: strategy name {}", given.string(), e.what()));
+    const nlohmann::json answer = nlohmann::json::parse(read_text_file(answer_file));
+    problem = answer.at("problem");
+    if (problem.empty()) {
+      name = answer.at("name");
+      version = plugin_text(answer.at("version").get<std::string>(), 256);
+      description = plugin_text(answer.at("description").get<std::string>(), 1024);
+      table = {answer.at("capabilities"), answer.at("max_degree"),
+               answer.at("update_control_points")};
+    }
+  } catch (const std::exception& e) {
+    problem = plugin_text(fmt::format("the probe's answer cannot be read: {}", e.what()), 512);
   }
+  if (problem.empty() && !valid_name(name.c_str()))
+    problem =
+        fmt::format("invalid name '{}' (1..64 characters of a-z 0-9 . _ -)", plugin_text(name, 80));
+  if (!problem.empty()) return add_unusable(library, given, plugin_text(problem, 1024));
+  return add_usable(library, given, name, version, description, table);
 }
 
-void load_plugins(const std::vector<std::string>& paths) {
-  for (const std::string& path : paths) load_plugin(path);
+void load_plugins(const std::vector<std::string>& paths, const IsolationSettings& isolation) {
+  for (const std::string& path : paths) load_plugin(path, isolation);
+}
+
+const StrategyEntry& load_plugin_in_process(const fs::path& given) {
+  std::shared_ptr<Library> library = library_file(given);
+  std::call_once(library->opened, [&] { library->problem = open_library(*library); });
+  if (!library->problem.empty()) return add_unusable(library, given, library->problem);
+  const nbe_evaluator& t = library->table;
+  return add_usable(library, given, t.name, table_text(t.version, 256),
+                    table_text(t.description, 1024), table_capabilities(t));
 }
 
 }  // namespace nurbs

@@ -55,6 +55,13 @@
  * exactly `count` points written for every surface; every coordinate is finite (NaN or Inf fails
  * the record); and the results are within the gates `nurbsbench check` is given. A crash or a
  * hang costs only the measurement's child process (`crashed`, `timed_out` after --timeout).
+ * The library is never loaded into the harness's own process (unless the user asks for
+ * --isolation none): its name and capabilities are read by a probe, a child process that loads it,
+ * calls the entry point and reports the table, under the same watchdog; a constructor or entry
+ * point that crashes, hangs or exits makes the plugin unusable, with that reason. Strings the
+ * plugin returns (name, version, description, error messages) may hold any bytes: the harness
+ * makes them valid UTF-8 and one printable line before they reach a record. struct_size must be
+ * at least version 1's size and at most sizeof(nbe_evaluator) of the harness's header.
  */
 #ifndef NURBSBENCH_EVALUATOR_H
 #define NURBSBENCH_EVALUATOR_H
@@ -274,7 +281,7 @@ typedef struct nbe_evaluator {
 /* The entry point's type; the plugin exports a function of this type named NBE_ENTRY_POINT. It
  * returns the plugin's table (static storage), or NULL when it cannot serve a harness of
  * harness_abi_version. It must not fail otherwise, allocate per call or do slow work: `list` calls
- * it. */
+ * it (in the probe's child, bounded by --timeout, at most 60 s). */
 typedef const nbe_evaluator* (*nbe_entry_point)(uint32_t harness_abi_version);
 
 #ifdef __cplusplus

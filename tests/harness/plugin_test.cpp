@@ -25,6 +25,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The probe runs in a child of the measurement server, which is the CLI binary (this test's own
+// binary does not know the hidden verb).
+IsolationSettings probe_settings() {
+  IsolationSettings settings;
+  settings.executable = NURBSBENCH_CLI;
+  settings.timeout_s = 10;
+  return settings;
+}
+
 // In a folder of this process's own: the file name is what an unusable plugin is named after.
 fs::path write_temp(const std::string& name, const std::string& bytes) {
   const fs::path folder =
@@ -48,20 +57,22 @@ TEST(PluginTest, Sha256MatchesTheFipsVectors) {
 }
 
 TEST(PluginTest, AMissingFileIsBadInput) {
-  EXPECT_THROW(load_plugin("/nonexistent/libnothing.so"), InputError);
+  EXPECT_THROW(load_plugin("/nonexistent/libnothing.so", probe_settings()), InputError);
 }
 
 TEST(PluginTest, AnUnloadableLibraryIsAStrategyThatFails) {
   const fs::path garbage = write_temp("libgarbage-plugin.so.1", "not an ELF file\n");
   const std::string name = "garbage-plugin";
-  const StrategyEntry& entry = load_plugin(garbage);
+  const StrategyEntry& entry = load_plugin(garbage, probe_settings());
   EXPECT_EQ(entry.name, name);
   EXPECT_EQ(entry.role, "plugin");
   EXPECT_EQ(find_strategy(name), &entry);
   ASSERT_NE(strategy_library(entry), nullptr);
   EXPECT_EQ(strategy_library(entry)->path, fs::absolute(garbage).string());
   EXPECT_EQ(strategy_library(entry)->sha256, file_sha256(garbage));
-  EXPECT_TRUE(entry.probe().available);
+  EXPECT_TRUE(entry.probe().available);  // its measurements are failed records, not absent
+  ASSERT_TRUE(plugin_problem(entry));
+  EXPECT_NE(plugin_problem(entry)->find("fails to load: "), std::string::npos);
   try {
     entry.create({});
     FAIL() << "create() of an unloadable plugin returned";
@@ -69,8 +80,34 @@ TEST(PluginTest, AnUnloadableLibraryIsAStrategyThatFails) {
     EXPECT_NE(std::string(e.what()).find("fails to load: "), std::string::npos) << e.what();
   }
   // The same file again: its name is taken now.
-  EXPECT_THROW(load_plugin(garbage), InputError);
+  EXPECT_THROW(load_plugin(garbage, probe_settings()), InputError);
   fs::remove_all(garbage.parent_path());
+}
+
+// Whatever bytes a plugin hands back become one line of valid UTF-8.
+TEST(PluginTest, PluginTextIsValidPrintableUtf8) {
+  EXPECT_EQ(plugin_text("plain text"), "plain text");
+  EXPECT_EQ(plugin_text("two\nlines\tand\r\x1b[2J"), "two\\nlines\\tand\\r\\x1b[2J");
+  // Valid sequences of every length are kept.
+  const std::string valid = "\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80";
+  EXPECT_EQ(plugin_text(valid), valid);
+  const std::string fffd = "\xef\xbf\xbd";
+  // A stray continuation byte, an invalid lead byte, an overlong '/', a surrogate, a sequence cut
+  // short, one past U+10FFFF: each a replacement character.
+  EXPECT_EQ(plugin_text("a\x80"
+                        "b"),
+            "a" + fffd + "b");
+  EXPECT_EQ(plugin_text("a\xff"
+                        "b"),
+            "a" + fffd + "b");
+  EXPECT_EQ(plugin_text("\xc0\xaf"), fffd + fffd);
+  EXPECT_EQ(plugin_text("\xed\xa0\x80"), fffd + fffd + fffd);
+  EXPECT_EQ(plugin_text("x\xe2\x82"), "x" + fffd);
+  EXPECT_EQ(plugin_text("\xf4\x90\x80\x80"), fffd + fffd + fffd + fffd);
+  // C1 controls move a terminal too.
+  EXPECT_EQ(plugin_text("\xc2\x85"), "\\u0085");
+  EXPECT_EQ(plugin_text(std::string(100, 'a'), 10), std::string(10, 'a') + "...");
+  EXPECT_EQ(plugin_text(std::string("nul\0byte", 8)), "nul\\x00byte");
 }
 
 TEST(PluginTest, ABuiltInNameCannotBeAdded) {
@@ -80,7 +117,7 @@ TEST(PluginTest, ABuiltInNameCannotBeAdded) {
 }
 
 const StrategyEntry& echo() {
-  static const StrategyEntry& entry = load_plugin(ECHO_PLUGIN);
+  static const StrategyEntry& entry = load_plugin(ECHO_PLUGIN, probe_settings());
   return entry;
 }
 
