@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 #include "reference/scalar.h"
@@ -43,6 +44,21 @@ class PointArray {
   double* f64() { return f64_.data(); }
   const float* f32() const { return f32_.data(); }
   const double* f64() const { return f64_.data(); }
+  // The storage as T (float for f32, double for f64): for code templated on the precision.
+  template <typename T>
+  T* data() {
+    if constexpr (std::is_same_v<T, float>)
+      return f32_.data();
+    else
+      return f64_.data();
+  }
+  template <typename T>
+  const T* data() const {
+    if constexpr (std::is_same_v<T, float>)
+      return f32_.data();
+    else
+      return f64_.data();
+  }
 
   // Writes point k from any scalar type, rounding to the stored precision.
   template <typename T>

@@ -91,9 +91,18 @@ struct RenderedImage {
   std::vector<std::uint8_t> rgba;  // width * height * 4
 };
 
-// Device-side timings of the last evaluate(), where the API has timers.
+// Device-side timings of each phase's last call, where the API has timers (GL GL_TIME_ELAPSED
+// queries, Vulkan timestamp queries, OpenCL profiling events), recorded beside the wall clock: a
+// phase's wall clock holds the host's part too (submission, waits, copies between host buffers),
+// and a verdict about the device's work reads the device's clock. Each is the device time of the
+// phase's last call: upload = the transfers of the last prepare() (or update_control_points()),
+// read_back = the device-to-host transfers of the last read_back(); nullopt where not measured.
 struct DeviceTimes {
   std::optional<double> evaluate_s;
+  std::optional<double> upload_s;
+  std::optional<double> classify_s;
+  std::optional<double> render_s;
+  std::optional<double> read_back_s;
 };
 
 class Strategy {

@@ -4,13 +4,16 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <optional>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "reference/nurbs_math.h"
 #include "strategies/ksquad/ksquad_table.h"
 #include "strategies/opencl/cl_device.h"
+#include "strategies/opencl/cl_read_back.h"
 #include "strategies/stair_basis/stair.h"
 #include "strategies/trim_direct/trim_tables.h"
 
@@ -25,8 +28,12 @@ namespace nurbs {
 namespace {
 
 constexpr int kSurfaceInts = 12;  // stair.cl: surfaces record
-constexpr int kQuadInts = 8;      // stair.cl: ksquads record
+constexpr int kQuadInts = 8;      // stair.cl: ksquads record (a tile of a KSQuad)
 constexpr std::size_t kGroupSize = 64;
+// The launch's shape (ClStair::tile_samples): work-groups per compute unit it aims for, and the
+// most samples one work-item evaluates.
+constexpr std::size_t kGroupsPerUnit = 32;
+constexpr std::size_t kMaxSamplesPerItem = 16;
 
 struct Program {
   cl_program program = nullptr;
@@ -60,16 +67,29 @@ cl_program build_classify(const opencl::Context& ctx, Precision precision) {
 
 class ClStair final : public Strategy {
  public:
-  ClStair(int device_index, const trim_direct::Settings& trim)
-      : ctx_(device_index), trim_settings_(trim) {
+  ClStair(int device_index, const trim_direct::Settings& trim, const StrategyOptions& options)
+      : ctx_(device_index),
+        trim_settings_(trim),
+        reader_(ctx_, opencl::read_back_path(ctx_, options)) {
     record_ = ctx_.record();
     trim_direct::record_settings(trim_settings_, record_);
+    record_.details["read_back"] = opencl::to_string(reader_.path());
+    compute_units_ = std::stoul(record_.details.at("compute_units"));
   }
-  ~ClStair() override { release(); }
+  ~ClStair() override {
+    release();
+    for (cl_mem m : {out_, inside_, reads_})
+      if (m) clReleaseMemObject(m);
+  }
 
   std::string_view name() const override { return "cl-stair"; }
   Capabilities capabilities() const override { return cl_stair_descriptor().capabilities; }
-  DeviceInfo device() const override { return record_; }
+  // The direct-trimming cost counter is read here, after the harness's timed read-backs, not in
+  // each of them: 4 bytes per trimmed sample, more than the mask, for the record only.
+  DeviceInfo device() const override {
+    if (cost_pending_) record_trim_cost();
+    return record_;
+  }
 
   // The programs are built on the first prepare() of their precision and kept (a JIT build is
   // tens of milliseconds on PoCL, far more than an upload): "program_builds" in the record counts
@@ -86,76 +106,83 @@ class ClStair final : public Strategy {
       upload<double>(scene);
       upload_trims<double>(scene);
     }
+    record_.details["bytes_uploaded"] = std::to_string(bytes_uploaded_);
+    record_.details.erase("bytes_updated");
   }
 
+  // Launch shape: one work-group of kGroupSize work-items per tile of a KSQuad (tile_ksquads), at
+  // most tile_samples() samples each, about kGroupsPerUnit groups per compute unit: thousands of
+  // groups on a GPU, where one group per KSQuad gave patch144 81 groups on an H200's 132 SMs, each
+  // evaluating ~207,000 points at 4096² (evaluate at ~0.2% of the memory bandwidth). On PoCL's two
+  // cores the shape makes no measurable difference.
   void evaluate() override {
-    if (quads_ == 0) return;
+    if (tiles_ == 0) return;
     cl_event done = nullptr;
     const std::size_t local = std::min(kGroupSize, ctx_.max_work_group());
-    const std::size_t global = quads_ * local;
+    const std::size_t global = tiles_ * local;
     opencl::check(clEnqueueNDRangeKernel(ctx_.queue(), kernel_, 1, nullptr, &global, &local, 0,
                                          nullptr, &done),
                   "clEnqueueNDRangeKernel");
+    const std::unique_ptr<std::remove_pointer_t<cl_event>, decltype(&clReleaseEvent)> owned(
+        done, clReleaseEvent);
     opencl::wait(done, "kernel evaluate_ksquads");
     kernel_s_ = opencl::event_seconds(done);
-    clReleaseEvent(done);
   }
 
-  // One launch per trimmed surface over its grid; the mask and the cost counter stay on the device
-  // until read_back().
+  // One launch per trimmed surface over its grid, waited for once; the mask and the cost counter
+  // stay on the device until read_back() (the mask) and device() (the counter).
   bool classify() override {
     classified_ = false;
-    cl_event last = nullptr;
+    opencl::Batch launches;
     for (const TrimLaunch& t : trim_launches_) {
       const std::size_t count = t.nu * t.nv;
       if (count == 0) continue;
       const std::size_t local = std::min(kGroupSize, ctx_.max_work_group());
       const std::size_t global = (count + local - 1) / local * local;
-      const cl_int base = t.base, nu = static_cast<cl_int>(t.nu), nv = static_cast<cl_int>(t.nv),
-                   iterations = trim_settings_.iterations, out_base = static_cast<cl_int>(t.out);
-      cl_mem u = t.u, v = t.v;
+      const cl_int base = t.base, u_base = static_cast<cl_int>(t.u_base),
+                   nu = static_cast<cl_int>(t.nu), v_base = static_cast<cl_int>(t.v_base),
+                   nv = static_cast<cl_int>(t.nv), iterations = trim_settings_.iterations,
+                   out_base = static_cast<cl_int>(t.out);
       const std::pair<std::size_t, const void*> args[] = {
-          {sizeof(cl_mem), &trim_reals_}, {sizeof(cl_mem), &trim_ints_},
-          {sizeof(cl_int), &base},        {sizeof(cl_mem), &u},
-          {sizeof(cl_int), &nu},          {sizeof(cl_mem), &v},
-          {sizeof(cl_int), &nv},          {t.epsilon_bytes.size(), t.epsilon_bytes.data()},
-          {sizeof(cl_int), &iterations},  {sizeof(cl_int), &out_base},
-          {sizeof(cl_mem), &inside_},     {sizeof(cl_mem), &reads_}};
-      for (cl_uint k = 0; k < 12; ++k)
+          {sizeof(cl_mem), &trim_reals_},
+          {sizeof(cl_mem), &trim_ints_},
+          {sizeof(cl_int), &base},
+          {sizeof(cl_mem), &trim_params_},
+          {sizeof(cl_int), &u_base},
+          {sizeof(cl_int), &nu},
+          {sizeof(cl_int), &v_base},
+          {sizeof(cl_int), &nv},
+          {t.epsilon_bytes.size(), t.epsilon_bytes.data()},
+          {sizeof(cl_int), &iterations},
+          {sizeof(cl_int), &out_base},
+          {sizeof(cl_mem), &inside_},
+          {sizeof(cl_mem), &reads_}};
+      for (cl_uint k = 0; k < 13; ++k)
         opencl::check(clSetKernelArg(classify_kernel_, k, args[k].first, args[k].second),
                       "clSetKernelArg (classify_trim)");
-      if (last) clReleaseEvent(last);
-      last = nullptr;
       opencl::check(clEnqueueNDRangeKernel(ctx_.queue(), classify_kernel_, 1, nullptr, &global,
-                                           &local, 0, nullptr, &last),
+                                           &local, 0, nullptr, launches.next()),
                     "clEnqueueNDRangeKernel (classify_trim)");
     }
-    if (last) {
-      opencl::wait(last, "kernel classify_trim");
-      clReleaseEvent(last);
-    }
+    classify_s_ = launches.wait("kernel classify_trim");
     classified_ = true;
+    cost_pending_ = !trim_launches_.empty();
     return true;
   }
 
   EvalResult read_back() override {
-    const std::size_t scalar = request_.precision == Precision::f32 ? 4 : 8;
-    std::vector<unsigned char> host(total_ * 3 * scalar);
-    if (total_ > 0) read_back_s_ = opencl::read(ctx_, out_, host.data(), host.size(), "positions");
     EvalResult out;
-    std::size_t base = 0;
-    for (const SurfaceSamples& s : samples_) {
-      SurfaceResult r;
-      r.samples = s;
-      r.positions = PointArray(request_.precision, s.count());
-      void* dst = request_.precision == Precision::f32 ? static_cast<void*>(r.positions.f32())
-                                                       : static_cast<void*>(r.positions.f64());
-      std::memcpy(dst, host.data() + base * 3 * scalar, s.count() * 3 * scalar);
-      base += s.count();
-      out.surfaces.push_back(std::move(r));
-    }
-    if (classified_ && !trim_launches_.empty()) read_back_mask(&out);
+    read_back_into(out);
     return out;
+  }
+
+  // Into `out`'s storage (opencl::ResultReader: straight into it, or through the pinned staging
+  // area), the positions and, after classify(), the trim masks, in one completion wait.
+  void read_back_into(EvalResult& out) override {
+    static const std::vector<opencl::MaskPiece> no_masks;
+    const bool masks = classified_ && !trim_launches_.empty();
+    read_back_s_ = reader_.read(out, samples_, request_.precision, out_, nullptr, inside_,
+                                masks ? mask_pieces_ : no_masks);
   }
 
   // Only the homogeneous control points move (003 §5): the tables, knots, parameters, KSQuads and
@@ -167,7 +194,14 @@ class ClStair final : public Strategy {
       write_points<double>(scene);
   }
 
-  DeviceTimes device_times() const override { return {kernel_s_}; }
+  DeviceTimes device_times() const override {
+    DeviceTimes t;
+    t.evaluate_s = kernel_s_;
+    t.upload_s = upload_s_;
+    t.classify_s = classify_s_;
+    t.read_back_s = read_back_s_;
+    return t;
+  }
 
  private:
   // A program and its one kernel, built once per precision.
@@ -248,12 +282,50 @@ class ClStair final : public Strategy {
       throw std::invalid_argument(fmt::format(
           "cl-stair: update_control_points got {} control point reals, prepare() had {}",
           points.size(), points_count_));
-    opencl::write(ctx_, points_, points.data(), points.size() * sizeof(T), "control points");
+    opencl::Batch batch;
+    opencl::enqueue_write(batch, ctx_, points_, 0, points.data(), points.size() * sizeof(T),
+                          "control points");
+    upload_s_ = batch.wait("control points");
+    record_.details["bytes_updated"] = std::to_string(batch.bytes());
+  }
+
+  // The work-groups of a launch: each KSQuad cut into tiles of at most `tile` samples -- whole
+  // rows of its v-run where they fit (consecutive outputs, coalesced writes), else pieces of one
+  // row. A tile is a set of the paper's KSDice (003 §4, the domain shader: one evaluation per
+  // sample with the KSQuad's control points and constant denominators); its work-group caches
+  // them once, as the one group per KSQuad did, for `tile` samples instead of all of the KSQuad's.
+  std::vector<int> tile_ksquads(const std::vector<ksquad::KSQuad>& quads, std::size_t tile) const {
+    std::vector<int> tiles;
+    const auto add = [&](const ksquad::KSQuad& k, int u_begin, int u_count, int v_begin,
+                         int v_count) {
+      const int t[kQuadInts] = {k.surface, k.u.span, k.v.span, u_begin,
+                                u_count,   v_begin,  v_count,  0};
+      tiles.insert(tiles.end(), t, t + kQuadInts);
+    };
+    for (const ksquad::KSQuad& k : quads) {
+      if (k.u.count == 0 || k.v.count == 0) continue;
+      const int width = static_cast<int>(std::min<std::size_t>(k.v.count, tile));
+      const int rows = static_cast<int>(std::max<std::size_t>(1, tile / width));
+      for (int a = 0; a < k.u.count; a += rows)
+        for (int b = 0; b < k.v.count; b += width)
+          add(k, k.u.begin + a, std::min(rows, k.u.count - a), k.v.begin + b,
+              std::min(width, k.v.count - b));
+    }
+    return tiles;
+  }
+
+  // Samples per work-group: enough groups to fill the device (kGroupsPerUnit per compute unit),
+  // each work-item evaluating at least one and at most kMaxSamplesPerItem samples (the group's
+  // cache of control points and constants is paid once per tile).
+  std::size_t tile_samples(std::size_t local) const {
+    const std::size_t groups = std::max<std::size_t>(1, compute_units_ * kGroupsPerUnit);
+    const std::size_t per_group = (total_ + groups - 1) / groups;
+    return std::clamp<std::size_t>(per_group, local, kMaxSamplesPerItem * local);
   }
 
   template <typename T>
   void upload(const Scene& scene) {
-    std::vector<int> surfaces, quads;
+    std::vector<int> surfaces;
     std::vector<T> knots, points, params;
     std::size_t out_base = 0;
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
@@ -282,142 +354,155 @@ class ClStair final : public Strategy {
       for (double v : sm.v) params.push_back(T(v));
       out_base += sm.count();
     }
-    // The host bins parameters by span once; one KSQuad per pair of non-empty runs.
-    for (const ksquad::KSQuad& k : ksquad::build_ksquads<T>(scene, samples_, request_.sampling)) {
-      const int q[kQuadInts] = {k.surface, k.u.span,  k.v.span,  k.u.begin,
-                                k.u.count, k.v.begin, k.v.count, 0};
-      quads.insert(quads.end(), q, q + kQuadInts);
-    }
     total_ = out_base;
-    quads_ = quads.size() / kQuadInts;
-    surfaces_ = upload_buffer(surfaces, "surface table");
-    quads_buf_ = upload_buffer(quads, "KSQuad table");
-    knots_ = upload_buffer(knots, "knots");
-    points_ = upload_buffer(points, "control points");
+    // The host bins parameters by span once; one KSQuad per pair of non-empty runs, cut into tiles.
+    const std::size_t local = std::min(kGroupSize, ctx_.max_work_group());
+    const auto quads = ksquad::build_ksquads<T>(scene, samples_, request_.sampling);
+    const std::size_t tile = tile_samples(local);
+    const std::vector<int> tiles = tile_ksquads(quads, tile);
+    tiles_ = tiles.size() / kQuadInts;
+    record_.details["ksquads"] = std::to_string(quads.size());
+    record_.details["work_groups"] = std::to_string(tiles_);
+    record_.details["tile_samples"] = std::to_string(tile);
+    // Every table is built above, then sent with one write per buffer and one completion wait.
+    opencl::Batch batch;
+    surfaces_ = opencl::upload(ctx_, surfaces, "surface table", batch);
+    tiles_buf_ = opencl::upload(ctx_, tiles, "KSQuad tile table", batch);
+    knots_ = opencl::upload(ctx_, knots, "knots", batch);
+    points_ = opencl::upload(ctx_, points, "control points", batch);
     points_count_ = points.size();
-    params_ = upload_buffer(params, "parameters");
-    out_ = ctx_.buffer(CL_MEM_WRITE_ONLY, total_ * 3 * sizeof(T), "output positions");
+    params_ = opencl::upload(ctx_, params, "parameters", batch);
+    opencl::ensure_buffer(ctx_, &out_, &out_bytes_, CL_MEM_WRITE_ONLY, total_ * 3 * sizeof(T),
+                          "output positions");
     kernel_ = stair_kernel(request_.precision);
-    cl_mem args[] = {surfaces_, quads_buf_, knots_, points_, params_, out_};
+    cl_mem args[] = {surfaces_, tiles_buf_, knots_, points_, params_, out_};
     for (cl_uint k = 0; k < 6; ++k)
       opencl::check(clSetKernelArg(kernel_, k, sizeof(cl_mem), &args[k]), "clSetKernelArg");
     opencl::check(clSetKernelArg(kernel_, 6, cp_bytes_, nullptr), "clSetKernelArg (local cache)");
     last_cp_bytes_ = cp_bytes_;
-    cl_event uploaded = nullptr;
-    opencl::check(clEnqueueMarkerWithWaitList(ctx_.queue(), 0, nullptr, &uploaded),
-                  "clEnqueueMarkerWithWaitList");
-    opencl::wait(uploaded, "upload");
-    clReleaseEvent(uploaded);
+    upload_s_ = upload_s_.value_or(0) + batch.wait("upload");
+    bytes_uploaded_ += batch.bytes();
   }
 
-  // The direct-trimming tables of the scene and, per trimmed surface, its grid parameters in the
-  // trim's local frame (rounded once from double, like the C++ path).
+  // The direct-trimming tables of the scene and the trimmed surfaces' grid parameters in their
+  // trims' local frames (rounded once from double, like the C++ path), all surfaces' in one buffer.
   template <typename T>
   void upload_trims(const Scene& scene) {
     trim_launches_.clear();
+    mask_pieces_.clear();
     classified_ = false;
     if (std::none_of(scene.surfaces.begin(), scene.surfaces.end(),
                      [](const Surface& s) { return s.trim.has_value(); }))
       return;
     const auto tables = trim_direct::build_tables<T>(scene, trim_settings_);
     classify_kernel_ = classify_kernel(request_.precision);
-    trim_reals_ = upload_buffer(tables.reals, "trim tables (reals)");
-    trim_ints_ = upload_buffer(tables.ints, "trim tables (ints)");
+    std::vector<T> local;
     std::size_t out = 0;
     for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
       const auto& st = tables.surfaces[i];
       const SurfaceSamples& sm = samples_[i];
       if (st.base >= 0) {
         TrimLaunch t;
-        t.surface = i;
         t.base = st.base;
         t.nu = sm.u.size();
         t.nv = sm.v.size();
         t.out = out;
-        std::vector<T> u, v;
-        for (double x : sm.u) u.push_back(trim_direct::local_u<T>(st, x));
-        for (double x : sm.v) v.push_back(trim_direct::local_v<T>(st, x));
-        t.u = upload_buffer(u, "trim local u");
-        t.v = upload_buffer(v, "trim local v");
+        t.u_base = local.size();
+        for (double x : sm.u) local.push_back(trim_direct::local_u<T>(st, x));
+        t.v_base = local.size();
+        for (double x : sm.v) local.push_back(trim_direct::local_v<T>(st, x));
         t.epsilon_bytes.resize(sizeof(T));
         std::memcpy(t.epsilon_bytes.data(), &st.epsilon, sizeof(T));
+        mask_pieces_.push_back({i, out, sm.count()});
         out += sm.count();
         trim_launches_.push_back(std::move(t));
       }
     }
     trimmed_samples_ = out;
-    inside_ = ctx_.buffer(CL_MEM_WRITE_ONLY, std::max<std::size_t>(out, 1), "trim mask");
-    reads_ = ctx_.buffer(CL_MEM_WRITE_ONLY, std::max<std::size_t>(out, 1) * sizeof(cl_int),
-                         "trim cost counter");
+    opencl::Batch batch;
+    trim_reals_ = opencl::upload(ctx_, tables.reals, "trim tables (reals)", batch);
+    trim_ints_ = opencl::upload(ctx_, tables.ints, "trim tables (ints)", batch);
+    trim_params_ = opencl::upload(ctx_, local, "trim local parameters", batch);
+    opencl::ensure_buffer(ctx_, &inside_, &inside_bytes_, CL_MEM_WRITE_ONLY,
+                          std::max<std::size_t>(out, 1), "trim mask");
+    opencl::ensure_buffer(ctx_, &reads_, &reads_bytes_, CL_MEM_WRITE_ONLY,
+                          std::max<std::size_t>(out, 1) * sizeof(cl_int), "trim cost counter");
     record_.details["trim_pieces"] = std::to_string(tables.pieces);
     record_.details["trim_rows"] = std::to_string(tables.rows);
+    upload_s_ = upload_s_.value_or(0) + batch.wait("upload (trims)");
+    bytes_uploaded_ += batch.bytes();
   }
 
-  // The mask into `result` (when given) and the cost counter into the record.
-  void read_back_mask(EvalResult* result) {
-    std::vector<std::uint8_t> mask(trimmed_samples_);
-    std::vector<cl_int> reads(trimmed_samples_);
-    opencl::read(ctx_, inside_, mask.data(), mask.size(), "trim mask");
-    opencl::read(ctx_, reads_, reads.data(), reads.size() * sizeof(cl_int), "trim cost counter");
-    trim_direct::Cost cost;
-    for (cl_int r : reads) cost.add(2 * r);
-    trim_direct::record_cost(cost, record_);
-    if (!result) return;
-    for (const TrimLaunch& t : trim_launches_)
-      result->surfaces[t.surface].inside.assign(
-          mask.begin() + static_cast<std::ptrdiff_t>(t.out),
-          mask.begin() + static_cast<std::ptrdiff_t>(t.out + t.nu * t.nv));
+  // The cost counter of the last classify() into the record.
+  // The record is read after the timed phases: a counter that cannot be read back is said in the
+  // record, not turned into a failed measurement.
+  void record_trim_cost() const {
+    cost_pending_ = false;
+    try {
+      cost_reads_.resize(trimmed_samples_);
+      opencl::read(ctx_, reads_, cost_reads_.data(), cost_reads_.size() * sizeof(cl_int),
+                   "trim cost counter");
+      trim_direct::Cost cost;
+      for (cl_int r : cost_reads_) cost.add(2 * r);
+      trim_direct::record_cost(cost, record_);
+    } catch (const std::exception& e) {
+      record_.details["trim_cost"] = fmt::format("not read: {}", e.what());
+    }
   }
 
-  template <typename V>
-  cl_mem upload_buffer(const std::vector<V>& data, const char* what) {
-    return opencl::upload(ctx_, data, what, &upload_s_);
-  }
-
-  // What prepare() made for one scene; the programs and kernels stay (~ClStair releases them).
+  // What prepare() made for one scene; the programs, kernels and the grown output buffers stay
+  // (~ClStair releases them).
   void release() {
     kernel_ = nullptr;
     classify_kernel_ = nullptr;
-    for (TrimLaunch& t : trim_launches_)
-      for (cl_mem m : {t.u, t.v})
-        if (m) clReleaseMemObject(m);
     trim_launches_.clear();
-    for (cl_mem* m : {&surfaces_, &quads_buf_, &knots_, &points_, &params_, &out_, &trim_reals_,
-                      &trim_ints_, &inside_, &reads_}) {
+    mask_pieces_.clear();
+    for (cl_mem* m : {&surfaces_, &tiles_buf_, &knots_, &points_, &params_, &trim_reals_,
+                      &trim_ints_, &trim_params_}) {
       if (*m) clReleaseMemObject(*m);
       *m = nullptr;
     }
-    classified_ = false;
-    upload_s_ = 0;
+    classified_ = cost_pending_ = false;
+    upload_s_.reset();
+    classify_s_.reset();
+    read_back_s_.reset();
+    bytes_uploaded_ = 0;
   }
 
-  // One classify launch: a trimmed surface's grid and where its mask starts.
+  // One classify launch: a trimmed surface's grid, where its local parameters start in the
+  // parameter buffer and where its mask starts.
   struct TrimLaunch {
-    std::size_t surface = 0, nu = 0, nv = 0, out = 0;
+    std::size_t nu = 0, nv = 0, u_base = 0, v_base = 0, out = 0;
     int base = 0;
-    cl_mem u = nullptr, v = nullptr;
     std::vector<unsigned char> epsilon_bytes;  // a float or a double, as the kernel's TD_REAL
   };
 
   opencl::Context ctx_;
-  DeviceInfo record_;
+  mutable DeviceInfo record_;
   trim_direct::Settings trim_settings_;
+  opencl::ResultReader reader_;
+  std::size_t compute_units_ = 1;
   Built stair_[2], classify_[2];  // [0] f32, [1] f64
   int program_builds_ = 0;
   std::size_t cp_bytes_ = 0, last_cp_bytes_ = 0, points_count_ = 0;
   cl_kernel classify_kernel_ = nullptr;
-  cl_mem trim_reals_ = nullptr, trim_ints_ = nullptr, inside_ = nullptr, reads_ = nullptr;
+  cl_mem trim_reals_ = nullptr, trim_ints_ = nullptr, trim_params_ = nullptr, inside_ = nullptr,
+         reads_ = nullptr;
+  std::size_t inside_bytes_ = 0, reads_bytes_ = 0;
   std::vector<TrimLaunch> trim_launches_;
+  std::vector<opencl::MaskPiece> mask_pieces_;
   std::size_t trimmed_samples_ = 0;
   bool classified_ = false;
+  mutable bool cost_pending_ = false;
+  mutable std::vector<cl_int> cost_reads_;
   EvalRequest request_;
   std::vector<SurfaceSamples> samples_;
   cl_kernel kernel_ = nullptr;
-  cl_mem surfaces_ = nullptr, quads_buf_ = nullptr, knots_ = nullptr, points_ = nullptr,
+  cl_mem surfaces_ = nullptr, tiles_buf_ = nullptr, knots_ = nullptr, points_ = nullptr,
          params_ = nullptr, out_ = nullptr;
-  std::size_t quads_ = 0, total_ = 0;
-  std::optional<double> kernel_s_;
-  double upload_s_ = 0, read_back_s_ = 0;  // profiling events of upload and read-back
+  std::size_t out_bytes_ = 0, tiles_ = 0, total_ = 0, bytes_uploaded_ = 0;
+  // Profiling events of the phases' last calls (DeviceTimes).
+  std::optional<double> kernel_s_, upload_s_, classify_s_, read_back_s_;
 };
 
 }  // namespace
@@ -494,7 +579,7 @@ StrategyEntry cl_stair_entry() {
                     [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
                       return std::make_unique<ClStair>(
                           opencl::device_option(options),
-                          trim_direct::settings_from(options, "cl-stair"));
+                          trim_direct::settings_from(options, "cl-stair"), options);
                     });
 }
 

@@ -20,7 +20,8 @@ Capabilities stair_capabilities() {
 }  // namespace
 
 StrategyDescriptor cl_stair_descriptor() {
-  return {"cl-stair", "003 §3.2 (RPNS 2014): non-recursive stair basis, one work-group per KSQuad",
+  return {"cl-stair",
+          "003 §3.2 (RPNS 2014): non-recursive stair basis, one work-group per tile of a KSQuad",
           "strategy", stair_capabilities()};
 }
 

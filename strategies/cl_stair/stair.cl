@@ -1,10 +1,13 @@
-// cl-stair kernel (003 §3.2): one work-group per KSQuad. The group caches the KSQuad's
-// (p+1)(q+1) homogeneous control points and both directions' per-span constants (stair_constants)
-// in local memory, then its work-items evaluate the KSQuad's samples with the stair basis.
+// cl-stair kernel (003 §3.2): one work-group per tile of a KSQuad (a record of `ksquads` is a
+// KSQuad's spans and a rectangle of its samples; cl_stair.cpp tile_ksquads says why tiles). The
+// group caches the KSQuad's (p+1)(q+1) homogeneous control points and both directions' per-span
+// constants (stair_constants) in local memory, then its work-items evaluate the tile's samples
+// with the stair basis.
 // cl_stair.cpp prepends the single-source strategies/stair_basis/stair_basis.h (stair_constants,
 // stair_basis; SB_REAL is float or double, a build option).
 
-// surfaces: 12 ints each (see cl_stair.cpp, SurfaceRecord); ksquads: 8 ints each (KSQuadRecord).
+// surfaces: 12 ints each (cl_stair.cpp upload); ksquads: 8 ints each (cl_stair.cpp tile_ksquads:
+// surface, u span, v span, first u sample, u count, first v sample, v count, unused).
 __kernel void evaluate_ksquads(__global const int* surfaces, __global const int* ksquads,
                                __global const SB_REAL* knots, __global const SB_REAL* points,
                                __global const SB_REAL* params, __global SB_REAL* out,

@@ -4,9 +4,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
+#include <memory>
 #include <optional>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "reference/tspline.h"
 #include "reference/tspline_extraction.h"
 #include "strategies/opencl/cl_device.h"
+#include "strategies/opencl/cl_read_back.h"
 
 namespace nurbs::embedded {
 extern const std::string_view cl_tspline_bezier_kernel;
@@ -50,8 +52,16 @@ struct Topology {
 
 class ClTSplineBezier final : public Strategy {
  public:
-  explicit ClTSplineBezier(int device_index) : ctx_(device_index) { record_ = ctx_.record(); }
-  ~ClTSplineBezier() override { release(); }
+  ClTSplineBezier(int device_index, const StrategyOptions& options)
+      : ctx_(device_index), reader_(ctx_, opencl::read_back_path(ctx_, options)) {
+    record_ = ctx_.record();
+    record_.details["read_back"] = opencl::to_string(reader_.path());
+  }
+  ~ClTSplineBezier() override {
+    release();
+    for (cl_mem m : {patches_, positions_, normals_})
+      if (m) clReleaseMemObject(m);
+  }
 
   std::string_view name() const override { return "cl-tspline-bezier"; }
   Capabilities capabilities() const override { return cl_tspline_bezier_descriptor().capabilities; }
@@ -77,6 +87,8 @@ class ClTSplineBezier final : public Strategy {
       upload<float>();
     else
       upload<double>();
+    record_.details["bytes_uploaded"] = std::to_string(bytes_uploaded_);
+    record_.details.erase("bytes_updated");
     decompose();
   }
 
@@ -87,28 +99,23 @@ class ClTSplineBezier final : public Strategy {
     opencl::check(clEnqueueNDRangeKernel(ctx_.queue(), program().evaluate, 1, nullptr, &global,
                                          nullptr, 0, nullptr, &done),
                   "clEnqueueNDRangeKernel (evaluate_samples)");
+    const std::unique_ptr<std::remove_pointer_t<cl_event>, decltype(&clReleaseEvent)> owned(
+        done, clReleaseEvent);
     opencl::wait(done, "kernel evaluate_samples");
     kernel_s_ = opencl::event_seconds(done);
-    clReleaseEvent(done);
   }
 
   EvalResult read_back() override {
-    const std::size_t scalar = request_.precision == Precision::f32 ? 4 : 8;
-    std::vector<unsigned char> positions = read(positions_, total_ * 3 * scalar, "positions");
-    std::vector<unsigned char> normals = request_.normals
-                                             ? read(normals_, total_ * 3 * scalar, "normals")
-                                             : std::vector<unsigned char>{};
     EvalResult out;
-    std::size_t base = 0;
-    for (const SurfaceSamples& s : samples_) {
-      SurfaceResult r;
-      r.samples = s;
-      r.positions = copy_points(positions, base, s.count());
-      if (request_.normals) r.normals = copy_points(normals, base, s.count());
-      base += s.count();
-      out.surfaces.push_back(std::move(r));
-    }
+    read_back_into(out);
     return out;
+  }
+
+  // Into `out`'s storage (opencl::ResultReader: straight into it, or through the pinned staging
+  // area), positions and normals in one completion wait.
+  void read_back_into(EvalResult& out) override {
+    read_back_s_ = reader_.read(out, samples_, request_.precision, positions_,
+                                request_.normals ? normals_ : nullptr, nullptr, {});
   }
 
   // Only the control points move: the operators, CSR lists, breaks and parameters of prepare()
@@ -135,7 +142,13 @@ class ClTSplineBezier final : public Strategy {
     decompose();
   }
 
-  DeviceTimes device_times() const override { return {kernel_s_}; }
+  DeviceTimes device_times() const override {
+    DeviceTimes t;
+    t.evaluate_s = kernel_s_;
+    t.upload_s = upload_s_;
+    t.read_back_s = read_back_s_;
+    return t;
+  }
 
  private:
   struct Built {
@@ -234,19 +247,28 @@ class ClTSplineBezier final : public Strategy {
                                                  (t.extraction.degree_v + 1));
     const std::vector<T> points = control_points<T>();
     points_count_ = points.size();
-    surfaces_ = opencl::upload(ctx_, surfaces, "surface table");
-    elements_ = opencl::upload(ctx_, elements, "element table");
-    active_ = opencl::upload(ctx_, active, "active control points");
-    extraction_ = opencl::upload(ctx_, extraction, "extraction operators");
-    points_ = opencl::upload(ctx_, points, "control points");
-    params_ = opencl::upload(ctx_, params, "parameters");
-    cells_ = opencl::upload(ctx_, cells, "sample elements");
-    breaks_ = opencl::upload(ctx_, breaks, "cell breaks");
-    patches_ = ctx_.buffer(CL_MEM_READ_WRITE, static_cast<std::size_t>(patch_reals) * sizeof(T),
-                           "Bézier patches");
-    positions_ = ctx_.buffer(CL_MEM_WRITE_ONLY, total_ * 3 * sizeof(T), "output positions");
-    normals_ = ctx_.buffer(CL_MEM_WRITE_ONLY, (request_.normals ? total_ : 0) * 3 * sizeof(T),
-                           "output normals");
+    // Every surface's tables are built above, then sent with one write per buffer and one
+    // completion wait (the batch's wait, at the end of this function, before the vectors go).
+    opencl::Batch batch;
+    surfaces_ = opencl::upload(ctx_, surfaces, "surface table", batch);
+    elements_ = opencl::upload(ctx_, elements, "element table", batch);
+    active_ = opencl::upload(ctx_, active, "active control points", batch);
+    extraction_ = opencl::upload(ctx_, extraction, "extraction operators", batch);
+    points_ = opencl::upload(ctx_, points, "control points", batch);
+    params_ = opencl::upload(ctx_, params, "parameters", batch);
+    cells_ = opencl::upload(ctx_, cells, "sample elements", batch);
+    breaks_ = opencl::upload(ctx_, breaks, "cell breaks", batch);
+    // The device-written buffers are kept across prepare() calls and grown when too small.
+    opencl::ensure_buffer(ctx_, &patches_, &patches_bytes_, CL_MEM_READ_WRITE,
+                          static_cast<std::size_t>(patch_reals) * sizeof(T), "Bézier patches");
+    opencl::ensure_buffer(ctx_, &positions_, &positions_bytes_, CL_MEM_WRITE_ONLY,
+                          total_ * 3 * sizeof(T), "output positions");
+    if (request_.normals)
+      opencl::ensure_buffer(ctx_, &normals_, &normals_bytes_, CL_MEM_WRITE_ONLY,
+                            total_ * 3 * sizeof(T), "output normals");
+    else if (!normals_)
+      opencl::ensure_buffer(ctx_, &normals_, &normals_bytes_, CL_MEM_WRITE_ONLY, 0,
+                            "output normals");
     record_.details["elements"] = std::to_string(element_count_);
     record_.details["extraction_reals"] = std::to_string(extraction.size());
 
@@ -267,6 +289,8 @@ class ClTSplineBezier final : public Strategy {
     for (cl_uint k = 0; k < 10; ++k)
       opencl::check(clSetKernelArg(b.evaluate, k, args[k].first, args[k].second),
                     "clSetKernelArg (evaluate_samples)");
+    upload_s_ = batch.wait("upload");
+    bytes_uploaded_ = batch.bytes();
   }
 
   // Every element's Bézier patch from the current control points, waited for: prepare() and
@@ -278,9 +302,10 @@ class ClTSplineBezier final : public Strategy {
     opencl::check(clEnqueueNDRangeKernel(ctx_.queue(), program().decompose, 2, nullptr, global,
                                          nullptr, 0, nullptr, &done),
                   "clEnqueueNDRangeKernel (decompose_elements)");
+    const std::unique_ptr<std::remove_pointer_t<cl_event>, decltype(&clReleaseEvent)> owned(
+        done, clReleaseEvent);
     opencl::wait(done, "kernel decompose_elements");
     record_.details["decompose_s"] = fmt::format("{:.6g}", opencl::event_seconds(done));
-    clReleaseEvent(done);
   }
 
   template <typename T>
@@ -290,37 +315,29 @@ class ClTSplineBezier final : public Strategy {
       throw std::invalid_argument(fmt::format(
           "cl-tspline-bezier: update_control_points got {} control point reals, prepare() had {}",
           points.size(), points_count_));
-    opencl::write(ctx_, points_, points.data(), points.size() * sizeof(T), "control points");
+    opencl::Batch batch;
+    opencl::enqueue_write(batch, ctx_, points_, 0, points.data(), points.size() * sizeof(T),
+                          "control points");
+    upload_s_ = batch.wait("control points");
+    record_.details["bytes_updated"] = std::to_string(batch.bytes());
   }
 
-  std::vector<unsigned char> read(cl_mem mem, std::size_t bytes, const char* what) {
-    std::vector<unsigned char> host(bytes);
-    opencl::read(ctx_, mem, host.data(), bytes, what);
-    return host;
-  }
-
-  PointArray copy_points(const std::vector<unsigned char>& host, std::size_t base,
-                         std::size_t count) const {
-    const std::size_t scalar = request_.precision == Precision::f32 ? 4 : 8;
-    PointArray a(request_.precision, count);
-    void* dst = request_.precision == Precision::f32 ? static_cast<void*>(a.f32())
-                                                     : static_cast<void*>(a.f64());
-    if (count > 0) std::memcpy(dst, host.data() + base * 3 * scalar, count * 3 * scalar);
-    return a;
-  }
-
-  // What prepare() made for one scene; the programs stay (~Built releases them).
+  // What prepare() made for one scene; the programs (~Built) and the grown device-written buffers
+  // (~ClTSplineBezier) stay.
   void release() {
-    for (cl_mem* m : {&surfaces_, &elements_, &active_, &extraction_, &points_, &params_, &cells_,
-                      &breaks_, &patches_, &positions_, &normals_}) {
+    for (cl_mem* m :
+         {&surfaces_, &elements_, &active_, &extraction_, &points_, &params_, &cells_, &breaks_}) {
       if (*m) clReleaseMemObject(*m);
       *m = nullptr;
     }
-    total_ = element_count_ = points_count_ = 0;
+    total_ = element_count_ = points_count_ = bytes_uploaded_ = 0;
+    upload_s_.reset();
+    read_back_s_.reset();
   }
 
   opencl::Context ctx_;
   DeviceInfo record_;
+  opencl::ResultReader reader_;
   Built built_[2];  // [0] f32, [1] f64
   int program_builds_ = 0;
   EvalRequest request_;
@@ -329,8 +346,10 @@ class ClTSplineBezier final : public Strategy {
   cl_mem surfaces_ = nullptr, elements_ = nullptr, active_ = nullptr, extraction_ = nullptr,
          points_ = nullptr, params_ = nullptr, cells_ = nullptr, breaks_ = nullptr,
          patches_ = nullptr, positions_ = nullptr, normals_ = nullptr;
-  std::size_t total_ = 0, element_count_ = 0, max_n_ = 1, points_count_ = 0;
-  std::optional<double> kernel_s_;
+  std::size_t patches_bytes_ = 0, positions_bytes_ = 0, normals_bytes_ = 0;
+  std::size_t total_ = 0, element_count_ = 0, max_n_ = 1, points_count_ = 0, bytes_uploaded_ = 0;
+  // Profiling events of the phases' last calls (DeviceTimes).
+  std::optional<double> kernel_s_, upload_s_, read_back_s_;
 };
 
 }  // namespace
@@ -338,7 +357,8 @@ class ClTSplineBezier final : public Strategy {
 StrategyEntry cl_tspline_bezier_entry() {
   return make_entry(cl_tspline_bezier_descriptor(), opencl::probe,
                     [](const StrategyOptions& options) -> std::unique_ptr<Strategy> {
-                      return std::make_unique<ClTSplineBezier>(opencl::device_option(options));
+                      return std::make_unique<ClTSplineBezier>(opencl::device_option(options),
+                                                               options);
                     });
 }
 

@@ -272,20 +272,12 @@ class CpuBezier final : public Strategy {
   }
 
   template <typename T>
-  static T* data_of(PointArray& a) {
-    if constexpr (std::is_same_v<T, float>)
-      return a.f32();
-    else
-      return a.f64();
-  }
-
-  template <typename T>
   void evaluate_all(std::vector<BezierSurface<T>>& surfaces) {
     const bool normals = request_.normals;
     for (std::size_t i = 0; i < surfaces.size(); ++i) {
       BezierSurface<T>& s = surfaces[i];
-      T* positions = data_of<T>(positions_[i]);
-      T* normal_out = normals ? data_of<T>(normals_[i]) : nullptr;
+      T* positions = positions_[i].template data<T>();
+      T* normal_out = normals ? normals_[i].template data<T>() : nullptr;
       const int rows = static_cast<int>(s.u_params.size());
       if (samples_[i].tensor) {
         // Grid and span grid are tensor products: one patch location and one Bernstein row per

@@ -348,14 +348,6 @@ class CpuTensor final : public Strategy {
   }
 
   template <typename T>
-  static T* data_of(PointArray& a) {
-    if constexpr (std::is_same_v<T, float>)
-      return a.f32();
-    else
-      return a.f64();
-  }
-
-  template <typename T>
   void evaluate_row(Prepared<T>& p, int surface, int a, int thread) {
     const TensorSurface<T>& t = p.surfaces[surface];
     const AxisTable<T>& tu = p.tables[t.table_u];
@@ -387,8 +379,8 @@ class CpuTensor final : public Strategy {
     job.basis_v = tv.basis.data();
     job.basis_dv = normals ? tv.ders.data() : nullptr;
     const std::size_t offset = static_cast<std::size_t>(a) * t.columns * 3;
-    T* positions = data_of<T>(positions_[surface]) + offset;
-    T* normals_out = normals ? data_of<T>(normals_[surface]) + offset : nullptr;
+    T* positions = positions_[surface].template data<T>() + offset;
+    T* normals_out = normals ? normals_[surface].template data<T>() + offset : nullptr;
     job.positions = streaming_ ? p.staged_positions[thread].data() : positions;
     job.normals = streaming_ && normals ? p.staged_normals[thread].data() : normals_out;
     job.unresolved = normals ? p.unresolved[thread].data() : nullptr;

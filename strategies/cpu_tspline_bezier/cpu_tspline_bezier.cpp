@@ -92,14 +92,6 @@ struct Chunk {
 };
 inline constexpr int kChunk = 256;
 
-template <typename T>
-T* data_of(PointArray& a) {
-  if constexpr (std::is_same_v<T, float>)
-    return a.f32();
-  else
-    return a.f64();
-}
-
 class CpuTSplineBezier final : public Strategy {
  public:
   explicit CpuTSplineBezier(const StrategyOptions& options) : threads_(openmp_threads(options)) {}
@@ -323,8 +315,8 @@ class CpuTSplineBezier final : public Strategy {
     job.basis_v = w.v.basis.data();
     job.basis_dv = normals ? w.v.ders.data() : nullptr;
     const std::size_t offset = static_cast<std::size_t>(a) * columns * 3;
-    job.positions = data_of<T>(positions_[surface]) + offset;
-    job.normals = normals ? data_of<T>(normals_[surface]) + offset : nullptr;
+    job.positions = positions_[surface].template data<T>() + offset;
+    job.normals = normals ? normals_[surface].template data<T>() + offset : nullptr;
     job.unresolved = normals ? p.unresolved[thread].data() : nullptr;
     tensor::evaluate_row(job);
     for (int b = 0; b < columns; ++b)

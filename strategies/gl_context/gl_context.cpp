@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <mutex>
 #include <type_traits>
 
@@ -185,11 +186,39 @@ void Context::read_pixels(GLint x, GLint y, GLsizei width, GLsizei height, GLenu
 }
 
 void Context::copy_pixels_to_buffer(GLuint pack_buffer, GLint x, GLint y, GLsizei width,
-                                    GLsizei height, GLenum format, GLenum type) {
+                                    GLsizei height, GLenum format, GLenum type, GLintptr offset) {
   gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, pack_buffer);
-  counted_.ReadPixels(x, y, width, height, format, type, nullptr);
+  // With a pack buffer bound, the pointer argument is the byte offset into it.
+  counted_.ReadPixels(x, y, width, height, format, type,
+                      reinterpret_cast<void*>(static_cast<std::uintptr_t>(offset)));
   gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   ++draw_counts_.device_copies;
+}
+
+// Mapped through the copy targets, which no pixel transfer or draw reads: binding there leaves the
+// pack, unpack and array bindings of the strategies alone.
+void* Context::map_buffer(GLuint buffer, GLsizeiptr bytes, GLbitfield access,
+                          std::string_view where) {
+  const GLenum target = (access & GL_MAP_READ_BIT) ? GL_COPY_READ_BUFFER : GL_COPY_WRITE_BUFFER;
+  gl_.BindBuffer(target, buffer);
+  void* data = counted_.MapBufferRange(target, 0, bytes, access);
+  gl_.BindBuffer(target, 0);
+  if (!data) {
+    check(where);
+    throw Error(fmt::format("{} ({}): glMapBufferRange of {} bytes gave no mapping", where,
+                            description_, bytes));
+  }
+  if (access & GL_MAP_READ_BIT) ++draw_counts_.host_read_backs;
+  return data;
+}
+
+void Context::unmap_buffer(GLuint buffer, std::string_view where) {
+  gl_.BindBuffer(GL_COPY_READ_BUFFER, buffer);
+  const GLboolean kept = counted_.UnmapBuffer(GL_COPY_READ_BUFFER);
+  gl_.BindBuffer(GL_COPY_READ_BUFFER, 0);
+  if (!kept)
+    throw Error(fmt::format("{} ({}): the buffer's content was lost while it was mapped", where,
+                            description_));
 }
 
 void Context::read_buffer(GLuint buffer, GLintptr offset, GLsizeiptr bytes, void* data) {

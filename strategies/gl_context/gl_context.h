@@ -100,10 +100,15 @@ class Context {
   // glReadPixels of the bound read framebuffer into host memory: a host read-back.
   void read_pixels(GLint x, GLint y, GLsizei width, GLsizei height, GLenum format, GLenum type,
                    void* pixels);
-  // glReadPixels into `pack_buffer` (GL_PIXEL_PACK_BUFFER, from offset 0): a device copy, no
-  // host memory involved. The buffer must hold the pixels; the pack binding is restored to 0.
+  // glReadPixels into `pack_buffer` (GL_PIXEL_PACK_BUFFER, from byte `offset`): a device copy,
+  // no host memory involved. The buffer must hold the pixels; the pack binding is restored to 0.
   void copy_pixels_to_buffer(GLuint pack_buffer, GLint x, GLint y, GLsizei width, GLsizei height,
-                             GLenum format, GLenum type);
+                             GLenum format, GLenum type, GLintptr offset = 0);
+  // glMapBufferRange of [0, bytes) of `buffer` with `access`: mapped for reading it is a host
+  // read-back (counted), for writing it is not. Throws Error when the driver maps nothing.
+  void* map_buffer(GLuint buffer, GLsizeiptr bytes, GLbitfield access, std::string_view where);
+  // glUnmapBuffer; throws Error naming `where` when the content was lost while mapped (GL_FALSE).
+  void unmap_buffer(GLuint buffer, std::string_view where);
   // glGetBufferSubData of `buffer` (bound to GL_COPY_READ_BUFFER) into host memory: a host
   // read-back.
   void read_buffer(GLuint buffer, GLintptr offset, GLsizeiptr bytes, void* data);

@@ -67,6 +67,7 @@ namespace nurbs::gl {
   X(PFNGLDEBUGMESSAGECALLBACKPROC, DebugMessageCallback)         \
   X(PFNGLDEBUGMESSAGECONTROLPROC, DebugMessageControl)           \
   X(PFNGLUNIFORM2IPROC, Uniform2i)                               \
+  X(PFNGLUNIFORM4IPROC, Uniform4i)                               \
   X(PFNGLUNIFORM1FVPROC, Uniform1fv)                             \
   X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                 \
   X(PFNGLGENBUFFERSPROC, GenBuffers)                             \
@@ -85,16 +86,19 @@ namespace nurbs::gl {
 
 // The draws, the framebuffer bindings and the reads of device memory are not in Functions: they
 // are reachable only through Context::draw_arrays / draw_arrays_instanced / draw_elements /
-// bind_framebuffer / read_pixels / copy_pixels_to_buffer / read_buffer, which count them, so the
-// pass counts a strategy records are the draws it issued, and a path said to read nothing back to
-// the host is checked by a count no read can bypass.
+// bind_framebuffer / read_pixels / copy_pixels_to_buffer / read_buffer / map_buffer, which count
+// them (a buffer mapped for reading is a host read-back), so the pass counts a strategy records
+// are the draws it issued, and a path said to read nothing back to the host is checked by a count
+// no read can bypass.
 #define NURBSBENCH_GL_COUNTED_FUNCTIONS(X)             \
   X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)         \
   X(PFNGLDRAWARRAYSPROC, DrawArrays)                   \
   X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced) \
   X(PFNGLDRAWELEMENTSPROC, DrawElements)               \
   X(PFNGLREADPIXELSPROC, ReadPixels)                   \
-  X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)
+  X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)       \
+  X(PFNGLMAPBUFFERRANGEPROC, MapBufferRange)           \
+  X(PFNGLUNMAPBUFFERPROC, UnmapBuffer)
 
 #define NURBSBENCH_GL_DECLARE(type, name) type name = nullptr;
 struct Functions {

@@ -242,6 +242,97 @@ std::vector<float> RenderTargets::read_rgba(int i) const {
   return texels;
 }
 
+PixelBuffer::Mapping::Mapping(Context& context, GLuint buffer, void* data, std::string_view where)
+    : context_(&context), buffer_(buffer), data_(data), where_(where) {}
+
+PixelBuffer::Mapping::Mapping(Mapping&& other) noexcept
+    : context_(other.context_),
+      buffer_(other.buffer_),
+      data_(std::exchange(other.data_, nullptr)),
+      where_(std::move(other.where_)) {}
+
+PixelBuffer::Mapping::~Mapping() {
+  if (!data_) return;
+  try {
+    release();
+  } catch (const std::exception&) {
+    // Unwinding from another error, or a caller that did not ask: nothing to report to.
+  }
+}
+
+void PixelBuffer::Mapping::release() {
+  if (!data_) return;
+  data_ = nullptr;
+  context_->make_current();
+  context_->unmap_buffer(buffer_, where_);
+}
+
+PixelBuffer::PixelBuffer(Context& context, GLenum usage) : context_(&context), usage_(usage) {
+  context.gl().GenBuffers(1, &buffer_);
+}
+
+PixelBuffer::~PixelBuffer() {
+  reset();
+}
+
+PixelBuffer::PixelBuffer(PixelBuffer&& other) noexcept {
+  *this = std::move(other);
+}
+
+PixelBuffer& PixelBuffer::operator=(PixelBuffer&& other) noexcept {
+  if (this != &other) {
+    reset();
+    context_ = std::exchange(other.context_, nullptr);
+    usage_ = other.usage_;
+    buffer_ = std::exchange(other.buffer_, 0);
+    capacity_ = std::exchange(other.capacity_, 0);
+  }
+  return *this;
+}
+
+void PixelBuffer::reset() {
+  if (!context_) return;
+  context_->make_current();
+  if (buffer_) context_->gl().DeleteBuffers(1, &buffer_);
+  buffer_ = 0;
+  capacity_ = 0;
+  context_ = nullptr;
+}
+
+void PixelBuffer::reserve(std::size_t bytes) {
+  if (bytes <= capacity_) return;
+  const Functions& gl = context_->gl();
+  const GLenum target = usage_ == GL_STREAM_READ ? GL_PIXEL_PACK_BUFFER : GL_PIXEL_UNPACK_BUFFER;
+  gl.BindBuffer(target, buffer_);
+  gl.BufferData(target, static_cast<GLsizeiptr>(bytes), nullptr, usage_);
+  gl.BindBuffer(target, 0);
+  context_->check(fmt::format("pixel buffer of {} bytes", bytes));
+  capacity_ = bytes;
+}
+
+void PixelBuffer::read_pixels(std::size_t offset, GLint x, GLint y, GLsizei width, GLsizei height,
+                              GLenum format, GLint row_length) const {
+  const Functions& gl = context_->gl();
+  gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+  gl.PixelStorei(GL_PACK_ROW_LENGTH, row_length);
+  context_->copy_pixels_to_buffer(buffer_, x, y, width, height, format, GL_FLOAT,
+                                  static_cast<GLintptr>(offset));
+  if (row_length != 0) gl.PixelStorei(GL_PACK_ROW_LENGTH, 0);
+}
+
+PixelBuffer::Mapping PixelBuffer::map_read(std::size_t bytes, std::string_view where) const {
+  return Mapping(
+      *context_, buffer_,
+      context_->map_buffer(buffer_, static_cast<GLsizeiptr>(bytes), GL_MAP_READ_BIT, where), where);
+}
+
+PixelBuffer::Mapping PixelBuffer::map_write(std::size_t bytes, std::string_view where) const {
+  return Mapping(*context_, buffer_,
+                 context_->map_buffer(buffer_, static_cast<GLsizeiptr>(bytes),
+                                      GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT, where),
+                 where);
+}
+
 FullscreenTriangle::FullscreenTriangle(Context& context) : context_(context) {
   context_.gl().GenVertexArrays(1, &vertex_array_);
 }

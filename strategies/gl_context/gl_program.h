@@ -90,6 +90,61 @@ class RenderTargets {
   std::vector<Texture> textures_;
 };
 
+// A buffer object pixel transfers go through: GL_PIXEL_PACK_BUFFER for read-backs (glReadPixels
+// writes it on the device, one mapping copies it to the host), GL_PIXEL_UNPACK_BUFFER for uploads.
+// Allocated at the first reserve() and grown, never re-allocated for a request it already holds:
+// a repeated transfer pays for its bytes, not for an allocation and the first touch of its pages.
+class PixelBuffer {
+ public:
+  // [0, bytes) of the buffer mapped; unmapped by release() (which throws when the driver lost the
+  // content) or, without a check, when it goes.
+  class Mapping {
+   public:
+    Mapping(Context& context, GLuint buffer, void* data, std::string_view where);
+    ~Mapping();
+    Mapping(Mapping&& other) noexcept;
+    Mapping& operator=(Mapping&&) = delete;
+    void* data() const { return data_; }
+    void release();
+
+   private:
+    Context* context_;
+    GLuint buffer_;
+    void* data_;
+    std::string where_;
+  };
+
+  PixelBuffer() = default;
+  // `usage`: GL_STREAM_READ for a pack buffer, GL_STREAM_DRAW for an unpack buffer.
+  PixelBuffer(Context& context, GLenum usage);
+  ~PixelBuffer();
+  PixelBuffer(PixelBuffer&& other) noexcept;
+  PixelBuffer& operator=(PixelBuffer&& other) noexcept;
+
+  // Makes the buffer hold at least `bytes`; a larger request re-allocates (the content is lost).
+  void reserve(std::size_t bytes);
+  std::size_t capacity() const { return capacity_; }
+  GLuint id() const { return buffer_; }
+
+  // glReadPixels of (x, y, width, height) of the bound read framebuffer's read buffer, as
+  // `format` floats, into bytes from `offset`, rows `row_length` pixels apart (0: `width`): a
+  // device copy (Context::copy_pixels_to_buffer). Reading GL_RGB from an RGBA32F target has the
+  // driver drop w on the way: the host gets x y z runs without a pass of its own.
+  void read_pixels(std::size_t offset, GLint x, GLint y, GLsizei width, GLsizei height,
+                   GLenum format, GLint row_length = 0) const;
+  // [0, bytes) mapped for reading (a host read-back: waits for the copies into it) or for writing
+  // (the previous content discarded).
+  Mapping map_read(std::size_t bytes, std::string_view where) const;
+  Mapping map_write(std::size_t bytes, std::string_view where) const;
+
+ private:
+  void reset();
+  Context* context_ = nullptr;
+  GLenum usage_ = GL_STREAM_READ;
+  GLuint buffer_ = 0;
+  std::size_t capacity_ = 0;
+};
+
 // The empty vertex array a core profile needs to draw fullscreen_triangle.vert: one draw() is
 // one fragment-program pass over the bound target's viewport.
 class FullscreenTriangle {

@@ -18,6 +18,10 @@ uniform sampler2D knot_array;  // row: texel 0 = u, texels 1..2k = knots[s-p .. 
 uniform sampler2D previous;    // order d (degree d-1) basis; column k is a zero pad
 uniform int degree;            // d, the degree this pass produces (1..p)
 uniform int order;             // k = p + 1
+// Where the chunk's columns start: 0 in textures of its own, its band in an atlas holding every
+// surface's chunks side by side (rows are shared: a chunk's row r is row r of every texture).
+uniform int basis_x0;
+uniform int knot_x0;
 
 out vec4 result;
 
@@ -37,18 +41,20 @@ vec4 store(VALUE value) { return vec4(value, 0.0, 0.0, 0.0); }
 VALUE ratio_or_zero(VALUE n, VALUE d) { return d != 0.0 ? n / d : 0.0; }
 #endif
 
-VALUE knot(int m, int row) { return channel(texelFetch(knot_array, ivec2(1 + m, row), 0)); }
+VALUE knot(int m, int row) {
+  return channel(texelFetch(knot_array, ivec2(knot_x0 + 1 + m, row), 0));
+}
 
 void main() {
   ivec2 at = ivec2(gl_FragCoord.xy);
-  int j = at.x, row = at.y;
+  int j = at.x - basis_x0, row = at.y;
   if (j >= order) {  // the pad column stays zero: N_{s+1} is not supported on span s
     result = vec4(0.0);
     return;
   }
-  VALUE u = channel(texelFetch(knot_array, ivec2(0, row), 0));
-  VALUE n_i = channel(texelFetch(previous, ivec2(j, row), 0));
-  VALUE n_next = channel(texelFetch(previous, ivec2(j + 1, row), 0));
+  VALUE u = channel(texelFetch(knot_array, ivec2(knot_x0, row), 0));
+  VALUE n_i = channel(texelFetch(previous, ivec2(basis_x0 + j, row), 0));
+  VALUE n_next = channel(texelFetch(previous, ivec2(basis_x0 + j + 1, row), 0));
   // u_i is knot(j): i = s - p + j and the row starts at knots[s - p].
   VALUE left = u - knot(j, row);
   VALUE left_next = u - knot(j + 1, row);

@@ -1,10 +1,13 @@
 #include "strategies/gl_pingpong/basis_passes.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <string>
 #include <string_view>
 
 #include "strategies/gl_pingpong/shaders.h"
+#include "strategies/strategy.h"
 
 namespace nurbs::gl_pingpong {
 namespace {
@@ -22,6 +25,8 @@ BasisProgram::BasisProgram(gl::Context& context_, bool packed)
               "gl-pingpong basis_order.frag"),
       degree(program.uniform("degree")),
       order(program.uniform("order")),
+      basis_x0(program.uniform("basis_x0")),
+      knot_x0(program.uniform("knot_x0")),
       triangle_(context_) {
   const gl::Functions& gl = context.gl();
   // Sampler units never change: set them once.
@@ -45,7 +50,11 @@ Programs::Programs(gl::Context& context_, bool packed)
       divide(context_, embedded::gl_fullscreen_triangle_vert, embedded::gl_pingpong_divide_frag,
              defines(packed), "gl-pingpong divide.frag"),
       accumulate_a(accumulate.uniform("a")),
-      accumulate_b(accumulate.uniform("b")) {
+      accumulate_b(accumulate.uniform("b")),
+      origin(accumulate.uniform("origin")),
+      control_origin(accumulate.uniform("control_origin")),
+      place_u(accumulate.uniform("place_u")),
+      place_v(accumulate.uniform("place_v")) {
   const gl::Functions& gl = context.gl();
   gl.UseProgram(accumulate.id());
   gl.Uniform1i(accumulate.uniform("previous"), 0);
@@ -85,6 +94,8 @@ void BasisChunk::raise(const BasisProgram& program, int passes) {
   const gl::Functions& gl = context_->gl();
   gl.UseProgram(program.program.id());
   gl.Uniform1i(program.order, degree_ + 1);
+  gl.Uniform1i(program.basis_x0, 0);
+  gl.Uniform1i(program.knot_x0, 0);
   knot_array_.bind_to_unit(0);
   const gl::Texture* source = &order1_;
   for (int pass = 0; pass < passes; ++pass) {
@@ -111,6 +122,102 @@ std::vector<float> BasisChunk::read_result() const {
   context_->read_pixels(0, 0, result_->width(), rows_, GL_RGBA, GL_FLOAT, out.data());
   context_->check("gl-pingpong basis read-back");
   return out;
+}
+
+BasisAtlas::BasisAtlas(gl::Context& context, const std::vector<ChunkInputs>& chunks, bool packed,
+                       int side, std::size_t& bytes)
+    : context_(&context) {
+  const int channels = packed ? 4 : 1;
+  for (const ChunkInputs& in : chunks) {
+    basis_width_ = std::max(basis_width_, in.basis_width());
+    knot_width_ = std::max(knot_width_, in.knot_array_width());
+  }
+  // Two row spaces: the basis textures' (a row per parameter, a quarter of that packed) and the
+  // first-index texture's (a row per parameter).
+  struct Bands {
+    int side, band = 0, row = 0, height = 1;
+    std::pair<int, int> place(int rows) {
+      if (row + rows > side) {
+        ++band;
+        row = 0;
+      }
+      const std::pair<int, int> p{band, row};
+      row += rows;
+      height = std::max(height, row);
+      return p;
+    }
+  };
+  Bands basis{side}, index{side};
+  for (const ChunkInputs& in : chunks) {
+    const auto [band, row0] = basis.place(in.rows);
+    const auto [first_band, first_row0] = index.place(in.count);
+    places_.push_back({band, row0, in.rows, in.degree, first_band, first_row0});
+  }
+  const int bands = basis.band + 1, first_bands = index.band + 1, height = basis.height;
+  if (static_cast<long long>(bands) * knot_width_ > context.max_texture_size() ||
+      first_bands > context.max_texture_size())
+    throw RefusedError(fmt::format(
+        "{} bands of {} parameter rows need a knot-array texture {} texels wide, beyond "
+        "GL_MAX_TEXTURE_SIZE {}",
+        bands, side, static_cast<long long>(bands) * knot_width_, context.max_texture_size()));
+  const std::size_t knot_w = static_cast<std::size_t>(bands) * knot_width_,
+                    basis_w = static_cast<std::size_t>(bands) * basis_width_;
+  std::vector<float> knots(knot_w * height * channels, 0.0f),
+      order1(basis_w * height * channels, 0.0f);
+  std::vector<std::int32_t> first(static_cast<std::size_t>(first_bands) * index.height, 0);
+  for (std::size_t c = 0; c < chunks.size(); ++c) {
+    const ChunkInputs& in = chunks[c];
+    const Place& p = places_[c];
+    const std::size_t kw = static_cast<std::size_t>(in.knot_array_width()) * channels,
+                      bw = static_cast<std::size_t>(in.basis_width()) * channels;
+    for (int r = 0; r < in.rows; ++r) {
+      const std::size_t y = static_cast<std::size_t>(p.row0 + r);
+      std::copy_n(&in.knot_array[static_cast<std::size_t>(r) * kw], kw,
+                  &knots[(y * knot_w + static_cast<std::size_t>(p.band) * knot_width_) * channels]);
+      std::copy_n(
+          &in.order1[static_cast<std::size_t>(r) * bw], bw,
+          &order1[(y * basis_w + static_cast<std::size_t>(p.band) * basis_width_) * channels]);
+    }
+    for (int q = 0; q < in.count; ++q)
+      first[static_cast<std::size_t>(p.first_row0 + q) * first_bands + p.first_band] =
+          in.first_index[static_cast<std::size_t>(q)];
+  }
+  const GLenum format = packed ? GL_RGBA : GL_RED;
+  const std::size_t texel = sizeof(float) * static_cast<std::size_t>(channels);
+  knot_array_ =
+      gl::Texture(context, packed ? GL_RGBA32F : GL_R32F, static_cast<int>(knot_w), height, false);
+  bytes += knot_array_.upload(format, GL_FLOAT, knots.data(), texel);
+  order1_ = gl::Texture(context, GL_RGBA32F, static_cast<int>(basis_w), height, false);
+  bytes += order1_.upload(format, GL_FLOAT, order1.data(), texel);
+  first_index_ = gl::Texture(context, GL_R32I, first_bands, index.height, false);
+  bytes += first_index_.upload(GL_RED_INTEGER, GL_INT, first.data(), sizeof(std::int32_t));
+  for (gl::Texture& t : ping_)
+    t = gl::Texture(context, GL_RGBA32F, static_cast<int>(basis_w), height, true);
+}
+
+void BasisAtlas::raise(const BasisProgram& program, std::size_t c, int passes) const {
+  const gl::Functions& gl = context_->gl();
+  const Place& p = places_[c];
+  gl.UseProgram(program.program.id());
+  gl.Uniform1i(program.order, p.degree + 1);
+  gl.Uniform1i(program.basis_x0, p.band * basis_width_);
+  gl.Uniform1i(program.knot_x0, p.band * knot_width_);
+  knot_array_.bind_to_unit(0);
+  const gl::Texture* source = &order1_;
+  for (int pass = 0; pass < passes; ++pass) {
+    const gl::Texture& target = ping_[pass % 2];
+    target.bind_target();
+    gl.Viewport(p.band * basis_width_, p.row0, p.degree + 2, p.rows);
+    source->bind_to_unit(1);
+    gl.Uniform1i(program.degree, pass + 1);
+    program.draw();
+    source = &target;
+  }
+}
+
+const gl::Texture& BasisAtlas::result(std::size_t c) const {
+  const int passes = places_[c].degree;
+  return passes == 0 ? order1_ : ping_[(passes - 1) % 2];
 }
 
 std::vector<BasisChunk> upload_chunks(gl::Context& context, const std::vector<double>& parameters,

@@ -3,6 +3,7 @@
 // ping-ponging between two RGBA32F render targets.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -25,7 +26,7 @@ class BasisProgram {
 
   gl::Context& context;
   gl::Program program;
-  GLint degree, order;  // uniform locations
+  GLint degree, order, basis_x0, knot_x0;  // uniform locations
 
  private:
   gl::FullscreenTriangle triangle_;
@@ -43,7 +44,8 @@ class Programs {
   gl::Context& context;
   BasisProgram basis;
   gl::Program accumulate, divide;
-  GLint accumulate_a, accumulate_b;  // uniform locations
+  // accumulate.frag's uniform locations
+  GLint accumulate_a, accumulate_b, origin, control_origin, place_u, place_v;
 };
 
 class BasisChunk {
@@ -74,6 +76,46 @@ class BasisChunk {
   gl::Texture ping_[2];
   const gl::Texture* result_ = nullptr;
   std::size_t bytes_uploaded_ = 0;
+};
+
+// Every surface's basis chunks, both directions, in one set of textures: a chunk's knot-array,
+// order-1 and first-index rows go up in one upload per kind of data (not three per chunk), and its
+// passes draw its rectangle of two shared ping-pong targets. Chunks are laid in bands of `side`
+// rows side by side (band b: basis columns b * basis_width, knot columns b * knot_width), a
+// chunk's rows the same rows of the knot, order-1 and ping-pong textures; the first indices (a row
+// per parameter, also when packed) are banded the same way in a texture of their own. The passes
+// are 000 §2.1's, chunk by chunk as BasisChunk draws them; only where the texels lie differs.
+class BasisAtlas {
+ public:
+  BasisAtlas() = default;
+  // Throws RefusedError when the bands do not fit GL_MAX_TEXTURE_SIZE. `bytes` grows by what was
+  // sent.
+  BasisAtlas(gl::Context& context, const std::vector<ChunkInputs>& chunks, bool packed, int side,
+             std::size_t& bytes);
+
+  // Chunk `c`'s `passes` order-raising passes from its order-1 rows (BasisChunk::raise).
+  void raise(const BasisProgram& program, std::size_t c, int passes) const;
+
+  // The texture holding chunk `c`'s final basis (after raise with its degree).
+  const gl::Texture& result(std::size_t c) const;
+  const gl::Texture& first_index() const { return first_index_; }
+  // accumulate.frag's place of chunk `c`: first basis column and row, first-index column and row.
+  std::array<int, 4> place(std::size_t c) const {
+    const Place& p = places_[c];
+    return {p.band * basis_width_, p.row0, p.first_band, p.first_row0};
+  }
+  std::size_t size() const { return places_.size(); }
+
+ private:
+  struct Place {
+    int band = 0, row0 = 0, rows = 0, degree = 0;
+    int first_band = 0, first_row0 = 0;  // in the first-index texture
+  };
+  gl::Context* context_ = nullptr;
+  std::vector<Place> places_;
+  int basis_width_ = 0, knot_width_ = 0;
+  gl::Texture knot_array_, order1_, first_index_;
+  gl::Texture ping_[2];
 };
 
 // One direction's parameters cut into chunks of at most `tile` (a texture's rows), each

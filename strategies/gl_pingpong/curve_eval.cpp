@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -76,6 +77,7 @@ struct CurveEvaluator::Impl {
   ~Impl() {
     context->make_current();
     chunks.clear();
+    results = gl::PixelBuffer();
   }
 
   static std::unique_ptr<gl::Context> create_context(const StrategyOptions& options) {
@@ -134,6 +136,7 @@ struct CurveEvaluator::Impl {
   std::size_t parameter_count = 0, bytes_uploaded = 0;
   std::vector<CurveChunk> chunks;
   std::vector<std::size_t> begins;
+  gl::PixelBuffer results{*context, GL_STREAM_READ};  // read-backs land here; grown, never shrunk
   CurvePasses passes;
   double device_seconds = 0;
 };
@@ -196,24 +199,26 @@ void CurveEvaluator::evaluate() {
   });
 }
 
+// Each chunk's column of points read as x y z (GL_RGB: the driver drops w) into its place in one
+// pixel-pack buffer, mapped once and copied out.
 std::vector<Vec3<float>> CurveEvaluator::read_back() {
+  static_assert(sizeof(Vec3<float>) == 3 * sizeof(float));
   Impl& m = *impl_;
   m.context->make_current();
   const gl::Functions& gl = m.context->gl();
   std::vector<Vec3<float>> out(m.parameter_count);
-  std::vector<float> texels;
+  const std::size_t bytes = m.parameter_count * sizeof(Vec3<float>);
+  if (bytes == 0) return out;
+  m.results.reserve(bytes);
   for (std::size_t i = 0; i < m.chunks.size(); ++i) {
     const gl::Texture& points = m.chunks[i].points;
-    texels.resize(static_cast<std::size_t>(points.height()) * 4);
     points.bind_target();
     gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
-    gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    m.context->read_pixels(0, 0, 1, points.height(), GL_RGBA, GL_FLOAT, texels.data());
-    for (int q = 0; q < points.height(); ++q)
-      out[m.begins[i] + static_cast<std::size_t>(q)] = {
-          texels[static_cast<std::size_t>(q) * 4], texels[static_cast<std::size_t>(q) * 4 + 1],
-          texels[static_cast<std::size_t>(q) * 4 + 2]};
+    m.results.read_pixels(m.begins[i] * sizeof(Vec3<float>), 0, 0, 1, points.height(), GL_RGB);
   }
+  gl::PixelBuffer::Mapping mapped = m.results.map_read(bytes, "gl-pingpong curve read-back");
+  std::memcpy(out.data(), mapped.data(), bytes);
+  mapped.release();
   m.context->check("gl-pingpong curve read-back");
   return out;
 }

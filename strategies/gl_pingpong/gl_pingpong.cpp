@@ -13,32 +13,78 @@
 #include "strategies/gl_context/grid_renderer.h"
 #include "strategies/gl_pingpong/basis_passes.h"
 #include "strategies/gl_pingpong/lod_renderer.h"
+#include "strategies/host_results.h"
 #include "strategies/strategy_options.h"
 #include "strategies/trim_texture/trim_texture.h"
 
 namespace nurbs {
 namespace {
 
-using gl_pingpong::BasisChunk;
+using gl_pingpong::BasisAtlas;
 using gl_pingpong::Programs;
 
 // The image the render phases draw: glsl-deboor's size, so the two compare.
 constexpr int kRenderSize = 512;
+// Texels of a page of tile sums (unless one tile is larger). llvmpipe pays per pass for the size
+// of the target drawn into, not only for the rectangle drawn: many-1024 at 64x64 evaluated in
+// 2.2 s with pages of 64 x 256 texels, 3.4 s with 64 x 1024 and 4.3 s with 64 x 4096.
+constexpr int kSumPageTexels = 64 * 256;
 
-// One tile of the evaluation grid: u-chunk cu x v-chunk cv, its running sum ping-pongs between
-// sum[0] and sum[1] (the paper's tex1/tex2); `result` is where the divide pass wrote the points.
+// Where a rectangle lies in a set of atlas pages: page, first texel.
+struct AtlasPlace {
+  int page = 0, x = 0, y = 0;
+};
+
+// Rectangles packed into pages of at most width x height texels, row by row (shelves as tall as
+// their tallest rectangle); each page is as large as what it holds.
+class ShelfPacker {
+ public:
+  ShelfPacker(int width, int height) : width_(width), height_(height) {}
+  AtlasPlace place(int width, int height) {
+    if (x_ + width > width_) {
+      y_ += shelf_;
+      x_ = shelf_ = 0;
+    }
+    if (pages_.empty() || y_ + height > height_) {
+      pages_.push_back({0, 0});
+      x_ = y_ = shelf_ = 0;
+    }
+    const AtlasPlace p{static_cast<int>(pages_.size()) - 1, x_, y_};
+    x_ += width;
+    shelf_ = std::max(shelf_, height);
+    pages_.back() = {std::max(pages_.back().first, x_),
+                     std::max(pages_.back().second, y_ + shelf_)};
+    return p;
+  }
+  // Width and height of each page.
+  const std::vector<std::pair<int, int>>& pages() const { return pages_; }
+
+ private:
+  int width_, height_, x_ = 0, y_ = 0, shelf_ = 0;
+  std::vector<std::pair<int, int>> pages_;
+};
+
+// One tile of the evaluation grid: u-chunk cu x v-chunk cv, a width (v) x height (u) rectangle of
+// a page of the sum atlas, whose running sum ping-pongs between the page's sum[0] and sum[1] (the
+// paper's tex1/tex2); `result` is where the divide pass wrote the points.
 struct Tile {
   int cu = 0, cv = 0;
-  gl::Texture sum[2];
+  AtlasPlace place;
+  int width = 0, height = 0;
   int result = 0;
+};
+
+// The render targets of the tiles of every surface: a tile is a rectangle of one page.
+struct SumPage {
+  gl::Texture sum[2];
 };
 
 struct SurfaceOnGpu {
   int degree_u = 0, degree_v = 0, count_u = 0, count_v = 0;
-  gl::Texture control;                  // count_v x count_u homogeneous control points (000 §3.1)
+  AtlasPlace control;                   // count_v x count_u homogeneous control points (000 §3.1)
   std::vector<float> knots_u, knots_v;  // kept for a new grid (000 §3.2's LOD)
-  std::vector<BasisChunk> u_chunks, v_chunks;
-  std::vector<std::size_t> u_begin, v_begin;  // first parameter of each chunk
+  std::vector<std::size_t> u_chunks, v_chunks;  // in the basis atlas
+  std::vector<std::size_t> u_begin, v_begin;    // first parameter of each chunk
   std::vector<Tile> tiles;
 };
 
@@ -53,6 +99,7 @@ class GlPingPong final : public Strategy {
       throw std::runtime_error(fmt::format("unavailable: {}", e.what()));
     }
     timer_ = std::make_unique<gl::DeviceTimer>(*context_);
+    results_ = gl::PixelBuffer(*context_, GL_STREAM_READ);
     programs_ = std::make_unique<Programs>(*context_, packed_);
     tile_ = std::min(context_->max_texture_size(), context_->max_viewport());
     if (tile_option > 0) tile_ = std::min(tile_, tile_option);
@@ -66,6 +113,10 @@ class GlPingPong final : public Strategy {
     renderer_.reset();
     trims_.reset();
     surfaces_.clear();
+    sum_pages_.clear();
+    control_pages_.clear();
+    basis_ = BasisAtlas();
+    results_ = gl::PixelBuffer();
     programs_.reset();
   }
 
@@ -95,14 +146,18 @@ class GlPingPong final : public Strategy {
     for (const DeviceCopy& c : copies_) context_->gl().DeleteBuffers(1, &c.buffer);
     copies_.clear();
     surfaces_.clear();
+    sum_pages_.clear();
+    control_pages_.clear();
+    basis_ = BasisAtlas();
     bytes_uploaded_ = bytes_updated_ = 0;
     passes_ = basis_passes_ = 0;
     tile_count_ = 0;
-    for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
-      surfaces_.push_back(upload_surface(scene.surfaces[i], samples_[i]));
-    trims_->prepare(scene, samples_);
-    context_->finish("gl-pingpong upload");
-    context_->check("gl-pingpong upload");
+    device_upload_s_ = timer_->time("gl-pingpong upload", [&] {
+      place_control(scene);
+      bytes_uploaded_ += upload_control(scene);
+      make_grids();
+      trims_->prepare(scene, samples_);
+    });
   }
 
   // Only the control-point textures are written, in prepare()'s layout; a scene whose nets differ
@@ -126,40 +181,42 @@ class GlPingPong final : public Strategy {
     view_ = gl::orthographic_view(scene);  // as prepare() would frame the moved scene
     context_->make_current();
     bytes_updated_ = 0;
-    for (std::size_t i = 0; i < surfaces_.size(); ++i)
-      bytes_updated_ += upload_control(SurfaceNet<float>(scene.surfaces[i]), surfaces_[i].control);
-    context_->finish("gl-pingpong control point update");
-    context_->check("gl-pingpong control point update");
+    device_upload_s_ = timer_->time("gl-pingpong control point update",
+                                    [&] { bytes_updated_ = upload_control(scene); });
   }
 
   void evaluate() override {
     const gl::DrawCounts before = context_->draw_counts();
     basis_passes_ = 0;
-    device_evaluate_s_ = timer_->time("gl-pingpong evaluate", [&] {
-      for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
-    });
+    device_evaluate_s_ = timer_->time("gl-pingpong evaluate", [&] { evaluate_surfaces(); });
     passes_ = (context_->draw_counts() - before).passes;
   }
 
-  DeviceTimes device_times() const override { return {device_evaluate_s_}; }
+  DeviceTimes device_times() const override {
+    DeviceTimes t;
+    t.evaluate_s = device_evaluate_s_;
+    t.upload_s = device_upload_s_;
+    t.read_back_s = device_read_back_s_;
+    return t;
+  }
 
   bool classify() override { return trims_->classify(); }
 
   // 000 §4's rendering pass, as glsl-deboor draws (the shared grid renderer): each tile's result
-  // texture holds sample (a, b) at texel (b, a). A grid tiled over several textures is drawn
-  // tile by tile, so the cells between two tiles are not drawn (tiles exist only past
-  // GL_MAX_TEXTURE_SIZE samples per side or with the test option "tile").
+  // rectangle holds sample (a, b) at texel (b, a) from its origin. A grid tiled over several
+  // rectangles is drawn tile by tile, so the cells between two tiles are not drawn (tiles exist
+  // only past GL_MAX_TEXTURE_SIZE samples per side or with the test option "tile").
   bool render() override {
     context_->make_current();
     renderer().begin_frame();
     for (std::size_t i = 0; i < surfaces_.size(); ++i)
       for (const Tile& t : surfaces_[i].tiles) {
-        const gl::Texture& result = t.sum[t.result];
         const int first_u = static_cast<int>(surfaces_[i].u_begin[static_cast<std::size_t>(t.cu)]);
         const int first_v = static_cast<int>(surfaces_[i].v_begin[static_cast<std::size_t>(t.cv)]);
         const auto trim = trims_->grid_trim(i, first_u, first_v);
-        renderer().draw(gl::GridPoints{&result, result.height(), result.width(), 0, 0, false},
-                        view_.data(), trim ? &*trim : nullptr);
+        renderer().draw(
+            gl::GridPoints{&result_of(t), t.height, t.width, t.place.x, t.place.y, false},
+            view_.data(), trim ? &*trim : nullptr);
       }
     renderer().end_frame("gl-pingpong render");
     context_->finish("gl-pingpong render");
@@ -167,7 +224,8 @@ class GlPingPong final : public Strategy {
   }
 
   bool render_via_read_back() override {
-    const EvalResult result = read_positions();
+    EvalResult& result = render_points_;
+    read_positions_into(result);
     context_->make_current();
     renderer().begin_frame();
     for (std::size_t i = 0; i < result.surfaces.size(); ++i) {
@@ -186,20 +244,26 @@ class GlPingPong final : public Strategy {
   }
 
   EvalResult read_back() override {
-    EvalResult out = read_positions();
+    EvalResult out;
+    read_back_into(out);
+    return out;
+  }
+
+  void read_back_into(EvalResult& out) override {
+    read_positions_into(out);
+    device_read_back_s_ = last_copy_s_;
     for (std::size_t i = 0; i < out.surfaces.size(); ++i)
       out.surfaces[i].inside = trims_->read_mask(i);
-    return out;
   }
 
   // 000 §3.2: surface i evaluated at new samples from the next evaluate on; only what depends on
   // the samples is made again (parameters, first-span indices, basis and sum targets, and a
-  // trimmed surface's sample table: its trim texture depends on the loops alone).
+  // trimmed surface's sample table: its trim texture depends on the loops alone). The atlases hold
+  // every surface's grid, so they are laid out again for all; the control points stay.
   void resample(std::size_t i, const SurfaceSamples& samples) {
     context_->make_current();
     samples_[i] = samples;
-    tile_count_ -= surfaces_[i].tiles.size();
-    make_grid(surfaces_[i], samples);
+    make_grids();
     trims_->resample(i, samples);
     context_->check("gl-pingpong resample");
   }
@@ -213,13 +277,13 @@ class GlPingPong final : public Strategy {
   std::uint64_t draw_from_device_copies(const std::array<float, 16>& mvp) {
     context_->make_current();
     const gl::Functions& gl = context_->gl();
-    for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
+    evaluate_surfaces();
     copies_.resize(surfaces_.size());
     for (std::size_t i = 0; i < surfaces_.size(); ++i) {
       const Tile& t = surfaces_[i].tiles.front();
-      const gl::Texture& result = t.sum[t.result];
+      const gl::Texture& result = result_of(t);
       DeviceCopy& c = copies_[i];
-      const GLsizeiptr bytes = GLsizeiptr{result.width()} * result.height() * 4 * sizeof(float);
+      const GLsizeiptr bytes = GLsizeiptr{t.width} * t.height * 4 * sizeof(float);
       if (!c.buffer) gl.GenBuffers(1, &c.buffer);
       if (c.bytes != bytes) {
         gl.BindBuffer(GL_PIXEL_PACK_BUFFER, c.buffer);
@@ -231,10 +295,10 @@ class GlPingPong final : public Strategy {
       result.bind_target();
       gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
       gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-      context_->copy_pixels_to_buffer(c.buffer, 0, 0, result.width(), result.height(), GL_RGBA,
+      context_->copy_pixels_to_buffer(c.buffer, t.place.x, t.place.y, t.width, t.height, GL_RGBA,
                                       GL_FLOAT);
-      c.nu = result.height();
-      c.nv = result.width();
+      c.nu = t.height;
+      c.nv = t.width;
     }
     std::uint64_t triangles = 0;
     renderer().begin_frame();
@@ -277,42 +341,57 @@ class GlPingPong final : public Strategy {
   gl::Context& context() { return *context_; }
 
  private:
-  // The positions only: what the traditional render path (002 §4.1) reads back.
-  EvalResult read_positions() {
+  // The positions only (what the traditional render path, 002 §4.1, reads back) into `out`,
+  // reusing its storage. A tile's result rectangle holds sample (a, b) at texel (b, a): its rows
+  // are runs of samples in SurfaceSamples order, so each tile is one glReadPixels of x y z (GL_RGB:
+  // the driver drops w) into its place in one pixel-pack buffer (rows nv apart), every surface
+  // back to back; the buffer is mapped once and copied into the results.
+  void read_positions_into(EvalResult& out) {
     context_->make_current();
-    const gl::Functions& gl = context_->gl();
-    EvalResult out;
-    out.surfaces.resize(surfaces_.size());
-    std::vector<float> texels;
-    for (std::size_t i = 0; i < surfaces_.size(); ++i) {
-      const SurfaceSamples& samples = samples_[i];
-      SurfaceResult& r = out.surfaces[i];
-      r.samples = samples;
-      r.positions = PointArray(Precision::f32, samples.count());
-      float* xyz = r.positions.f32();
-      const std::size_t nv = samples.v.size();
-      for (const Tile& t : surfaces_[i].tiles) {
-        const gl::Texture& result = t.sum[t.result];
-        texels.resize(static_cast<std::size_t>(result.width()) * result.height() * 4);
-        result.bind_target();
-        gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
-        gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-        context_->read_pixels(0, 0, result.width(), result.height(), GL_RGBA, GL_FLOAT,
-                              texels.data());
-        const std::size_t u0 = surfaces_[i].u_begin[static_cast<std::size_t>(t.cu)];
-        const std::size_t v0 = surfaces_[i].v_begin[static_cast<std::size_t>(t.cv)];
-        for (int a = 0; a < result.height(); ++a)
-          for (int b = 0; b < result.width(); ++b) {
-            const float* texel = &texels[(static_cast<std::size_t>(a) * result.width() + b) * 4];
-            float* p = &xyz[((u0 + a) * nv + v0 + b) * 3];
-            p[0] = texel[0];
-            p[1] = texel[1];
-            p[2] = texel[2];
-          }
-      }
+    std::size_t points = 0;
+    for (const SurfaceSamples& s : samples_) points += s.count();
+    const std::size_t bytes = points * 3 * sizeof(float);
+    if (bytes == 0) {
+      shape_results(out, samples_, Precision::f32, false);
+      return;
     }
+    // Allocated by the first read-back, not prepare(): 201 MB cost llvmpipe ~120 ms, which
+    // prepare() would add to every fresh strategy's upload.
+    results_.reserve(bytes);
+    const gl::Functions& gl = context_->gl();
+    last_copy_s_ = timer_->time("gl-pingpong read-back", [&] {
+      std::size_t first = 0;  // the surface's first point in the buffer
+      for (std::size_t i = 0; i < surfaces_.size();) {
+        const std::size_t nv = samples_[i].v.size();
+        if (const std::size_t end = whole_tile_run(i); end > i) {
+          // Surfaces [i, end) are one tile each, stacked in one page as wide as their rows.
+          const Tile& t = surfaces_[i].tiles.front();
+          int rows = 0;
+          for (std::size_t k = i; k < end; ++k) rows += surfaces_[k].tiles.front().height;
+          result_of(t).bind_target();
+          gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+          results_.read_pixels(first * 3 * sizeof(float), t.place.x, t.place.y, t.width, rows,
+                               GL_RGB);
+          for (; i < end; ++i) first += samples_[i].count();
+          continue;
+        }
+        for (const Tile& t : surfaces_[i].tiles) {
+          const std::size_t u0 = surfaces_[i].u_begin[static_cast<std::size_t>(t.cu)];
+          const std::size_t v0 = surfaces_[i].v_begin[static_cast<std::size_t>(t.cv)];
+          result_of(t).bind_target();
+          gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+          results_.read_pixels((first + u0 * nv + v0) * 3 * sizeof(float), t.place.x, t.place.y,
+                               t.width, t.height, GL_RGB, static_cast<GLint>(nv));
+        }
+        first += samples_[i].count();
+        ++i;
+      }
+    });
+    gl::PixelBuffer::Mapping mapped = results_.map_read(bytes, "gl-pingpong read-back");
+    scatter_points(out, samples_, static_cast<const float*>(mapped.data()),
+                   static_cast<const float*>(nullptr));
+    mapped.release();
     context_->check("gl-pingpong read-back");
-    return out;
   }
 
   // Created at the first draw: a run that never renders allocates no framebuffer.
@@ -322,88 +401,196 @@ class GlPingPong final : public Strategy {
     return *renderer_;
   }
 
-  // 000 §3.1's control-point texture: texel (j, i) = (w x, w y, w z, w) of P_ij.
-  std::size_t upload_control(const SurfaceNet<float>& net, const gl::Texture& control) {
-    return control.upload(GL_RGBA, GL_FLOAT, net.homogeneous.data(), sizeof(float) * 4);
+  // The end of the run of surfaces from `i` whose grids are one tile each, filling the width of
+  // one page and stacked there in order with the same result texture; `i` itself when surface i
+  // is not such a surface.
+  std::size_t whole_tile_run(std::size_t i) const {
+    auto whole = [&](std::size_t k) {
+      if (surfaces_[k].tiles.size() != 1) return false;
+      const Tile& t = surfaces_[k].tiles.front();
+      return t.place.x == 0 &&
+             t.width == sum_pages_[static_cast<std::size_t>(t.place.page)].sum[0].width();
+    };
+    if (!whole(i)) return i;
+    std::size_t end = i + 1;
+    for (; end < surfaces_.size() && whole(end); ++end) {
+      const Tile& previous = surfaces_[end - 1].tiles.front();
+      const Tile& t = surfaces_[end].tiles.front();
+      if (t.place.page != previous.place.page || t.result != previous.result ||
+          t.place.y != previous.place.y + previous.height)
+        break;
+    }
+    return end;
   }
 
-  SurfaceOnGpu upload_surface(const Surface& surface, const SurfaceSamples& samples) {
-    // Grids larger than a texture are tiled; a control net larger than one is refused (it would
-    // need the sub-mesh lookup split across textures, which the paper's layout does not have).
-    if (std::max(surface.count_u, surface.count_v) > context_->max_texture_size())
-      throw RefusedError(fmt::format(
-          "surface '{}' has {}x{} control points; the control-point texture is limited to {} "
-          "per side (GL_MAX_TEXTURE_SIZE)",
-          surface.name, surface.count_u, surface.count_v, context_->max_texture_size()));
-    const SurfaceNet<float> net(surface);
-    SurfaceOnGpu s;
-    s.degree_u = surface.degree_u;
-    s.degree_v = surface.degree_v;
-    s.count_u = surface.count_u;
-    s.count_v = surface.count_v;
-    s.control = gl::Texture(*context_, GL_RGBA32F, surface.count_v, surface.count_u, false);
-    bytes_uploaded_ += upload_control(net, s.control);
-    s.knots_u = net.knots_u;
-    s.knots_v = net.knots_v;
-    make_grid(s, samples);
-    return s;
+  const gl::Texture& result_of(const Tile& t) const {
+    return sum_pages_[static_cast<std::size_t>(t.place.page)].sum[t.result];
   }
 
-  // The sample-dependent part of a surface on the device: parameter chunks and the tiles' targets.
-  void make_grid(SurfaceOnGpu& s, const SurfaceSamples& samples) {
-    s.u_begin.clear();
-    s.v_begin.clear();
-    s.tiles.clear();
-    s.u_chunks = gl_pingpong::upload_chunks(*context_, samples.u, s.degree_u, s.count_u, s.knots_u,
-                                            packed_, tile_, s.u_begin, bytes_uploaded_);
-    s.v_chunks = gl_pingpong::upload_chunks(*context_, samples.v, s.degree_v, s.count_v, s.knots_v,
-                                            packed_, tile_, s.v_begin, bytes_uploaded_);
-    for (std::size_t cu = 0; cu < s.u_chunks.size(); ++cu)
-      for (std::size_t cv = 0; cv < s.v_chunks.size(); ++cv) {
-        Tile t;
-        t.cu = static_cast<int>(cu);
-        t.cv = static_cast<int>(cv);
-        for (gl::Texture& sum : t.sum)
-          sum = gl::Texture(*context_, GL_RGBA32F, s.v_chunks[cv].count(), s.u_chunks[cu].count(),
-                            true);
-        s.tiles.push_back(std::move(t));
+  // 000 §3.1's control-point texture, one rectangle per surface in the pages of an atlas: texel
+  // control + (j, i) = (w x, w y, w z, w) of P_ij. Laid out once per prepare(); surfaces_ starts
+  // here.
+  void place_control(const Scene& scene) {
+    const int side = context_->max_texture_size();
+    ShelfPacker packer(side, side);
+    for (const Surface& surface : scene.surfaces) {
+      // Grids larger than a texture are tiled; a control net larger than one is refused (it would
+      // need the sub-mesh lookup split across textures, which the paper's layout does not have).
+      if (std::max(surface.count_u, surface.count_v) > side)
+        throw RefusedError(fmt::format(
+            "surface '{}' has {}x{} control points; the control-point texture is limited to {} "
+            "per side (GL_MAX_TEXTURE_SIZE)",
+            surface.name, surface.count_u, surface.count_v, side));
+      SurfaceOnGpu s;
+      s.degree_u = surface.degree_u;
+      s.degree_v = surface.degree_v;
+      s.count_u = surface.count_u;
+      s.count_v = surface.count_v;
+      s.control = packer.place(surface.count_v, surface.count_u);
+      const SurfaceNet<float> net(surface);
+      s.knots_u = net.knots_u;
+      s.knots_v = net.knots_v;
+      surfaces_.push_back(std::move(s));
+    }
+    control_pages_.clear();
+    for (const auto& [width, height] : packer.pages())
+      control_pages_.emplace_back(*context_, GL_RGBA32F, width, height, false);
+  }
+
+  // Every surface's control points, one upload per atlas page (prepare() and every deforming
+  // frame); returns the bytes sent.
+  std::size_t upload_control(const Scene& scene) {
+    std::vector<std::vector<float>> texels(control_pages_.size());
+    for (std::size_t p = 0; p < control_pages_.size(); ++p)
+      texels[p].assign(
+          static_cast<std::size_t>(control_pages_[p].width()) * control_pages_[p].height() * 4,
+          0.0f);
+    for (std::size_t i = 0; i < surfaces_.size(); ++i) {
+      const SurfaceOnGpu& s = surfaces_[i];
+      const SurfaceNet<float> net(scene.surfaces[i]);
+      std::vector<float>& page = texels[static_cast<std::size_t>(s.control.page)];
+      const std::size_t width = static_cast<std::size_t>(
+          control_pages_[static_cast<std::size_t>(s.control.page)].width());
+      const std::size_t row = static_cast<std::size_t>(s.count_v) * 4;
+      for (int i_u = 0; i_u < s.count_u; ++i_u)
+        std::copy_n(&net.homogeneous[static_cast<std::size_t>(i_u) * s.count_v][0], row,
+                    &page[((static_cast<std::size_t>(s.control.y + i_u)) * width +
+                           static_cast<std::size_t>(s.control.x)) *
+                          4]);
+    }
+    std::size_t bytes = 0;
+    for (std::size_t p = 0; p < control_pages_.size(); ++p)
+      bytes += control_pages_[p].upload(GL_RGBA, GL_FLOAT, texels[p].data(), sizeof(float) * 4);
+    return bytes;
+  }
+
+  // The sample-dependent part of every surface on the device: parameter chunks of both directions
+  // in one basis atlas, and the tiles' targets as rectangles of the sum atlas pages.
+  void make_grids() {
+    std::vector<gl_pingpong::ChunkInputs> chunks;
+    const std::size_t step = static_cast<std::size_t>(tile_);
+    auto cut = [&](const std::vector<double>& parameters, int degree, int count,
+                   const std::vector<float>& knots, std::vector<std::size_t>& indices,
+                   std::vector<std::size_t>& begins) {
+      indices.clear();
+      begins.clear();
+      for (std::size_t begin = 0; begin < parameters.size(); begin += step) {
+        const std::size_t end = std::min(parameters.size(), begin + step);
+        indices.push_back(chunks.size());
+        begins.push_back(begin);
+        chunks.push_back(
+            gl_pingpong::make_chunk_inputs(parameters, begin, end, degree, count, knots, packed_));
       }
-    tile_count_ += s.tiles.size();
+    };
+    // Sum pages one tile wide where the tiles are alike: tiles stack in surface order, so surfaces
+    // whose grid is one tile lie back to back in SurfaceSamples order and a read-back takes a
+    // page's run of them in one rectangle; a row is as long as a tile's, as in a texture of its
+    // own. Pages stop at kSumPageTexels: a few textures for many small tiles, not one per tile.
+    int widest = 1, tallest = 1;
+    for (const SurfaceSamples& samples : samples_) {
+      widest = std::max(widest, static_cast<int>(std::min(samples.v.size(), step)));
+      tallest = std::max(tallest, static_cast<int>(std::min(samples.u.size(), step)));
+    }
+    ShelfPacker packer(widest, std::min(tile_, std::max(tallest, kSumPageTexels / widest)));
+    tile_count_ = 0;
+    for (std::size_t i = 0; i < surfaces_.size(); ++i) {
+      SurfaceOnGpu& s = surfaces_[i];
+      cut(samples_[i].u, s.degree_u, s.count_u, s.knots_u, s.u_chunks, s.u_begin);
+      cut(samples_[i].v, s.degree_v, s.count_v, s.knots_v, s.v_chunks, s.v_begin);
+      s.tiles.clear();
+      for (std::size_t cu = 0; cu < s.u_chunks.size(); ++cu)
+        for (std::size_t cv = 0; cv < s.v_chunks.size(); ++cv) {
+          Tile t;
+          t.cu = static_cast<int>(cu);
+          t.cv = static_cast<int>(cv);
+          t.height = chunks[s.u_chunks[cu]].count;
+          t.width = chunks[s.v_chunks[cv]].count;
+          t.place = packer.place(t.width, t.height);
+          s.tiles.push_back(t);
+        }
+      tile_count_ += s.tiles.size();
+    }
+    basis_ = BasisAtlas(*context_, chunks, packed_, tile_, bytes_uploaded_);
+    sum_pages_.clear();
+    for (const auto& [width, height] : packer.pages()) {
+      SumPage page;
+      for (gl::Texture& sum : page.sum)
+        sum = gl::Texture(*context_, GL_RGBA32F, width, height, true);
+      sum_pages_.push_back(std::move(page));
+    }
+  }
+
+  // 000 §3.1 steps 2 and 3 for every surface, in surface order as the paper draws one surface.
+  void evaluate_surfaces() {
+    const gl::Functions& gl = context_->gl();
+    // tex1 starts at zero: one clear of each page, whose tiles each read only their own rectangle.
+    gl.ClearColor(0, 0, 0, 0);
+    for (const SumPage& page : sum_pages_) {
+      page.sum[0].bind_target();
+      gl.Clear(GL_COLOR_BUFFER_BIT);
+    }
+    for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
   }
 
   void evaluate_surface(SurfaceOnGpu& s) {
     const gl::Functions& gl = context_->gl();
     // 000 §3.1 step 2: k-1 passes per direction (and per chunk of a tiled direction).
     const gl::DrawCounts before = context_->draw_counts();
-    for (BasisChunk& c : s.u_chunks) c.raise(programs_->basis, s.degree_u);
-    for (BasisChunk& c : s.v_chunks) c.raise(programs_->basis, s.degree_v);
+    for (std::size_t c : s.u_chunks) basis_.raise(programs_->basis, c, s.degree_u);
+    for (std::size_t c : s.v_chunks) basis_.raise(programs_->basis, c, s.degree_v);
     basis_passes_ += (context_->draw_counts() - before).passes;
     // Step 3: k_u x k_v accumulation passes per tile, then the divide.
+    const gl::Texture& control = control_pages_[static_cast<std::size_t>(s.control.page)];
     for (Tile& t : s.tiles) {
-      const BasisChunk& u = s.u_chunks[static_cast<std::size_t>(t.cu)];
-      const BasisChunk& v = s.v_chunks[static_cast<std::size_t>(t.cv)];
-      t.sum[0].bind_target();  // tex1 starts at zero
-      gl.ClearColor(0, 0, 0, 0);
-      gl.Clear(GL_COLOR_BUFFER_BIT);
+      const std::size_t u = s.u_chunks[static_cast<std::size_t>(t.cu)];
+      const std::size_t v = s.v_chunks[static_cast<std::size_t>(t.cv)];
+      const SumPage& page = sum_pages_[static_cast<std::size_t>(t.place.page)];
       gl.UseProgram(programs_->accumulate.id());
-      s.control.bind_to_unit(1);
-      u.result().bind_to_unit(2);
-      v.result().bind_to_unit(3);
-      u.first_index().bind_to_unit(4);
-      v.first_index().bind_to_unit(5);
+      control.bind_to_unit(1);
+      basis_.result(u).bind_to_unit(2);
+      basis_.result(v).bind_to_unit(3);
+      basis_.first_index().bind_to_unit(4);
+      basis_.first_index().bind_to_unit(5);
+      gl.Uniform2i(programs_->origin, t.place.x, t.place.y);
+      gl.Uniform2i(programs_->control_origin, s.control.x, s.control.y);
+      const std::array<int, 4> place_u = basis_.place(u), place_v = basis_.place(v);
+      gl.Uniform4i(programs_->place_u, place_u[0], place_u[1], place_u[2], place_u[3]);
+      gl.Uniform4i(programs_->place_v, place_v[0], place_v[1], place_v[2], place_v[3]);
       int current = 0;
       for (int a = 0; a <= s.degree_u; ++a)
         for (int b = 0; b <= s.degree_v; ++b) {
-          t.sum[1 - current].bind_target();
-          t.sum[current].bind_to_unit(0);
+          page.sum[1 - current].bind_target();
+          gl.Viewport(t.place.x, t.place.y, t.width, t.height);
+          page.sum[current].bind_to_unit(0);
           gl.Uniform1i(programs_->accumulate_a, a);
           gl.Uniform1i(programs_->accumulate_b, b);
           programs_->draw();
           current = 1 - current;
         }
       gl.UseProgram(programs_->divide.id());
-      t.sum[1 - current].bind_target();
-      t.sum[current].bind_to_unit(0);
+      page.sum[1 - current].bind_target();
+      gl.Viewport(t.place.x, t.place.y, t.width, t.height);
+      page.sum[current].bind_to_unit(0);
       programs_->draw();
       t.result = 1 - current;
     }
@@ -423,11 +610,19 @@ class GlPingPong final : public Strategy {
     int nu = 0, nv = 0;
   };
   std::vector<DeviceCopy> copies_;
+  gl::PixelBuffer results_;   // read-backs land here; grown, never shrunk
+  EvalResult render_points_;  // render_via_read_back's points, storage kept for the next
   std::array<float, 16> view_{};
   int tile_ = 0;
   std::vector<SurfaceSamples> samples_;
   std::vector<SurfaceOnGpu> surfaces_;
-  double device_evaluate_s_ = 0;
+  // One upload per kind of data for all surfaces (many-4096 took a texture and its upload per
+  // surface and per kind: ~100 us a surface on llvmpipe, ~500 on an H200's driver).
+  std::vector<gl::Texture> control_pages_;
+  BasisAtlas basis_;
+  std::vector<SumPage> sum_pages_;
+  double device_evaluate_s_ = 0, last_copy_s_ = 0;
+  std::optional<double> device_upload_s_, device_read_back_s_;
   std::size_t bytes_uploaded_ = 0, bytes_updated_ = 0, tile_count_ = 0;
   std::uint64_t passes_ = 0, basis_passes_ = 0;  // of the last evaluate()
 };

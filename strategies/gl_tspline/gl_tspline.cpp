@@ -12,6 +12,7 @@
 #include "strategies/gl_context/gl_context.h"
 #include "strategies/gl_context/gl_program.h"
 #include "strategies/gl_tspline/region_tables.h"
+#include "strategies/host_results.h"
 #include "strategies/strategy_options.h"
 
 namespace nurbs::embedded {
@@ -113,6 +114,7 @@ class GlTSpline final : public Strategy {
     }
     timer_ = std::make_unique<gl::DeviceTimer>(*context_);
     triangle_ = std::make_unique<gl::FullscreenTriangle>(*context_);
+    results_ = gl::PixelBuffer(*context_, GL_STREAM_READ);
   }
 
   ~GlTSpline() override {
@@ -120,6 +122,7 @@ class GlTSpline final : public Strategy {
     surfaces_.clear();
     programs_.clear();
     triangle_.reset();
+    results_ = gl::PixelBuffer();
   }
 
   std::string_view name() const override { return kName; }
@@ -144,10 +147,10 @@ class GlTSpline final : public Strategy {
     bytes_uploaded_ = 0;
     accumulation_passes_ = regions_ = draws_ = 0;
     max_active_ = 0;
-    for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
-      surfaces_.push_back(upload_surface(scene.surfaces[i], samples_[i]));
-    context_->finish("gl-tspline upload");
-    context_->check("gl-tspline upload");
+    device_upload_s_ = timer_->time("gl-tspline upload", [&] {
+      for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
+        surfaces_.push_back(upload_surface(scene.surfaces[i], samples_[i]));
+    });
   }
 
   // `passes` is what the context counted: render targets the last evaluate() drew into.
@@ -159,7 +162,13 @@ class GlTSpline final : public Strategy {
     draws_ = static_cast<std::size_t>((context_->draw_counts() - before).passes);
   }
 
-  DeviceTimes device_times() const override { return {device_evaluate_s_}; }
+  DeviceTimes device_times() const override {
+    DeviceTimes t;
+    t.evaluate_s = device_evaluate_s_;
+    t.upload_s = device_upload_s_;
+    t.read_back_s = device_read_back_s_;
+    return t;
+  }
 
   // Moved points (same T-splines otherwise: knots, weights' count, samples): the region tables,
   // knots and sample textures of prepare() stay; only the homogeneous points are re-uploaded.
@@ -168,44 +177,74 @@ class GlTSpline final : public Strategy {
       throw std::invalid_argument(
           fmt::format("{}: update_control_points with {} surfaces, prepared with {}", kName,
                       scene.surfaces.size(), surfaces_.size()));
-    context_->make_current();
     for (std::size_t i = 0; i < surfaces_.size(); ++i) {
       const Surface& surface = scene.surfaces[i];
       if (!surface.is_tspline() || surface.tspline->count() != surfaces_[i].control_points)
         throw std::invalid_argument(
             fmt::format("{}: update_control_points: surface '{}' is not the prepared T-spline",
                         kName, surface.name));
-      const std::vector<float> points = gl_tspline::homogeneous_points(*surface.tspline);
-      surfaces_[i].points.upload(GL_RGBA, GL_FLOAT, points.data(), sizeof(float) * 4);
     }
-    context_->finish("gl-tspline update");
-    context_->check("gl-tspline update");
+    device_upload_s_ = timer_->time("gl-tspline update", [&] {
+      for (std::size_t i = 0; i < surfaces_.size(); ++i) {
+        const std::vector<float> points =
+            gl_tspline::homogeneous_points(*scene.surfaces[i].tspline);
+        surfaces_[i].points.upload(GL_RGBA, GL_FLOAT, points.data(), sizeof(float) * 4);
+      }
+    });
   }
 
   EvalResult read_back() override {
-    context_->make_current();
     EvalResult out;
-    out.surfaces.resize(surfaces_.size());
-    for (std::size_t i = 0; i < surfaces_.size(); ++i) {
-      SurfaceResult& r = out.surfaces[i];
-      r.samples = samples_[i];
-      r.positions = read_points(surfaces_[i], 0);
-      if (normals_) r.normals = read_points(surfaces_[i], 1);
-    }
-    context_->check("gl-tspline read-back");
+    read_back_into(out);
     return out;
   }
 
+  // Output texel k is sample k (make_sample_table's layout): a surface's positions are its whole
+  // rows and the start of one more, read as x y z (GL_RGB: the driver drops w) into one
+  // pixel-pack buffer, every surface back to back, the normals after all the positions; the buffer
+  // is mapped once and copied into the results.
+  void read_back_into(EvalResult& out) override {
+    context_->make_current();
+    std::size_t points = 0;
+    for (const SurfaceOnGpu& s : surfaces_) points += s.count;
+    const std::size_t block = points * 3 * sizeof(float);
+    const std::size_t bytes = block * (normals_ ? 2 : 1);
+    if (bytes == 0) {
+      shape_results(out, samples_, Precision::f32, normals_);
+      return;
+    }
+    results_.reserve(bytes);
+    device_read_back_s_ = timer_->time("gl-tspline read-back", [&] {
+      std::size_t first = 0;  // the surface's first point in the block
+      for (const SurfaceOnGpu& s : surfaces_) {
+        for (int target = 0; target < (normals_ ? 2 : 1); ++target)
+          read_rows(s, target,
+                    static_cast<std::size_t>(target) * block + first * 3 * sizeof(float));
+        first += s.count;
+      }
+    });
+    gl::PixelBuffer::Mapping mapped = results_.map_read(bytes, "gl-tspline read-back");
+    const float* xyz = static_cast<const float*>(mapped.data());
+    scatter_points(out, samples_, xyz, normals_ ? xyz + 3 * points : nullptr);
+    mapped.release();
+    context_->check("gl-tspline read-back");
+  }
+
  private:
-  // Texel k of the output is sample k (make_sample_table's layout; glReadPixels returns rows
-  // bottom up, as gl_FragCoord counts them).
-  static PointArray read_points(const SurfaceOnGpu& s, int target) {
-    const std::vector<float> texels = s.output.read_rgba(target);
-    PointArray points(Precision::f32, s.count);
-    float* xyz = points.f32();
-    for (std::size_t k = 0; k < s.count; ++k)
-      for (int c = 0; c < 3; ++c) xyz[k * 3 + c] = texels[k * 4 + c];
-    return points;
+  // Samples [0, count) of render target `target` into the results buffer from byte `offset`
+  // (glReadPixels returns rows bottom up, as gl_FragCoord counts them).
+  void read_rows(const SurfaceOnGpu& s, int target, std::size_t offset) {
+    if (s.count == 0) return;
+    s.output.bind_target();
+    context_->gl().ReadBuffer(static_cast<GLenum>(GL_COLOR_ATTACHMENT0 + target));
+    const std::size_t width = static_cast<std::size_t>(s.output.texture(0).width());
+    const std::size_t rows = s.count / width, rest = s.count % width;
+    if (rows > 0)
+      results_.read_pixels(offset, 0, 0, static_cast<GLsizei>(width), static_cast<GLsizei>(rows),
+                           GL_RGB);
+    if (rest > 0)
+      results_.read_pixels(offset + rows * width * 3 * sizeof(float), 0, static_cast<GLint>(rows),
+                           static_cast<GLsizei>(rest), 1, GL_RGB);
   }
 
   const PassPrograms& programs(int degree_u, int degree_v) {
@@ -312,7 +351,9 @@ class GlTSpline final : public Strategy {
   std::map<std::tuple<int, int, bool>, std::unique_ptr<PassPrograms>> programs_;
   std::vector<SurfaceSamples> samples_;
   std::vector<SurfaceOnGpu> surfaces_;
+  gl::PixelBuffer results_;  // read-backs land here; grown, never shrunk
   double device_evaluate_s_ = 0;
+  std::optional<double> device_upload_s_, device_read_back_s_;
   std::size_t bytes_uploaded_ = 0, accumulation_passes_ = 0, regions_ = 0, draws_ = 0;
   int max_active_ = 0;
 };

@@ -2,8 +2,9 @@
 // 002 §3.3.2-3.3.3: one fragment per output texel, drawn by a quad (viewport) that covers exactly
 // the samples of one non-empty knot span; span and its 2p knots are uniforms, so no span search.
 // direction 0 (pass 1): texel (a, row0 + j) = C_j(u_a), the control row j as a curve in u.
-// direction 1 (pass 2): texel (a, out0 + b) = S(u_a, v_b), the pass-1 column a as a curve in v,
-// divided by w. db_de_boor is the single-source strategies/glsl_deboor/de_boor_source.h, which the
+// direction 1 (pass 2): texel (b, out0 + a) = S(u_a, v_b), the pass-1 column a as a curve in v,
+// divided by w. The output is laid out v along x so that its rows are runs of samples in the
+// order the results want (a * nv + b): the read-back takes rows as they lie. db_de_boor is the single-source strategies/glsl_deboor/de_boor_source.h, which the
 // host puts after the defines.
 // INSTANCED (deboor-draw=instanced): the quads of a pass are one instanced draw (span_quad.vert)
 // and the per-span values come from the instance tables instead of uniforms: the same values, so
@@ -43,12 +44,13 @@ void main() {
     knots[t] = texelFetch(span_knots, first_knot + ivec2(t, 0), 0).r;
 #endif
   ivec2 at = ivec2(gl_FragCoord.xy);
-  int sample_index = direction == 0 ? at.x : at.y - output_row0;
-  float u = texelFetch(parameters, ivec2(sample_index, surface_row), 0).r;
+  // Both passes draw their own direction's samples along x: u in pass 1, v in pass 2.
+  float u = texelFetch(parameters, ivec2(at.x, surface_row), 0).r;
+  int curve = at.y - output_row0;  // pass 2: the u sample, i.e. the pass-1 column
   vec4 d[DEGREE + 1];
   for (int j = 0; j <= degree; ++j)
     d[j] = direction == 0 ? texelFetch(control, ivec2(span_first + j, at.y), 0)
-                          : texelFetch(control, ivec2(at.x, control_row0 + span_first + j), 0);
+                          : texelFetch(control, ivec2(curve, control_row0 + span_first + j), 0);
   vec4 p = db_de_boor(degree, knots, u, d);
   result = direction == 0 ? p : vec4(p.xyz / p.w, 1.0);
 }

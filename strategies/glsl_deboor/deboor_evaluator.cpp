@@ -8,6 +8,7 @@
 
 #include "reference/nurbs_math.h"
 #include "strategies/glsl_deboor/de_boor.h"
+#include "strategies/host_results.h"
 #include "strategies/strategy.h"
 
 namespace nurbs::embedded {
@@ -94,8 +95,8 @@ struct SpanQuad {
 };
 
 // Pass 1 (§3.3.2): each control row of the surface as a curve in u, the span's u samples x the
-// surface's count_v rows. Pass 2 (§3.3.3, Fig 6): the pass-1 texture as control points in v, all
-// u samples x the span's v samples.
+// surface's count_v rows. Pass 2 (§3.3.3, Fig 6): the pass-1 texture as control points in v, the
+// span's v samples x all u samples (the output is laid out v along x: see Page).
 SpanQuad span_quad(const SurfaceSlot& s, const SpanRun& run, int direction) {
   SpanQuad q;
   const int degree = degree_of(s, direction);
@@ -110,9 +111,10 @@ SpanQuad span_quad(const SurfaceSlot& s, const SpanRun& run, int direction) {
     q.width = run.count;
     q.height = s.count_v;
   } else {
-    q.y = s.output_row0 + run.first;
-    q.width = s.nu;
-    q.height = run.count;
+    q.x = run.first;
+    q.y = s.output_row0;
+    q.width = run.count;
+    q.height = s.nu;
   }
   return q;
 }
@@ -193,7 +195,11 @@ DeBoorProgram::DeBoorProgram(gl::Context& context, int degree, DrawMode draw)
 }
 
 Evaluator::Evaluator(gl::Context& context, int tile, DrawMode draw)
-    : context_(context), tile_(tile), draw_(draw) {
+    : context_(context),
+      tile_(tile),
+      draw_(draw),
+      results_(context, GL_STREAM_READ),
+      timer_(context) {
   context_.gl().GenVertexArrays(1, &vertex_array_);
 }
 
@@ -206,11 +212,13 @@ const DeBoorProgram& Evaluator::program(int degree) {
 Evaluator::~Evaluator() {
   context_.make_current();
   pages_.clear();
+  results_ = gl::PixelBuffer();
   context_.gl().DeleteVertexArrays(1, &vertex_array_);
 }
 
 std::size_t Evaluator::prepare(const Scene& scene, const std::vector<SurfaceSamples>& samples) {
   pages_.clear();
+  samples_ = samples;
   // Pack surfaces into pages: rows stack until a texture side would exceed the tile.
   std::vector<std::vector<SurfaceSlot>> packed(1);
   int control_rows = 0, output_rows = 0;
@@ -225,7 +233,7 @@ std::size_t Evaluator::prepare(const Scene& scene, const std::vector<SurfaceSamp
           "surface '{}': {}x{} control points, {}x{} samples; glsl-deboor keeps one surface in "
           "one texture, limited to {} per side (GL_MAX_TEXTURE_SIZE / viewport / tile option)",
           s.name, s.count_u, s.count_v, slot.nu, slot.nv, tile_));
-    if (control_rows + slot.count_v > tile_ || output_rows + slot.nv > tile_) {
+    if (control_rows + slot.count_v > tile_ || output_rows + slot.nu > tile_) {
       packed.emplace_back();
       control_rows = output_rows = 0;
     }
@@ -233,17 +241,18 @@ std::size_t Evaluator::prepare(const Scene& scene, const std::vector<SurfaceSamp
     slot.output_row0 = output_rows;
     slot.parameter_row = static_cast<int>(packed.back().size());
     control_rows += slot.count_v;
-    output_rows += slot.nv;
+    output_rows += slot.nu;
     packed.back().push_back(std::move(slot));
   }
   std::size_t bytes = 0;
   for (std::vector<SurfaceSlot>& slots : packed) {
-    int control_w = 1, control_h = 0, out_w = 1, out_h = 0;
+    int control_w = 1, control_h = 0, curve_w = 1, out_w = 1, out_h = 0;
     for (const SurfaceSlot& s : slots) {
       control_w = std::max(control_w, s.count_u);
-      out_w = std::max(out_w, s.nu);
+      out_w = std::max(out_w, s.nv);
+      curve_w = std::max(curve_w, s.nu);
       control_h = s.control_row0 + s.count_v;
-      out_h = s.output_row0 + s.nv;
+      out_h = s.output_row0 + s.nu;
     }
     std::vector<std::vector<double>> us, vs;
     for (const SurfaceSlot& slot : slots) {
@@ -253,7 +262,7 @@ std::size_t Evaluator::prepare(const Scene& scene, const std::vector<SurfaceSamp
     Page page;
     page.control = gl::Texture(context_, GL_RGBA32F, control_w, control_h, false);
     bytes += upload_control(scene, slots, page.control);
-    page.curves = gl::Texture(context_, GL_RGBA32F, out_w, control_h, true);
+    page.curves = gl::Texture(context_, GL_RGBA32F, curve_w, control_h, true);
     page.points = gl::Texture(context_, GL_RGBA32F, out_w, out_h, true);
     page.u_parameters = parameter_texture(context_, us, bytes);
     page.v_parameters = parameter_texture(context_, vs, bytes);
@@ -347,31 +356,56 @@ std::size_t Evaluator::draw_instanced(const Page& page, int direction) {
   return quads;
 }
 
-std::vector<std::vector<float>> Evaluator::read_back() {
-  const gl::Functions& gl = context_.gl();
-  std::size_t surfaces = 0;
-  for (const Page& page : pages_) surfaces += page.slots.size();
-  std::vector<std::vector<float>> out(surfaces);
-  std::vector<float> texels;
-  for (const Page& page : pages_) {
-    const gl::Texture& t = page.points;
-    texels.resize(static_cast<std::size_t>(t.width()) * t.height() * 4);
-    t.bind_target();
-    gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
-    gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    context_.read_pixels(0, 0, t.width(), t.height(), GL_RGBA, GL_FLOAT, texels.data());
-    for (const SurfaceSlot& s : page.slots) {
-      std::vector<float>& xyz = out[s.surface];
-      xyz.resize(static_cast<std::size_t>(s.nu) * s.nv * 3);
-      for (int a = 0; a < s.nu; ++a)
-        for (int b = 0; b < s.nv; ++b) {
-          const float* texel =
-              &texels[(static_cast<std::size_t>(s.output_row0 + b) * t.width() + a) * 4];
-          std::copy(texel, texel + 3, &xyz[(static_cast<std::size_t>(a) * s.nv + b) * 3]);
-        }
-    }
+void Evaluator::read_back_into(EvalResult& out) {
+  std::size_t points = 0;
+  std::vector<std::size_t> first(samples_.size());  // each surface's first point in the buffer
+  for (std::size_t i = 0; i < samples_.size(); ++i) {
+    first[i] = points;
+    points += samples_[i].count();
   }
+  const std::size_t bytes = points * 3 * sizeof(float);
+  if (bytes == 0) {
+    shape_results(out, samples_, Precision::f32, false);
+    return;
+  }
+  results_.reserve(bytes);
+  const gl::Functions& gl = context_.gl();
+  read_back_device_s_ = timer_.time("glsl-deboor read-back", [&] {
+    for (const Page& page : pages_) {
+      page.points.bind_target();
+      gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+      // Slots follow each other in rows and in scene order: a run of slots as wide as the page is
+      // one rectangle of whole rows, already in the buffer's order; a narrower slot is its own.
+      const int width = page.points.width();
+      for (std::size_t k = 0; k < page.slots.size();) {
+        const SurfaceSlot& s = page.slots[k];
+        std::size_t end = k + 1;
+        int rows = s.nu;
+        if (s.nv == width)
+          for (; end < page.slots.size() && page.slots[end].nv == width; ++end)
+            rows += page.slots[end].nu;
+        if (s.nv > 0 && rows > 0)
+          results_.read_pixels(first[s.surface] * 3 * sizeof(float), 0, s.output_row0, s.nv, rows,
+                               GL_RGB);
+        k = end;
+      }
+    }
+  });
+  gl::PixelBuffer::Mapping mapped = results_.map_read(bytes, "glsl-deboor read-back");
+  scatter_points(out, samples_, static_cast<const float*>(mapped.data()),
+                 static_cast<const float*>(nullptr));
+  mapped.release();
   context_.check("glsl-deboor read-back");
+}
+
+std::vector<std::vector<float>> Evaluator::read_back() {
+  EvalResult result;
+  read_back_into(result);
+  std::vector<std::vector<float>> out(result.surfaces.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const PointArray& p = result.surfaces[i].positions;
+    out[i].assign(p.f32(), p.f32() + 3 * p.size());
+  }
   return out;
 }
 

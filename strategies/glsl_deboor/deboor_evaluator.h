@@ -11,6 +11,7 @@
 #include "reference/surface.h"
 #include "strategies/gl_context/gl_program.h"
 #include "strategies/glsl_deboor/span_runs.h"
+#include "strategies/strategy.h"
 
 namespace nurbs::glsl_deboor {
 
@@ -22,7 +23,7 @@ struct SurfaceSlot {
   std::vector<SpanRun> runs_u, runs_v;
   int nu = 0, nv = 0;     // samples per direction
   int control_row0 = 0;   // rows [control_row0, + count_v) of the control and curve atlases
-  int output_row0 = 0;    // rows [output_row0, + nv) of the output atlas
+  int output_row0 = 0;    // rows [output_row0, + nu) of the output atlas
   int parameter_row = 0;  // row of the parameter textures
 };
 
@@ -40,12 +41,14 @@ struct SpanBatch {
   gl::Texture knots;  // R32F: the 2p knots of each
 };
 
-// Surfaces sharing one set of textures. Output texel (a, output_row0 + b) = S(u_a, v_b), w = 1.
+// Surfaces sharing one set of textures. Output texel (b, output_row0 + a) = S(u_a, v_b), w = 1:
+// a row of the output is a run of samples in SurfaceSamples order (a * nv + b), so a read-back
+// takes whole rows as they lie and its host side is one copy (Evaluator::read_back_into).
 struct Page {
   std::vector<SurfaceSlot> slots;
   gl::Texture control;                          // count_u x count_v per surface, homogeneous
   gl::Texture curves;                           // nu x count_v per surface: pass 1
-  gl::Texture points;                           // nu x nv per surface: pass 2
+  gl::Texture points;                           // nv x nu per surface: pass 2
   gl::Texture u_parameters, v_parameters;       // R32F, one row per surface
   std::vector<SpanBatch> batches_u, batches_v;  // DrawMode::instanced: pass 1, pass 2
 };
@@ -81,6 +84,12 @@ class Evaluator {
   std::size_t evaluate();
   // Positions, (x, y, z) per sample, in each surface's sample order (a * nv + b).
   std::vector<std::vector<float>> read_back();
+  // The positions into `out` (Strategy::read_back_into, reusing its storage): every surface's
+  // rows read as x y z (GL_RGB) into one pixel-pack buffer, back to back in scene order, which is
+  // mapped once and copied into the results. Trim masks are left empty.
+  void read_back_into(EvalResult& out);
+  // GL_TIME_ELAPSED of the last read_back_into's copies into the pixel-pack buffer.
+  double read_back_device_s() const { return read_back_device_s_; }
 
   const std::vector<Page>& pages() const { return pages_; }
 
@@ -96,6 +105,10 @@ class Evaluator {
   std::map<int, std::unique_ptr<DeBoorProgram>> programs_;
   GLuint vertex_array_ = 0;
   std::vector<Page> pages_;
+  std::vector<SurfaceSamples> samples_;  // of the last prepare()
+  gl::PixelBuffer results_;              // read-backs land here; grown, never shrunk
+  gl::DeviceTimer timer_;
+  double read_back_device_s_ = 0;
 };
 
 }  // namespace nurbs::glsl_deboor

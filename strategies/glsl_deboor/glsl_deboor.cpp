@@ -83,17 +83,18 @@ class GlslDeBoor final : public Strategy {
     evaluated_ = {};
     evaluated_quads_ = 0;
     bytes_updated_ = 0;
-    bytes_uploaded_ = evaluator_->prepare(scene, samples_);
-    trims_->prepare(scene, samples_);
-    context_->finish("glsl-deboor upload");
+    device_upload_s_ = timer_->time("glsl-deboor upload", [&] {
+      bytes_uploaded_ = evaluator_->prepare(scene, samples_);
+      trims_->prepare(scene, samples_);
+    });
   }
 
   // The trim textures stay: a deforming scene moves points, never trims or samples.
   void update_control_points(const Scene& scene) override {
-    context_->make_current();
-    bytes_updated_ = evaluator_->update_control_points(scene);
+    device_upload_s_ = timer_->time("glsl-deboor control point update", [&] {
+      bytes_updated_ = evaluator_->update_control_points(scene);
+    });
     view_ = gl::orthographic_view(scene);  // as prepare() would frame the moved scene
-    context_->finish("glsl-deboor control point update");
   }
 
   void evaluate() override {
@@ -103,7 +104,13 @@ class GlslDeBoor final : public Strategy {
     evaluated_ = context_->draw_counts() - before;
   }
 
-  DeviceTimes device_times() const override { return {device_evaluate_s_}; }
+  DeviceTimes device_times() const override {
+    DeviceTimes t;
+    t.evaluate_s = device_evaluate_s_;
+    t.upload_s = device_upload_s_;
+    t.read_back_s = device_read_back_s_;
+    return t;
+  }
 
   bool render() override {
     context_->make_current();
@@ -128,18 +135,17 @@ class GlslDeBoor final : public Strategy {
   }
 
   EvalResult read_back() override {
-    context_->make_current();
-    std::vector<std::vector<float>> xyz = evaluator_->read_back();
     EvalResult out;
-    out.surfaces.resize(samples_.size());
-    for (std::size_t i = 0; i < samples_.size(); ++i) {
-      SurfaceResult& r = out.surfaces[i];
-      r.samples = samples_[i];
-      r.positions = PointArray(Precision::f32, samples_[i].count());
-      std::copy(xyz[i].begin(), xyz[i].end(), r.positions.f32());
-      r.inside = trims_->read_mask(i);
-    }
+    read_back_into(out);
     return out;
+  }
+
+  void read_back_into(EvalResult& out) override {
+    context_->make_current();
+    evaluator_->read_back_into(out);
+    device_read_back_s_ = evaluator_->read_back_device_s();
+    for (std::size_t i = 0; i < out.surfaces.size(); ++i)
+      out.surfaces[i].inside = trims_->read_mask(i);
   }
 
  private:
@@ -159,6 +165,7 @@ class GlslDeBoor final : public Strategy {
   int tile_ = 0;
   std::vector<SurfaceSamples> samples_;
   double device_evaluate_s_ = 0;
+  std::optional<double> device_upload_s_, device_read_back_s_;
   std::size_t bytes_uploaded_ = 0, bytes_updated_ = 0;
   glsl_deboor::DrawMode draw_;
   gl::DrawCounts evaluated_;  // by the last evaluate()

@@ -25,14 +25,16 @@ HaarLod::HaarLod(gl::Context& context, const Page& page, const SurfaceSlot& slot
     if (k < levels && (w % 2 != 0 || h % 2 != 0))
       throw RefusedError(fmt::format("Haar level {} of a {}x{} grid: sizes must be even", k + 1,
                                      slot.nu, slot.nv));
+    // Laid out as the de Boor output is (v along x, see Page): the row step halves v, the column
+    // step u; the 2x2 averages are the same either way round.
     Level l;
     l.width = w;
     l.height = h;
-    l.points = gl::Texture(context, GL_RGBA32F, w, h, true);
+    l.points = gl::Texture(context, GL_RGBA32F, h, w, true);
     if (k < levels) {
-      l.half = gl::Texture(context, GL_RGBA32F, w / 2, h, true);
-      l.d_rows = gl::Texture(context, GL_RGBA32F, w / 2, h, false);
-      l.d_columns = gl::Texture(context, GL_RGBA32F, w / 2, h / 2, false);
+      l.half = gl::Texture(context, GL_RGBA32F, h / 2, w, true);
+      l.d_rows = gl::Texture(context, GL_RGBA32F, h / 2, w, false);
+      l.d_columns = gl::Texture(context, GL_RGBA32F, h / 2, w / 2, false);
     }
     levels_.push_back(std::move(l));
     w /= 2;
@@ -84,7 +86,7 @@ void HaarLod::forward(int k) {
   gl.BindVertexArray(vertex_array_);
   // Row step: level k -> (half, d_rows).
   context_.bind_framebuffer(l.row_targets);
-  gl.Viewport(0, 0, l.width / 2, l.height);
+  gl.Viewport(0, 0, l.height / 2, l.width);
   if (k == 0) {
     page_.points.bind_to_unit(0);
     gl.Uniform2i(forward_.uniform("origin"), 0, slot_.output_row0);
@@ -96,7 +98,7 @@ void HaarLod::forward(int k) {
   context_.draw_arrays(GL_TRIANGLES, 0, 3);
   // Column step: half -> (level k+1, d_columns).
   context_.bind_framebuffer(l.column_targets);
-  gl.Viewport(0, 0, l.width / 2, l.height / 2);
+  gl.Viewport(0, 0, l.height / 2, l.width / 2);
   l.half.bind_to_unit(0);
   gl.Uniform2i(forward_.uniform("origin"), 0, 0);
   gl.Uniform1i(forward_.uniform("direction"), 1);
@@ -121,27 +123,22 @@ void HaarLod::inverse(int k) {
 }
 
 gl::GridPoints HaarLod::grid(int k) const {
-  // Sample (a, b) of level 0 is output texel (a, output_row0 + b) (as forward(0) reads it); the
-  // levels' own textures hold sample (a, b) at texel (a, b).
-  if (k == 0) return {&page_.points, slot_.nu, slot_.nv, 0, slot_.output_row0, true};
+  // Sample (a, b) of level 0 is output texel (b, output_row0 + a) (as forward(0) reads it); the
+  // levels' own textures hold sample (a, b) at texel (b, a).
+  if (k == 0) return {&page_.points, slot_.nu, slot_.nv, 0, slot_.output_row0, false};
   const Level& l = levels_[static_cast<std::size_t>(k)];
-  return {&l.points, l.width, l.height, 0, 0, true};
+  return {&l.points, l.width, l.height, 0, 0, false};
 }
 
 std::vector<float> HaarLod::read(int k) const {
   const gl::Functions& gl = context_.gl();
   const Level& l = levels_[static_cast<std::size_t>(k)];
-  std::vector<float> texels(static_cast<std::size_t>(l.width) * l.height * 4);
+  // Rows of the texture are runs of b: read as x y z, they are the result's order.
+  std::vector<float> xyz(static_cast<std::size_t>(l.width) * l.height * 3);
   l.points.bind_target();
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
   gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-  context_.read_pixels(0, 0, l.width, l.height, GL_RGBA, GL_FLOAT, texels.data());
-  std::vector<float> xyz(static_cast<std::size_t>(l.width) * l.height * 3);
-  for (int a = 0; a < l.width; ++a)
-    for (int b = 0; b < l.height; ++b)
-      for (int c = 0; c < 3; ++c)
-        xyz[(static_cast<std::size_t>(a) * l.height + b) * 3 + c] =
-            texels[(static_cast<std::size_t>(b) * l.width + a) * 4 + c];
+  context_.read_pixels(0, 0, l.height, l.width, GL_RGB, GL_FLOAT, xyz.data());
   return xyz;
 }
 

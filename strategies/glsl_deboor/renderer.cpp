@@ -17,8 +17,8 @@ void Renderer::draw_without_read_back(const Evaluator& evaluator, const float mv
   for (const Page& page : evaluator.pages())
     for (const SurfaceSlot& s : page.slots) {
       const auto trim = trim_of(trims, s.surface);
-      // Sample (a, b) is output texel (a, output_row0 + b).
-      grid_.draw(gl::GridPoints{&page.points, s.nu, s.nv, 0, s.output_row0, true}, mvp,
+      // Sample (a, b) is output texel (b, output_row0 + a).
+      grid_.draw(gl::GridPoints{&page.points, s.nu, s.nv, 0, s.output_row0, false}, mvp,
                  trim ? &*trim : nullptr);
     }
   grid_.end_frame("glsl-deboor render (vertex texture fetch)");
@@ -26,12 +26,13 @@ void Renderer::draw_without_read_back(const Evaluator& evaluator, const float mv
 
 void Renderer::draw_with_read_back(Evaluator& evaluator, const float mvp[16],
                                    const trim_texture::TrimTextures* trims) {
-  const std::vector<std::vector<float>> xyz = evaluator.read_back();
+  evaluator.read_back_into(read_back_);
   grid_.begin_frame();
   for (const Page& page : evaluator.pages())
     for (const SurfaceSlot& s : page.slots) {
       const auto trim = trim_of(trims, s.surface);
-      grid_.draw(xyz[s.surface].data(), s.nu, s.nv, mvp, trim ? &*trim : nullptr);
+      grid_.draw(read_back_.surfaces[s.surface].positions.f32(), s.nu, s.nv, mvp,
+                 trim ? &*trim : nullptr);
     }
   grid_.end_frame("glsl-deboor render (read back, vertex buffer)");
 }

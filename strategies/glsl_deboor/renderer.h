@@ -29,6 +29,7 @@ class Renderer {
 
  private:
   gl::GridRenderer grid_;
+  EvalResult read_back_;  // the last draw_with_read_back's points, storage kept for the next
 };
 
 }  // namespace nurbs::glsl_deboor

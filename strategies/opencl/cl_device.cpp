@@ -1,10 +1,8 @@
 #include "strategies/opencl/cl_device.h"
 
-#include <condition_variable>
-#include <memory>
-#include <mutex>
+#include <chrono>
 #include <stdexcept>
-#include <type_traits>
+#include <thread>
 
 #include "strategies/device_wait.h"
 #include "strategies/gpu_devices.h"
@@ -208,34 +206,32 @@ void wait(cl_event event, const char* what) {
   check(clGetEventInfo(event, CL_EVENT_COMMAND_QUEUE, sizeof queue, &queue, nullptr),
         "clGetEventInfo");
   check(clFlush(queue), "clFlush");
-  // A completion callback and a timed condition wait, not polling: no latency is added to the
-  // timed phases. The callback may run after a timeout, so it owns a share of the state.
-  struct Waiter {
-    std::mutex mutex;
-    std::condition_variable done_cv;
-    bool done = false;
-    cl_int status = CL_COMPLETE;
-  };
-  auto waiter = std::make_shared<Waiter>();
-  auto* share = new std::shared_ptr<Waiter>(waiter);
-  const cl_int set = clSetEventCallback(
-      event, CL_COMPLETE,
-      [](cl_event, cl_int status, void* data) {
-        std::unique_ptr<std::shared_ptr<Waiter>> mine(static_cast<std::shared_ptr<Waiter>*>(data));
-        {
-          const std::lock_guard lock((*mine)->mutex);
-          (*mine)->done = true;
-          (*mine)->status = status;
-        }
-        (*mine)->done_cv.notify_all();
-      },
-      share);
-  if (set != CL_SUCCESS) delete share;
-  check(set, "clSetEventCallback");
-  std::unique_lock lock(waiter->mutex);
-  if (!waiter->done_cv.wait_until(lock, device_wait_deadline(), [&] { return waiter->done; }))
-    throw device_timeout(what);
-  if (waiter->status != CL_COMPLETE) check(waiter->status, what);
+  // Polling, not a completion callback and a condition variable: NVIDIA's driver fires
+  // clSetEventCallback's CL_COMPLETE callback late (measured on an H200: cl-stair at 1024²,
+  // 19.97 ms of wall clock around a kernel of 1.87 ms on the device's clock), and that latency
+  // landed in every timed phase. clWaitForEvents has no timeout, and the bound is a reliability
+  // rule (docs/design.md §Reliability rules), so the status is polled: yielding for the first
+  // kSpin (a GPU's short commands end within it, answered within microseconds), then sleeping
+  // kSleep between polls (the sleep's latency, tens of microseconds plus the timer slack, is then
+  // small against the command's own time, and a long kernel on PoCL does not lose a core to the
+  // waiting thread).
+  constexpr auto kSpin = std::chrono::microseconds(200);
+  constexpr auto kSleep = std::chrono::microseconds(20);
+  const auto start = std::chrono::steady_clock::now();
+  const auto deadline = device_wait_deadline();
+  for (;;) {
+    cl_int status = CL_QUEUED;
+    check(clGetEventInfo(event, CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, nullptr),
+          "clGetEventInfo (CL_EVENT_COMMAND_EXECUTION_STATUS)");
+    if (status == CL_COMPLETE) return;
+    if (status < 0) check(status, what);  // the command failed: its error code
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= deadline) throw device_timeout(what);
+    if (now - start < kSpin)
+      std::this_thread::yield();
+    else
+      std::this_thread::sleep_for(kSleep);
+  }
 }
 
 double event_seconds(cl_event event) {
@@ -247,26 +243,83 @@ double event_seconds(cl_event event) {
   return static_cast<double>(end - start) * 1e-9;
 }
 
+void Batch::release() {
+  for (cl_event e : events_)
+    if (e) clReleaseEvent(e);
+  events_.clear();
+}
+
+Batch::~Batch() {
+  if (!failed_ && !events_.empty()) {
+    try {
+      wait("commands pending at an error");
+    } catch (const std::exception&) {
+      // The error being unwound is the one to report.
+    }
+  }
+  release();
+}
+
+double Batch::wait(const char* what) {
+  // An enqueue that failed left its slot empty (and threw): only issued commands are waited for.
+  while (!events_.empty() && !events_.back()) events_.pop_back();
+  if (events_.empty()) return 0;
+  // In-order queue: the last command's completion means every earlier one has ended; each one's
+  // status still says whether it failed.
+  failed_ = true;
+  opencl::wait(events_.back(), what);
+  double seconds = 0;
+  for (cl_event e : events_) {
+    if (!e) continue;
+    cl_int status = CL_COMPLETE;
+    check(clGetEventInfo(e, CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, nullptr),
+          "clGetEventInfo (CL_EVENT_COMMAND_EXECUTION_STATUS)");
+    if (status != CL_COMPLETE) check(status < 0 ? status : CL_INVALID_EVENT, what);
+    seconds += event_seconds(e);
+  }
+  failed_ = false;
+  release();
+  return seconds;
+}
+
+void enqueue_write(Batch& batch, const Context& ctx, cl_mem mem, std::size_t offset,
+                   const void* host, std::size_t bytes, const char* what) {
+  if (bytes == 0) return;
+  check(clEnqueueWriteBuffer(ctx.queue(), mem, CL_FALSE, offset, bytes, host, 0, nullptr,
+                             batch.next()),
+        what);
+  batch.add_bytes(bytes);
+}
+
+void enqueue_read(Batch& batch, const Context& ctx, cl_mem mem, std::size_t offset, void* host,
+                  std::size_t bytes, const char* what) {
+  if (bytes == 0) return;
+  check(clEnqueueReadBuffer(ctx.queue(), mem, CL_FALSE, offset, bytes, host, 0, nullptr,
+                            batch.next()),
+        what);
+  batch.add_bytes(bytes);
+}
+
 double write(const Context& ctx, cl_mem mem, const void* host, std::size_t bytes,
              const char* what) {
-  if (bytes == 0) return 0;
-  cl_event done = nullptr;
-  check(clEnqueueWriteBuffer(ctx.queue(), mem, CL_FALSE, 0, bytes, host, 0, nullptr, &done), what);
-  // The event is released on every path, the wait's exceptions included.
-  const std::unique_ptr<std::remove_pointer_t<cl_event>, decltype(&clReleaseEvent)> owned(
-      done, clReleaseEvent);
-  wait(done, what);
-  return event_seconds(done);
+  Batch batch;
+  enqueue_write(batch, ctx, mem, 0, host, bytes, what);
+  return batch.wait(what);
 }
 
 double read(const Context& ctx, cl_mem mem, void* host, std::size_t bytes, const char* what) {
-  if (bytes == 0) return 0;
-  cl_event done = nullptr;
-  check(clEnqueueReadBuffer(ctx.queue(), mem, CL_FALSE, 0, bytes, host, 0, nullptr, &done), what);
-  const std::unique_ptr<std::remove_pointer_t<cl_event>, decltype(&clReleaseEvent)> owned(
-      done, clReleaseEvent);
-  wait(done, what);
-  return event_seconds(done);
+  Batch batch;
+  enqueue_read(batch, ctx, mem, 0, host, bytes, what);
+  return batch.wait(what);
+}
+
+void ensure_buffer(const Context& ctx, cl_mem* mem, std::size_t* capacity, cl_mem_flags flags,
+                   std::size_t bytes, const char* what) {
+  if (*mem && *capacity >= bytes) return;
+  cl_mem grown = ctx.buffer(flags, bytes, what);
+  if (*mem) clReleaseMemObject(*mem);
+  *mem = grown;
+  *capacity = bytes;
 }
 
 }  // namespace nurbs::opencl

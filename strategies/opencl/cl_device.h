@@ -61,27 +61,71 @@ class Context {
 
 // Flushes the event's queue and waits for the event at most device_wait_limit_s()
 // (strategies/device_wait.h): clWaitForEvents, clFinish and blocking transfers have no bound.
-// Throws DeviceTimeout naming `what` on expiry, std::runtime_error when the command failed.
+// Polls the event's status (cl_device.cpp says why not a completion callback). Throws
+// DeviceTimeout naming `what` on expiry, std::runtime_error when the command failed.
 void wait(cl_event event, const char* what);
 
 // Seconds between CL_PROFILING_COMMAND_START and _END of a finished event.
 double event_seconds(cl_event event);
 
-// `bytes` between the host and `mem` (offset 0), enqueued non-blocking and waited for with wait():
-// a blocking transfer has no bound. Return the transfer's seconds (0 when `bytes` is 0).
+// Commands enqueued back to back on the context's (in-order) queue and waited for once: a phase's
+// transfers (or launches) pay one completion wait, not one per buffer, and their profiled seconds
+// are summed. The host memory a command reads or writes must stay valid until wait() returns: a
+// batch destroyed unwaited (an exception between enqueue and wait) waits for its commands,
+// bounded and quietly, unless its own wait() failed (a device that timed out is not waited for
+// twice).
+class Batch {
+ public:
+  Batch() = default;
+  ~Batch();
+  Batch(const Batch&) = delete;
+  Batch& operator=(const Batch&) = delete;
+
+  // Where the next enqueue call stores its event.
+  cl_event* next() {
+    events_.push_back(nullptr);
+    return &events_.back();
+  }
+  // Waits for the last command (wait()), checks that every command completed, returns the sum of
+  // their profiled seconds (0 for an empty batch) and empties the batch.
+  double wait(const char* what);
+  // Bytes moved by the batch's transfers (write/read below), for the record.
+  std::size_t bytes() const { return bytes_; }
+  void add_bytes(std::size_t bytes) { bytes_ += bytes; }
+
+ private:
+  void release();
+  std::vector<cl_event> events_;
+  std::size_t bytes_ = 0;
+  bool failed_ = false;
+};
+
+// `bytes` between the host and `mem` (at `offset`), enqueued non-blocking into `batch` (nothing
+// for 0 bytes): a blocking transfer has no bound.
+void enqueue_write(Batch& batch, const Context& ctx, cl_mem mem, std::size_t offset,
+                   const void* host, std::size_t bytes, const char* what);
+void enqueue_read(Batch& batch, const Context& ctx, cl_mem mem, std::size_t offset, void* host,
+                  std::size_t bytes, const char* what);
+
+// One transfer, waited for: returns its seconds (0 when `bytes` is 0).
 double write(const Context& ctx, cl_mem mem, const void* host, std::size_t bytes, const char* what);
 double read(const Context& ctx, cl_mem mem, void* host, std::size_t bytes, const char* what);
 
-// A read-only buffer holding `data`; adds the transfer's seconds to `*seconds` when given.
+// A read-only buffer holding `data`, its write enqueued into `batch` (`data` must outlive the
+// batch's wait()).
 template <typename V>
-cl_mem upload(const Context& ctx, const std::vector<V>& data, const char* what,
-              double* seconds = nullptr) {
+cl_mem upload(const Context& ctx, const std::vector<V>& data, const char* what, Batch& batch) {
   const std::size_t bytes = data.size() * sizeof(V);
   cl_mem mem = ctx.buffer(CL_MEM_READ_ONLY, bytes, what);
-  const double s = write(ctx, mem, data.data(), bytes, what);
-  if (seconds) *seconds += s;
+  enqueue_write(batch, ctx, mem, 0, data.data(), bytes, what);
   return mem;
 }
+
+// `mem` kept at `bytes` or more (grown, never shrunk, contents not kept): output buffers a
+// strategy reuses across prepare() calls, so no call pays a fresh allocation's first touches.
+// `*capacity` is the size `mem` has.
+void ensure_buffer(const Context& ctx, cl_mem* mem, std::size_t* capacity, cl_mem_flags flags,
+                   std::size_t bytes, const char* what);
 
 // Reads StrategyOptions.extra["device"] (default kPreferGpu); throws on a non-number.
 int device_option(const StrategyOptions& options);

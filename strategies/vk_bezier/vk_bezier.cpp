@@ -99,6 +99,7 @@ class VkBezier final : public Strategy {
   DeviceInfo device() const override { return record_; }
 
   void prepare_checked(const Scene& scene, const EvalRequest& request) override {
+    const vulkan::UploadCount uploads(device_, record_);
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     surfaces_.clear();
@@ -180,12 +181,22 @@ class VkBezier final : public Strategy {
   }
 
   EvalResult read_back() override {
-    return {vk_ksquad::read_uniform_capture(samples_, positions_,
-                                            span_grid() ? &sample_params_ : nullptr,
-                                            request_.normals ? &normals_ : nullptr)};
+    EvalResult out;
+    read_back_into(out);
+    return out;
   }
 
-  DeviceTimes device_times() const override { return {evaluate_s_}; }
+  void read_back_into(EvalResult& out) override {
+    vk_ksquad::read_uniform_capture(out, samples_, positions_,
+                                    span_grid() ? &sample_params_ : nullptr,
+                                    request_.normals ? &normals_ : nullptr);
+  }
+
+  DeviceTimes device_times() const override {
+    DeviceTimes t;
+    t.evaluate_s = evaluate_s_;
+    return t;
+  }
 
  private:
   bool span_grid() const { return request_.sampling.mode == SamplingMode::span_grid; }

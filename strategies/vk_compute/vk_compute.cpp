@@ -12,6 +12,7 @@
 #include <variant>
 
 #include "reference/nurbs_math.h"
+#include "strategies/host_results.h"
 #include "strategies/trim_direct/trim_tables.h"
 #include "strategies/vk_compute/layout.h"
 #include "strategies/vk_compute/tensor_basis.h"
@@ -265,6 +266,7 @@ class VkCompute final : public Strategy {
     if (request.precision == Precision::f64 && !device_.float64())
       throw RefusedError(
           fmt::format("vk-compute: f64 needs shaderFloat64, not supported by {}", record_.name));
+    const vulkan::UploadCount uploads(device_, record_);
     request_ = request;
     samples_ = sample_parameters(scene, request.sampling);
     classified_ = false;
@@ -326,6 +328,11 @@ class VkCompute final : public Strategy {
 
   EvalResult read_back() override {
     EvalResult out;
+    read_back_into(out);
+    return out;
+  }
+
+  void read_back_into(EvalResult& out) override {
     if (request_.precision == Precision::f32)
       read_all<float>(out);
     else
@@ -337,7 +344,6 @@ class VkCompute final : public Strategy {
       for (std::size_t i = 0; i < out.surfaces.size(); ++i)
         out.surfaces[i].inside = std::move(masks[i]);
     }
-    return out;
   }
 
   // Knots, degrees and samples stay; only the homogeneous nets are sent again.
@@ -348,7 +354,11 @@ class VkCompute final : public Strategy {
       update_nets<double>(scene);
   }
 
-  DeviceTimes device_times() const override { return {evaluate_s_}; }
+  DeviceTimes device_times() const override {
+    DeviceTimes t;
+    t.evaluate_s = evaluate_s_;
+    return t;
+  }
 
  private:
   Buffer storage(const void* data, std::size_t bytes, const char* what) {
@@ -403,51 +413,44 @@ class VkCompute final : public Strategy {
     for (std::size_t i = 0; i < host.size(); ++i) host[i] = SurfaceNet<T>(scene.surfaces[i]);
   }
 
-  template <typename T>
-  static T* data_of(PointArray& a) {
-    if constexpr (std::is_same_v<T, float>)
-      return a.f32();
-    else
-      return a.f64();
-  }
-
+  // Straight from where the device left the results (the mapping on lavapipe, the device's
+  // staging buffer on a GPU) into out's kept storage: one host copy of each byte.
   template <typename T>
   void read_all(EvalResult& out) {
     const std::size_t total = total_samples(samples_);
-    std::vector<T> positions(total * 3), normals(request_.normals ? total * 3 : 0);
-    if (evaluated_ && total > 0) {
-      positions_.read(positions.data(), positions.size() * sizeof(T));
-      if (request_.normals) normals_.read(normals.data(), normals.size() * sizeof(T));
+    const std::size_t bytes = total * 3 * sizeof(T);
+    if (!evaluated_ || total == 0) {
+      shape_results(out, samples_, request_.precision, request_.normals);
+      return;
     }
+    // One view at a time: the staging buffer holds one, so the positions are in place before the
+    // normals are viewed.
+    shape_results(out, samples_, request_.precision, request_.normals);
+    scatter_into(out, &SurfaceResult::positions,
+                 static_cast<const T*>(positions_.host_view(bytes)));
+    if (!request_.normals) return;
+    scatter_into(out, &SurfaceResult::normals, static_cast<const T*>(normals_.host_view(bytes)));
+    std::size_t base = 0;
     const auto& host = [this]() -> const std::vector<SurfaceNet<T>>& {
       if constexpr (std::is_same_v<T, float>)
         return host_nets32_;
       else
         return host_nets64_;
     }();
-    std::size_t base = 0;
-    out.surfaces.resize(samples_.size());
     for (std::size_t i = 0; i < samples_.size(); ++i) {
       SurfaceResult& r = out.surfaces[i];
       const SurfaceSamples& ss = samples_[i];
       const std::size_t n = ss.count();
-      r.samples = ss;
-      r.positions = PointArray(request_.precision, n);
-      std::copy_n(positions.data() + 3 * base, 3 * n, data_of<T>(r.positions));
-      if (request_.normals) {
-        r.normals = PointArray(request_.precision, n);
-        T* normal = data_of<T>(r.normals);
-        std::copy_n(normals.data() + 3 * base, 3 * n, normal);
-        // The device leaves the zero vector where neither Su x Sv nor the limit normal resolved
-        // (eval.glsl): the reference's last stage, a nudged neighbour, here -- rare, and what
-        // the reference itself returns where that fails too (a surface collapsed to a curve).
-        for (std::size_t k = 0; k < n; ++k) {
-          T* m = normal + 3 * k;
-          if (m[0] != T(0) || m[1] != T(0) || m[2] != T(0)) continue;
-          const Vec3<T> fixed =
-              surface_normal(host[i], static_cast<T>(ss.u_of(k)), static_cast<T>(ss.v_of(k)));
-          std::copy(fixed.begin(), fixed.end(), m);
-        }
+      T* normal = r.normals.data<T>();
+      // The device leaves the zero vector where neither Su x Sv nor the limit normal resolved
+      // (eval.glsl): the reference's last stage, a nudged neighbour, here -- rare, and what
+      // the reference itself returns where that fails too (a surface collapsed to a curve).
+      for (std::size_t k = 0; k < n; ++k) {
+        T* m = normal + 3 * k;
+        if (m[0] != T(0) || m[1] != T(0) || m[2] != T(0)) continue;
+        const Vec3<T> fixed =
+            surface_normal(host[i], static_cast<T>(ss.u_of(k)), static_cast<T>(ss.v_of(k)));
+        std::copy(fixed.begin(), fixed.end(), m);
       }
       base += n;
     }

@@ -5,6 +5,7 @@
 #include <string_view>
 #include <vector>
 
+#include "strategies/host_results.h"
 #include "strategies/vk_ksquad/uniform_mapping.h"
 
 namespace nurbs::embedded {
@@ -279,30 +280,30 @@ RenderedImage RasterTarget::read() const {
   return image;
 }
 
-std::vector<SurfaceResult> read_uniform_capture(const std::vector<SurfaceSamples>& samples,
-                                                const vulkan::Buffer& positions,
-                                                const vulkan::Buffer* params,
-                                                const vulkan::Buffer* normals) {
+void read_uniform_capture(EvalResult& out, const std::vector<SurfaceSamples>& samples,
+                          const vulkan::Buffer& positions, const vulkan::Buffer* params,
+                          const vulkan::Buffer* normals) {
   const std::size_t total = total_samples(samples);
-  std::vector<float> host(total * 3);
-  positions.read(host.data(), host.size() * sizeof(float));
-  std::vector<float> uv(params ? total * 2 : 0);
-  if (params) params->read(uv.data(), uv.size() * sizeof(float));
-  std::vector<SurfaceResult> out;
-  std::size_t base = 0;
-  for (const SurfaceSamples& s : samples) {
-    SurfaceResult r;
-    r.samples = params ? chosen_samples(s, uv.data() + 2 * base) : s;
-    r.positions = PointArray(Precision::f32, s.count());
-    std::memcpy(r.positions.f32(), host.data() + base * 3, s.count() * 3 * sizeof(float));
-    if (normals) {
-      r.normals = PointArray(Precision::f32, s.count());
-      normals->read(r.normals.f32(), s.count() * 3 * sizeof(float), base * 3 * sizeof(float));
-    }
-    base += s.count();
-    out.push_back(std::move(r));
+  if (total == 0) {
+    shape_results(out, samples, Precision::f32, normals != nullptr);
+    return;
   }
-  return out;
+  // Each view is scattered before the next is taken: the device's staging buffer holds one.
+  const std::size_t bytes = total * 3 * sizeof(float);
+  shape_results(out, samples, Precision::f32, normals != nullptr);
+  scatter_into(out, &SurfaceResult::positions,
+               static_cast<const float*>(positions.host_view(bytes)));
+  if (params) {
+    const auto* uv = static_cast<const float*>(params->host_view(total * 2 * sizeof(float)));
+    std::size_t base = 0;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      out.surfaces[i].samples = chosen_samples(samples[i], uv + 2 * base);
+      base += samples[i].count();
+    }
+  }
+  if (normals)
+    scatter_into(out, &SurfaceResult::normals,
+                 static_cast<const float*>(normals->host_view(bytes)));
 }
 
 }  // namespace nurbs::vk_ksquad

@@ -98,12 +98,12 @@ class RasterTarget {
   VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
 };
 
-// A uniform capture read back (vk-ksquad's uniform mapping, vk-bezier): per surface its samples
-// (a span grid's as the tessellator placed them, from `params`; the requested ones when `params`
-// is null), its positions and, when `normals` is given, its normals; `samples` in output order.
-std::vector<SurfaceResult> read_uniform_capture(const std::vector<SurfaceSamples>& samples,
-                                                const vulkan::Buffer& positions,
-                                                const vulkan::Buffer* params,
-                                                const vulkan::Buffer* normals);
+// A uniform capture read back (vk-ksquad's uniform mapping, vk-bezier) into `out`, keeping its
+// storage (strategies/host_results.h): per surface its samples (a span grid's as the tessellator
+// placed them, from `params`; the requested ones when `params` is null), its positions and, when
+// `normals` is given, its normals; `samples` in output order.
+void read_uniform_capture(EvalResult& out, const std::vector<SurfaceSamples>& samples,
+                          const vulkan::Buffer& positions, const vulkan::Buffer* params,
+                          const vulkan::Buffer* normals);
 
 }  // namespace nurbs::vk_ksquad

@@ -115,10 +115,10 @@ bool VkKsquad::classify() {
   return true;
 }
 
-EvalResult VkKsquad::read_back_uniform() {
-  EvalResult out{vk_ksquad::read_uniform_capture(samples_, positions_,
-                                                 span_grid_samples() ? &sample_params_ : nullptr,
-                                                 request_.normals ? &normals_ : nullptr)};
+void VkKsquad::read_back_uniform(EvalResult& out) {
+  vk_ksquad::read_uniform_capture(out, samples_, positions_,
+                                  span_grid_samples() ? &sample_params_ : nullptr,
+                                  request_.normals ? &normals_ : nullptr);
   if (classified_ && classifier_.trims()) {
     trim_direct::Cost cost;
     auto masks = classifier_.read_masks(cost);
@@ -126,7 +126,6 @@ EvalResult VkKsquad::read_back_uniform() {
     for (std::size_t i = 0; i < out.surfaces.size(); ++i)
       out.surfaces[i].inside = std::move(masks[i]);
   }
-  return out;
 }
 
 // ksquad.frag's per-surface trim row: tables base (-1: untrimmed), the local frame's origin and

@@ -171,6 +171,7 @@ VkKsquad::VkKsquad(int device_index, const KsquadSettings& settings,
 }
 
 void VkKsquad::prepare_checked(const Scene& scene, const EvalRequest& request) {
+  const vulkan::UploadCount uploads(device_, record_);
   if (settings_.is(Mapping::gs)) refuse_gs(request);
   const bool trimmed = std::any_of(scene.surfaces.begin(), scene.surfaces.end(),
                                    [](const Surface& s) { return s.trim.has_value(); });
@@ -218,9 +219,20 @@ void VkKsquad::evaluate() {
 }
 
 EvalResult VkKsquad::read_back() {
-  if (settings_.is(Mapping::nonuniform)) return read_back_nonuniform();
-  if (settings_.camera_levels()) return read_back_adaptive();
-  return read_back_uniform();
+  EvalResult out;
+  read_back_into(out);
+  return out;
+}
+
+// The uniform mapping reads into out's kept storage; the camera-driven mappings choose their
+// samples anew on every evaluation, so their results are built afresh.
+void VkKsquad::read_back_into(EvalResult& out) {
+  if (settings_.is(Mapping::nonuniform))
+    out = read_back_nonuniform();
+  else if (settings_.camera_levels())
+    out = read_back_adaptive();
+  else
+    read_back_uniform(out);
 }
 
 // Only the homogeneous control points change (same knots, degrees and samples): the tables

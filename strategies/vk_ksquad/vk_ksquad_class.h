@@ -46,12 +46,17 @@ class VkKsquad final : public Strategy {
   void evaluate() override;
 
   EvalResult read_back() override;
+  void read_back_into(EvalResult& out) override;
 
-  EvalResult read_back_uniform();
+  void read_back_uniform(EvalResult& out);
 
   void update_control_points(const Scene& scene) override;
 
-  DeviceTimes device_times() const override { return {evaluate_s_}; }
+  DeviceTimes device_times() const override {
+    DeviceTimes t;
+    t.evaluate_s = evaluate_s_;
+    return t;
+  }
 
   bool render() override;
 

@@ -2,25 +2,15 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cstdint>
 #include <stdexcept>
 
+#include "strategies/wall_clock.h"
+
 namespace nurbs::vulkan {
 
-namespace {
-
-template <typename F>
-double seconds_of(F&& f) {
-  const auto start = std::chrono::steady_clock::now();
-  f();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
-
 CopyBench::CopyBench(int device_index) {
-  device_setup_s_ = seconds_of([&] {
+  device_setup_s_ = wall_seconds([&] {
     device_.emplace(device_index, Requirements{});
     queries_.emplace(*device_, 0);
   });
@@ -39,7 +29,7 @@ DeviceCopyTiming CopyBench::time(VkDeviceSize bytes, int repetitions) {
     vkCmdCopyBuffer(cb, source_->handle(), destination_->handle(), 1, &region);
   };
   out.setup_s =
-      device_setup_s_ + seconds_of([&] {
+      device_setup_s_ + wall_seconds([&] {
         if (bytes > capacity_) {
           capacity_ = 0;
           source_.reset();
@@ -60,7 +50,7 @@ DeviceCopyTiming CopyBench::time(VkDeviceSize bytes, int repetitions) {
     // A word no earlier pass wrote, so the read-back below proves the last copy happened.
     word = 0x3f800000u + static_cast<std::uint32_t>(k) + 1;
     fill_source(word);
-    const double host_s = seconds_of([&] {
+    const double host_s = wall_seconds([&] {
       device_->submit_and_wait([&](VkCommandBuffer cb) {
         queries_->reset(cb);
         queries_->begin(cb);

@@ -76,9 +76,17 @@ class Buffer {
 
   VkBuffer handle() const { return buffer_; }
   VkDeviceSize size() const { return size_; }
-  // Host copies; through a staging buffer when the memory is not host-visible.
+  // The host's view of host-visible memory, mapped for the buffer's life; nullptr otherwise.
+  void* mapped() const { return mapped_; }
+  // Host copies; through the device's staging buffer (Device::staging) when the memory is not
+  // host-visible, or (reads) host-visible but uncached.
   void write(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
   void read(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
+  // The bytes [offset, offset + bytes) where the host can read them: the mapping itself when it is
+  // host-cached (lavapipe), else the device's staging buffer after one vkCmdCopyBuffer into it.
+  // Valid until the device's next staged transfer. A strategy scatters its results from here
+  // straight into the caller's arrays: one copy of each byte on the host.
+  const void* host_view(VkDeviceSize bytes, VkDeviceSize offset = 0) const;
 
  private:
   void reset();
@@ -128,11 +136,21 @@ class Device {
   // shaderFloat64 enabled (asked by Requirements::float64_when_present and supported).
   bool float64() const { return float64_; }
 
-  // Records `commands` into a one-shot command buffer, submits it and waits for the queue.
+  // Records `commands` into the device's command buffer (reused), submits it and waits for it,
+  // at most device_wait_limit_s() (DeviceTimeout).
   void submit_and_wait(const std::function<void(VkCommandBuffer)>& commands) const;
   VkShaderModule shader_module(std::string_view spirv) const;
   // Index of a memory type allowed by `type_bits` with `wanted` properties; -1 when none.
   int memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags wanted) const;
+  // The device's staging buffer, host-visible and host-cached where the device has such memory,
+  // holding at least `bytes`: made on the first staged transfer, grown (never shrunk) and reused
+  // by every later one. A staging buffer allocated per transfer paid an allocation and the page
+  // faults of fresh memory on every call: Vulkan read-back ran at 0.5 GB/s on an H200 that way.
+  Buffer& staging(VkDeviceSize bytes) const;
+  // Bytes Buffer::write has sent to this device so far: what a strategy's prepare() uploads
+  // (UploadCount), for the upload-of-link fraction.
+  std::uint64_t bytes_written() const { return bytes_written_; }
+  void count_written(VkDeviceSize bytes) const { bytes_written_ += bytes; }
 
  private:
   void destroy();
@@ -146,6 +164,30 @@ class Device {
   VkCommandPool pool_ = VK_NULL_HANDLE;
   bool validation_ = false;
   bool float64_ = false;
+  mutable std::optional<Buffer> staging_;
+  mutable std::uint64_t bytes_written_ = 0;
+  // submit_and_wait's, reused by every submission (null after one that timed out).
+  mutable VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
+  mutable VkFence fence_ = VK_NULL_HANDLE;
+};
+
+// The bytes a prepare() sends to the device, recorded when it ends (however it ends) as the detail
+// "bytes_uploaded" of the strategy's device record: the harness holds the upload phase's bandwidth
+// against the API's link row with it.
+class UploadCount {
+ public:
+  UploadCount(const Device& device, DeviceInfo& record)
+      : device_(device), record_(record), start_(device.bytes_written()) {}
+  ~UploadCount() {
+    record_.details["bytes_uploaded"] = std::to_string(device_.bytes_written() - start_);
+  }
+  UploadCount(const UploadCount&) = delete;
+  UploadCount& operator=(const UploadCount&) = delete;
+
+ private:
+  const Device& device_;
+  DeviceInfo& record_;
+  std::uint64_t start_;
 };
 
 // One descriptor set of storage buffers (binding k visible to stages[k]), with its layout and

@@ -243,5 +243,47 @@ TEST_F(cl_tspline_bezier, NurbsScenesAreRefused) {
   test::expect_nurbs_scenes_refused(entry());
 }
 
+// (6) The read-back into the harness's reused result by both paths of
+// strategies/opencl/cl_read_back.h (straight into its storage; through pinned staging): both give
+// read_back()'s positions and normals bit for bit, a second read-back keeps the storage, and the
+// phases' device times and the upload's bytes are recorded.
+TEST_F(cl_tspline_bezier, BothReadBackPathsMatchAndReuseTheResult) {
+  const Scene scene = *make_builtin_scene("tspline-tjunction");
+  Sampling sampling;
+  sampling.grid_u = 41;
+  sampling.grid_v = 23;
+  const EvalRequest request{sampling, Precision::f32, true};
+  const auto same = [](const PointArray& a, const PointArray& b) {
+    return a.size() == b.size() &&
+           std::memcmp(a.data<float>(), b.data<float>(), a.size() * 3 * sizeof(float)) == 0;
+  };
+  EvalResult expected;
+  for (const char* path : {"mapped", "staged"}) {
+    SCOPED_TRACE(path);
+    StrategyOptions options;
+    options.extra["read-back"] = path;
+    const auto strategy = entry().create(options);
+    strategy->prepare(scene, request);
+    strategy->evaluate();
+    const EvalResult fresh = strategy->read_back();
+    EvalResult reused;
+    strategy->read_back_into(reused);
+    ASSERT_EQ(reused.surfaces.size(), 1u);
+    const float* storage = reused.surfaces[0].positions.data<float>();
+    strategy->read_back_into(reused);
+    EXPECT_EQ(reused.surfaces[0].positions.data<float>(), storage);
+    if (expected.surfaces.empty()) expected = fresh;
+    for (const EvalResult* r : {&reused, &expected}) {
+      EXPECT_TRUE(same(fresh.surfaces[0].positions, r->surfaces[0].positions));
+      EXPECT_TRUE(same(fresh.surfaces[0].normals, r->surfaces[0].normals));
+    }
+    EXPECT_EQ(fresh.surfaces[0].normals.size(), fresh.surfaces[0].samples.count());
+    const DeviceTimes t = strategy->device_times();
+    ASSERT_TRUE(t.evaluate_s && t.upload_s && t.read_back_s);
+    EXPECT_GT(*t.read_back_s, 0);
+    EXPECT_GT(std::stoull(strategy->device().details.at("bytes_uploaded")), 0u);
+  }
+}
+
 }  // namespace
 }  // namespace nurbs

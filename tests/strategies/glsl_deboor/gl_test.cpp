@@ -77,13 +77,13 @@ TEST_P(GlslDeBoorGl, PagedAtlasEqualsOnePage) {
   if (!gl::Context::probe(*platform).available) GTEST_SKIP();
   const Scene scene = *make_builtin_scene("many-16");
   Sampling grid;
-  grid.grid_u = 30;
-  grid.grid_v = 17;
+  grid.grid_u = 17;  // the output atlas stacks u samples (rows of v runs): 17 rows a surface
+  grid.grid_v = 30;
   expect_identical(evaluate(options_for(GetParam()), scene, grid),
                    evaluate(options_for(GetParam(), "40"), scene, grid));
   auto strategy = find_strategy("glsl-deboor")->create(options_for(GetParam(), "40"));
   strategy->prepare(scene, EvalRequest{grid, Precision::f32, false});
-  EXPECT_EQ(strategy->device().details.at("pages"), "8");  // 17 + 17 rows fit in 40
+  EXPECT_EQ(strategy->device().details.at("pages"), "8");  // 17 + 17 output rows fit in 40
 }
 
 TEST_P(GlslDeBoorGl, RefusesASurfaceLargerThanATile) {
@@ -150,8 +150,8 @@ TEST_P(GlslDeBoorGl, PassesAndQuadsAreTheDrawsOf002) {
   span.mode = SamplingMode::span_grid;
   span.span_steps = 2;
   Sampling grid;
-  grid.grid_u = 30;
-  grid.grid_v = 17;
+  grid.grid_u = 17;  // the output atlas stacks u samples (rows of v runs): 17 rows a surface
+  grid.grid_v = 30;
   struct QuadCase {
     std::string scene;
     Sampling sampling;
@@ -192,8 +192,8 @@ TEST_P(GlslDeBoorGl, InstancedDrawEqualsPerSpanInOneDrawPerPass) {
   const auto platform = gl::parse_platform(GetParam());
   if (!gl::Context::probe(*platform).available) GTEST_SKIP();
   Sampling grid;
-  grid.grid_u = 30;
-  grid.grid_v = 17;
+  grid.grid_u = 17;  // the output atlas stacks u samples (rows of v runs): 17 rows a surface
+  grid.grid_v = 30;
   Sampling span;
   span.mode = SamplingMode::span_grid;
   span.span_steps = 3;
