@@ -4,7 +4,6 @@
 
 #include "harness/store_limit.h"
 #include "strategies/device_copy.h"
-#include "strategies/device_wait.h"
 
 namespace nurbs {
 
@@ -19,7 +18,7 @@ Record measure_device_copy_limit(const Scene& scene, const EvalRequest& request,
     r.reason = availability.reason;
     return r;
   }
-  try {
+  measure_on_device(r, [&] {
     DeviceCopyTiming copy = device_copy.time(bytes, repetitions);
     r.device = std::move(copy.device);
     r.device.details["kernel"] =
@@ -30,16 +29,7 @@ Record measure_device_copy_limit(const Scene& scene, const EvalRequest& request,
     r.setup_s = copy.setup_s;
     set_limit_seconds(r, std::move(copy.seconds), bytes, bytes_per_point);
     r.figures["copy_bytes_per_s"] = r.throughput_pts_per_s * static_cast<double>(bytes_per_point);
-  } catch (const RefusedError& e) {
-    r.status = Status::refused;
-    r.reason = e.what();
-  } catch (const DeviceTimeout& e) {
-    r.status = Status::timed_out;
-    r.reason = fmt::format("in the copy: {}", e.what());
-  } catch (const std::exception& e) {
-    r.status = Status::failed;
-    r.reason = e.what();
-  }
+  });
   return r;
 }
 

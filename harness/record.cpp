@@ -139,6 +139,7 @@ json record_to_json(const Record& r) {
   if (!r.trimming.empty()) j["trimming"] = r.trimming;
   if (!r.library.empty()) j["library"] = {{"path", r.library}, {"sha256", r.library_sha256}};
   if (r.device_evaluate_median_s) j["device_evaluate_median_s"] = *r.device_evaluate_median_s;
+  if (!r.device_phase_median_s.empty()) j["device_phase_median_s"] = r.device_phase_median_s;
   if (!r.extra_phases.empty()) {
     json phases = json::object();
     for (const auto& [name, stats] : r.extra_phases) phases[name] = phase_to_json(stats);
@@ -176,6 +177,8 @@ Record record_from_json(const json& j) {
   if (j.contains("end_to_end")) r.end_to_end = phase_from_json(j["end_to_end"]);
   if (j.contains("device_evaluate_median_s"))
     r.device_evaluate_median_s = j["device_evaluate_median_s"].get<double>();
+  if (j.contains("device_phase_median_s"))
+    r.device_phase_median_s = j["device_phase_median_s"].get<std::map<std::string, double>>();
   r.throughput_pts_per_s = j.value("throughput_pts_per_s", 0.0);
   if (j.contains("accuracy") && j["accuracy"].is_object())
     r.accuracy = accuracy_from_json(j["accuracy"]);

@@ -43,6 +43,10 @@ struct Record {
   double setup_s = 0;
   PhaseStats upload, evaluate, read_back, end_to_end;
   std::optional<double> device_evaluate_median_s;
+  // The device's clock for the other phases a strategy's API times (upload, read_back, classify,
+  // render, render_via_read_back): each phase's median over its repetitions, beside the wall
+  // clock's in the phase itself. Empty for host strategies.
+  std::map<std::string, double> device_phase_median_s;
   // Phases beyond the four every strategy has, where a strategy or mode has them: "render"
   // (drawing without read-back), "render_via_read_back", "frame" (one deforming frame)...
   std::map<std::string, PhaseStats> extra_phases;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <map>
 #include <stdexcept>
 
 #include "harness/error_image.h"
@@ -194,10 +195,20 @@ std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
     time_classify(entry, scene, *strategy);
 
     std::vector<double> evaluate_s, device_evaluate_s, classify_s;
+    // The device's own clock for the other phases, where the strategy's API has one: each phase's
+    // device time after each of its timed calls (DeviceTimes).
+    std::map<std::string, std::vector<double>> device_phase_s;
+    const auto note_device = [&](const char* phase, std::optional<double> DeviceTimes::*field) {
+      if (const std::optional<double> t = strategy->device_times().*field)
+        device_phase_s[phase].push_back(*t);
+    };
     for (int i = 0; i < repetitions; ++i) {
       evaluate_s.push_back(time_seconds([&] { strategy->evaluate(); }));
       if (auto device = strategy->device_times().evaluate_s) device_evaluate_s.push_back(*device);
-      if (auto classify = time_classify(entry, scene, *strategy)) classify_s.push_back(*classify);
+      if (auto classify = time_classify(entry, scene, *strategy)) {
+        classify_s.push_back(*classify);
+        note_device("classify", &DeviceTimes::classify_s);
+      }
     }
     if (!classify_s.empty()) r.extra_phases["classify"] = PhaseStats::of(classify_s);
     // Drawing, for strategies that have a render path: one warm-up (shader variants are compiled
@@ -205,8 +216,10 @@ std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
     auto time_render = [&](const char* phase, bool (Strategy::*draw)()) {
       if (!(strategy.get()->*draw)()) return;
       std::vector<double> seconds;
-      for (int i = 0; i < repetitions; ++i)
+      for (int i = 0; i < repetitions; ++i) {
         seconds.push_back(time_seconds([&] { (strategy.get()->*draw)(); }));
+        note_device(phase, &DeviceTimes::render_s);
+      }
       r.extra_phases[phase] = PhaseStats::of(seconds);
     };
     time_render("render", &Strategy::render);
@@ -227,12 +240,14 @@ std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
     for (int i = 0; i < repetitions; ++i) {
       const long before_upload = minor_page_faults();
       const double upload = time_seconds([&] { strategy->prepare(scene, request); });
+      note_device("upload", &DeviceTimes::upload_s);
       const long after_upload = minor_page_faults();
       const double evaluate = time_seconds([&] { strategy->evaluate(); });
       const double classify = time_classify(entry, scene, *strategy).value_or(0);
       const long before_read_back = minor_page_faults();
       const double read_back = time_seconds([&] { strategy->read_back_into(result); });
       faults.add(i, after_upload - before_upload, minor_page_faults() - before_read_back);
+      note_device("read_back", &DeviceTimes::read_back_s);
       upload_s.push_back(upload);
       read_back_s.push_back(read_back);
       end_to_end_s.push_back(upload + evaluate + classify + read_back);
@@ -247,6 +262,8 @@ std::optional<EvalResult> time_measurement(const StrategyEntry& entry,
     r.device = strategy->device();
     if (!device_evaluate_s.empty())
       r.device_evaluate_median_s = PhaseStats::of(device_evaluate_s).median_s;
+    for (const auto& [phase, seconds] : device_phase_s)
+      r.device_phase_median_s[phase] = PhaseStats::of(seconds).median_s;
     last = std::move(result);
   });
   return last;

@@ -11,6 +11,7 @@
 
 #include "harness/machine.h"
 #include "harness/timing.h"
+#include "strategies/device_wait.h"
 
 namespace nurbs {
 
@@ -134,6 +135,21 @@ Record measure_store_limit(const Scene& scene, const EvalRequest& request, int r
   return r;
 }
 
+void measure_on_device(Record& r, const std::function<void()>& measure) {
+  try {
+    measure();
+  } catch (const RefusedError& e) {
+    r.status = Status::refused;
+    r.reason = e.what();
+  } catch (const DeviceTimeout& e) {
+    r.status = Status::timed_out;
+    r.reason = fmt::format("in the copy: {}", e.what());
+  } catch (const std::exception& e) {
+    r.status = Status::failed;
+    r.reason = e.what();
+  }
+}
+
 const Record* limit_row_for(const Record& r, const std::vector<Record>& records,
                             std::string_view limit_name) {
   if (r.role == "limit" || r.status != Status::ok) return nullptr;
@@ -154,12 +170,16 @@ bool limit_too_small(const Record& limit) {
 }
 
 std::optional<double> fraction_of_store_limit(const Record& r, const std::vector<Record>& records) {
+  // The host's store bandwidth bounds what the host writes: a GPU writes its own memory, and its
+  // throughput over the host's stores ("130%" on an H200) is no fraction of anything.
+  if (r.device.kind != "cpu") return std::nullopt;
   const Record* limit = limit_row_for(r, records, kStoreLimitName);
   if (!limit || limit_too_small(*limit)) return std::nullopt;
   return r.throughput_pts_per_s / limit->throughput_pts_per_s;
 }
 
 bool store_limit_too_small(const Record& r, const std::vector<Record>& records) {
+  if (r.device.kind != "cpu") return false;
   const Record* limit = limit_row_for(r, records, kStoreLimitName);
   return limit && limit_too_small(*limit);
 }

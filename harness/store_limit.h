@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -60,6 +61,10 @@ Record limit_record(std::string_view name, const Scene& scene, const EvalRequest
                     int repetitions);
 void set_limit_seconds(Record& r, std::vector<double> seconds, std::size_t pass_bytes,
                        std::size_t bytes_per_point);
+// Runs `measure`, which fills the limit row `r` on a device, and records what a device can do
+// instead as the row's status: a refused allocation refused, a wait that expired timed_out, any
+// other error failed, each with its reason. Never throws.
+void measure_on_device(Record& r, const std::function<void()>& measure);
 // The last ok row named `limit_name` for `r`'s scene, samples and precision; none when `r` is a
 // limit row or not ok.
 const Record* limit_row_for(const Record& r, const std::vector<Record>& records,
@@ -69,7 +74,8 @@ const Record* limit_row_for(const Record& r, const std::vector<Record>& records,
 bool limit_too_small(const Record& limit);
 
 // `r`'s points/s over the limit row of `records` for the same scene, samples and precision; none
-// when there is no such row, `r` is a limit row or not ok, or the limit's output is under
+// when there is no such row, `r` ran on a GPU (device kind other than "cpu": it does not write
+// through the host's stores), is a limit row or not ok, or the limit's output is under
 // kStoreLimitMinBytes (store_limit_too_small).
 std::optional<double> fraction_of_store_limit(const Record& r, const std::vector<Record>& records);
 // Whether the limit row for `r`'s request exists but wrote too little to be a bandwidth.

@@ -6,6 +6,7 @@
 #include "harness/cli/commands.h"
 #include "harness/copy_limit.h"
 #include "harness/drivers.h"
+#include "harness/link_limit.h"
 #include "harness/plugins/plugin.h"
 #include "harness/store_limit.h"
 #include "scenes/builtin_scenes.h"
@@ -108,13 +109,22 @@ int list_command(const ListOptions& options) {
           fmt::format("  {:<20} {:<9} {} (sha256 {})\n", "", "", library->path, library->sha256);
   }
   // Not strategies: machine ceilings `run` measures beside them (harness/store_limit.h,
-  // harness/copy_limit.h).
-  const std::pair<std::string_view, std::string> limit_rows[] = {
-      {kStoreLimitName,
+  // harness/copy_limit.h, harness/link_limit.h).
+  std::vector<std::pair<std::string, std::string>> limit_rows = {
+      {std::string(kStoreLimitName),
        "memory store bandwidth for the request's output (points x bytes per point), same threads"},
-      {kDeviceCopyLimitName,
+      {std::string(kDeviceCopyLimitName),
        "device-to-device copy of the request's output on the Vulkan device (a CPU figure on "
        "lavapipe)"}};
+  const std::pair<LinkApi, const char*> link_rows[] = {
+      {LinkApi::vulkan, "Vulkan (a CPU figure on lavapipe)"},
+      {LinkApi::opencl, "OpenCL (a CPU figure on PoCL)"},
+      {LinkApi::gl, "OpenGL, through pixel buffers (a CPU figure on llvmpipe)"}};
+  for (const auto& [api, where] : link_rows)
+    limit_rows.emplace_back(link_limit_name(api),
+                            fmt::format("host->device and device->host copies of the request's "
+                                        "output through pinned, reused memory on {}",
+                                        where));
   text += "limits:\n";
   nlohmann::json limits = nlohmann::json::array();
   for (const auto& [name, description] : limit_rows) {

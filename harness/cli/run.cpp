@@ -1,13 +1,16 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/commands.h"
 #include "harness/copy_limit.h"
 #include "harness/error_image.h"
 #include "harness/gates.h"
+#include "harness/link_limit.h"
 #include "harness/machine.h"
 #include "harness/plugins/plugin.h"
 #include "harness/progress.h"
@@ -32,17 +35,27 @@ namespace {
 
 struct StrategySelection {
   std::vector<const StrategyEntry*> entries;
-  bool store_limit = false;        // the limit-store-bandwidth row (harness/store_limit.h)
-  bool device_copy_limit = false;  // the limit-device-copy row (harness/copy_limit.h)
+  bool store_limit = false;          // the limit-store-bandwidth row (harness/store_limit.h)
+  bool device_copy_limit = false;    // the limit-device-copy row (harness/copy_limit.h)
+  std::vector<LinkApi> link_limits;  // the limit-link-<api> rows (harness/link_limit.h)
+  bool any_limit() const { return store_limit || device_copy_limit || !link_limits.empty(); }
 };
 
-// "all": every registered strategy and both limit rows.
+// Every limit row's name, for --strategies' error.
+std::vector<std::string> limit_names() {
+  std::vector<std::string> names{std::string(kStoreLimitName), std::string(kDeviceCopyLimitName)};
+  for (const LinkApi api : kLinkApis) names.push_back(link_limit_name(api));
+  return names;
+}
+
+// "all": every registered strategy and every limit row.
 StrategySelection strategy_list(const std::string& text) {
   StrategySelection out;
   if (text == "all") {
     out.entries = all_strategies();
     out.store_limit = true;
     out.device_copy_limit = true;
+    out.link_limits.assign(std::begin(kLinkApis), std::end(kLinkApis));
     return out;
   }
   for (const std::string& name : split_list(text)) {
@@ -54,15 +67,19 @@ StrategySelection strategy_list(const std::string& text) {
       out.device_copy_limit = true;
       continue;
     }
+    if (const std::optional<LinkApi> api = link_limit_api(name)) {
+      if (std::find(out.link_limits.begin(), out.link_limits.end(), *api) == out.link_limits.end())
+        out.link_limits.push_back(*api);
+      continue;
+    }
     const StrategyEntry* e = find_strategy(name);
     if (!e)
-      throw InputError(fmt::format("--strategies: '{}' is not a strategy (known: {}, {}, {})", name,
-                                   fmt::join(strategy_names(), ", "), kStoreLimitName,
-                                   kDeviceCopyLimitName));
+      throw InputError(fmt::format("--strategies: '{}' is not a strategy (known: {}, {})", name,
+                                   fmt::join(strategy_names(), ", "),
+                                   fmt::join(limit_names(), ", ")));
     out.entries.push_back(e);
   }
-  if (out.entries.empty() && !out.store_limit && !out.device_copy_limit)
-    throw InputError("--strategies: empty list");
+  if (out.entries.empty() && !out.any_limit()) throw InputError("--strategies: empty list");
   return out;
 }
 
@@ -78,6 +95,8 @@ IsolationSettings isolation_settings(const IsolationOptions& options) {
     throw InputError(fmt::format("--device-timeout = {}: must be in (0, 1e6] seconds",
                                  options.device_timeout_s));
   settings.timeout_s = options.timeout_s;
+  if (!options.memory_limit.empty())
+    settings.memory_limit_bytes = parse_memory_limit(options.memory_limit);
   device_wait_limit_s() = options.device_timeout_s;
   // A malformed test fault is bad input here, not a silent fault-free run.
   injected_fault();
@@ -94,8 +113,9 @@ int run_command(const RunOptions& options) {
     throw InputError(
         fmt::format("--deforming = {}: must be in 1..100000 (frames)", options.deforming));
   const bool deforming = options.deforming > 0;
-  if (!options.memory_limit.empty())
-    settings.memory_limit_bytes = parse_memory_limit(options.memory_limit);
+  // After the checks that cost nothing (a plugin's probe can take up to --timeout), before the
+  // strategy list, which may name the plugins.
+  load_plugins(options.plugins, isolation);
   const StrategySelection selection = strategy_list(options.strategies);
   const std::vector<const StrategyEntry*>& strategies = selection.entries;
   std::vector<Scene> scenes;
@@ -113,9 +133,6 @@ int run_command(const RunOptions& options) {
   for (const Scene& scene : scenes)
     for (const Sampling& sampling : samplings) sample_parameters(scene, sampling);
   const StrategyOptions strategy_options{
-  // After the checks that cost nothing (a plugin's probe can take up to --timeout), before the
-  // strategy list, which may name the plugins.
-  load_plugins(options.plugins, isolation);
       threads, backend_extra(options.gl, options.device, options.strategy_options)};
   if (!options.images.empty()) {
     if (deforming)
@@ -139,15 +156,22 @@ int run_command(const RunOptions& options) {
                              {"trim_band", trim_band},
                              {"isolation", to_string(isolation.mode)},
                              {"timeout_s", isolation.timeout_s},
+                             {"memory_limit_mib", isolation.memory_limit_bytes >> 20},
                              {"device_timeout_s", device_wait_limit_s()}};
   for (const Scene& s : scenes) settings["scenes"].push_back(s.name);
   for (const StrategyEntry* e : strategies) settings["strategies"].push_back(e->name);
   if (selection.store_limit) settings["strategies"].push_back(kStoreLimitName);
   if (selection.device_copy_limit) settings["strategies"].push_back(kDeviceCopyLimitName);
+  for (const LinkApi api : selection.link_limits)
+    settings["strategies"].push_back(link_limit_name(api));
   for (const Sampling& s : samplings) settings["samplings"].push_back(s.label());
   ResultsWriter writer(options.out, machine_record(threads), settings);
   // The limit-device-copy rows' device, opened on the first and kept for the others.
   DeviceCopy device_copy(strategy_options);
+  // The limit-link-<api> rows' devices, likewise.
+  std::vector<std::unique_ptr<LinkCopy>> links;
+  for (const LinkApi api : selection.link_limits)
+    links.push_back(std::make_unique<LinkCopy>(api, strategy_options));
 
   RunProgress progress(std::cerr, scenes.size() * samplings.size() * strategies.size(),
                        ::isatty(STDERR_FILENO));
@@ -156,7 +180,6 @@ int run_command(const RunOptions& options) {
     for (const Sampling& sampling : samplings) {
       // The machine's ceiling for this request, measured in the same run as the strategies so
       // their ratios to it are comparable.
-                             {"memory_limit_mib", isolation.memory_limit_bytes >> 20},
       // Not in the deforming benchmark: the limit is an evaluate-only ceiling, not a frame's.
       const EvalRequest limit_request{sampling, precision, options.normals};
       if (selection.store_limit && !deforming)
@@ -165,6 +188,10 @@ int run_command(const RunOptions& options) {
       if (selection.device_copy_limit && !deforming)
         writer.append(
             measure_device_copy_limit(scene, limit_request, options.repetitions, device_copy));
+      // The link rows are about transfers, which a deforming frame has too (the update and the
+      // read-back), so they are measured there as well.
+      for (const std::unique_ptr<LinkCopy>& link : links)
+        writer.append(measure_link_limit(scene, limit_request, options.repetitions, *link));
       for (const StrategyEntry* entry : strategies) {
         progress.start(fmt::format("{} on {} ({})", entry->name, scene.name, sampling.label()));
         EvalRequest request{sampling, precision, options.normals};

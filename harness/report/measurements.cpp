@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "harness/link_limit.h"
 #include "harness/report/kit.h"
 #include "harness/report/labeller.h"
 
@@ -30,6 +31,15 @@ ReportSection measurements_section(const SectionInput& in) {
     for (const Record& r : set.results.records)
       copies = copies || (r.strategy == kDeviceCopyLimitName && r.status == Status::ok);
   if (copies) table.header.insert(table.header.begin() + 8, "of device copy");
+  // Where a run measured an API's host<->device link, each GPU-API strategy's transfer phases
+  // against it.
+  bool links = false;
+  for (const ResultSet& set : sets)
+    for (const Record& r : set.results.records)
+      links = links || (link_limit_api(r.strategy) && r.status == Status::ok);
+  if (links)
+    table.header.insert(std::find(table.header.begin(), table.header.end(), "max_ulp"),
+                        {"read_back of link", "upload of link"});
   if (sets.size() > 1) table.header.insert(table.header.begin(), "set");
   bool any_limit = false, any_too_small = false;
   for (const ResultSet& set : sets)
@@ -59,6 +69,14 @@ ReportSection measurements_section(const SectionInput& in) {
         const std::optional<double> of_copy = fraction_of_device_copy_limit(r, set.results.records);
         cells.insert(cells.begin() + 8, of_copy ? fmt::format("{:.1f}%", 100 * *of_copy) : "-");
       }
+      if (links) {
+        const auto percent = [&](LinkPhase phase) {
+          const std::optional<double> f = fraction_of_link(r, set.results.records, phase);
+          return f ? fmt::format("{:.1f}%", 100 * *f) : std::string("-");
+        };
+        cells.insert(cells.end() - 2,  // before max_ulp and status, as in the header
+                     {percent(LinkPhase::read_back), percent(LinkPhase::upload)});
+      }
       if (trims) cells.insert(cells.end() - 1, r.trimming.empty() ? "-" : trim_text(r));
       if (sets.size() > 1) cells.insert(cells.begin(), label.set_name(set));
       table.rows.push_back(std::move(cells));
@@ -84,6 +102,15 @@ ReportSection measurements_section(const SectionInput& in) {
         "the same scene, samples and precision, for strategies on the device that copied: the "
         "fraction of the device's own copy bandwidth (a copy of the output's bytes, which reads "
         "them too) its output reaches. On lavapipe the device is the host: a CPU figure.");
+  if (links)
+    s.notes.push_back(
+        "read_back of link = the limit-link-<api> row's read-back time for the same scene, "
+        "samples and precision on the strategy's device over the strategy's read_back median: "
+        "the fraction of what the API's own copy of the result's bytes into pinned memory allows "
+        "(the row moves exactly the result's bytes). upload of link = the strategy's upload "
+        "bandwidth (the bytes its prepare sends, device detail bytes_uploaded, over its upload "
+        "median) over the row's; '-' where the strategy does not say its bytes. On llvmpipe, "
+        "lavapipe and PoCL the link is a memcpy: a CPU figure.");
   if (any_too_small)
     s.notes.push_back(fmt::format(
         "—†: the limit row's output is under {} KiB, where a store pass times the threads' fork "

@@ -73,6 +73,8 @@ TEST(CliList, TextNamesStrategiesAndScenes) {
     EXPECT_NE(r.out.find(s.name), std::string::npos) << s.name;
   EXPECT_NE(r.out.find("limits:\n  limit-store-bandwidth"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\n  limit-device-copy"), std::string::npos) << r.out;
+  for (const char* link : {"limit-link-vulkan", "limit-link-opencl", "limit-link-gl"})
+    EXPECT_NE(r.out.find(std::string("\n  ") + link), std::string::npos) << link << r.out;
 }
 
 TEST(CliList, JsonDescribesEveryStrategyAndScene) {
@@ -81,9 +83,12 @@ TEST(CliList, JsonDescribesEveryStrategyAndScene) {
   const json doc = json::parse(r.out);  // throws (fails the test) when not valid JSON
   ASSERT_TRUE(doc.contains("strategies") && doc["strategies"].is_array());
   ASSERT_TRUE(doc.contains("scenes") && doc["scenes"].is_array());
-  ASSERT_EQ(doc["limits"].size(), 2u);
+  ASSERT_EQ(doc["limits"].size(), 5u);
   EXPECT_EQ(doc["limits"][0]["name"], "limit-store-bandwidth");
   EXPECT_EQ(doc["limits"][1]["name"], "limit-device-copy");
+  EXPECT_EQ(doc["limits"][2]["name"], "limit-link-vulkan");
+  EXPECT_EQ(doc["limits"][3]["name"], "limit-link-opencl");
+  EXPECT_EQ(doc["limits"][4]["name"], "limit-link-gl");
 
   std::set<std::string> strategies;
   for (const json& s : doc["strategies"]) {
@@ -437,8 +442,9 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
   const CliResult r = run_cli({"run", "--scenes", "patch144,sphere", "--samples", "8x8",
                                "--repetitions", "1", "--out", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  // Every strategy plus the two limit rows (store bandwidth, device copy), per scene.
-  const std::size_t measurements = 2 * (strategy_registry().size() + 2);
+  // Every strategy plus the five limit rows (store bandwidth, device copy, the three APIs' links),
+  // per scene.
+  const std::size_t measurements = 2 * (strategy_registry().size() + 5);
 
   const std::vector<std::string> lines = split_lines(read_text(fs::path(out) / "results.csv"));
   ASSERT_EQ(lines.size(), 1 + measurements);
@@ -461,7 +467,8 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
       EXPECT_GT(parse_exact(row[14]), 0.0) << "throughput";
       EXPECT_EQ(row[18], "") << "a limit row has no accuracy";
     }
-    if (row[1] == "limit-device-copy") {  // ok on lavapipe; unavailable without Vulkan
+    // ok on the software drivers; unavailable without the API
+    if (row[1] == "limit-device-copy" || row[1].starts_with("limit-link-")) {
       EXPECT_TRUE(row[19] == "ok" || row[19] == "unavailable") << lines[k];
     }
   }
@@ -531,6 +538,44 @@ TEST(CliRun, StoreLimitRowIsMeasuredInTheSameRun) {
                    48 * limit["throughput_pts_per_s"].get<double>());
   EXPECT_EQ(results["settings"]["strategies"][1], "limit-store-bandwidth");
   EXPECT_EQ(results["records"][1]["strategy"], "cpu-coxdeboor");
+}
+
+// Each API's host<->device link beside a strategy of that API: the row copies exactly the result's
+// bytes both ways, and the report reads the strategy's read-back as a fraction of it.
+TEST(CliRun, LinkLimitRowIsMeasuredInTheSameRunAndReportedAsAFraction) {
+  TempDir tmp;
+  const std::string out = tmp / "r";
+  const CliResult r = run_cli({"run", "--scenes", "many-4", "--strategies",
+                               "vk-compute,limit-link-vulkan,limit-link-opencl", "--samples",
+                               "64x32", "--repetitions", "2", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json results = json::parse(read_text(fs::path(out) / "results.json"));
+  ASSERT_EQ(results["records"].size(), 3u);
+  const json& vulkan = results["records"][0];
+  EXPECT_EQ(vulkan["strategy"], "limit-link-vulkan");
+  EXPECT_EQ(results["records"][1]["strategy"], "limit-link-opencl");
+  EXPECT_EQ(results["settings"]["strategies"][1], "limit-link-vulkan");
+  if (vulkan["status"] != "ok") {
+    EXPECT_EQ(vulkan["status"], "unavailable") << vulkan.dump();
+    return;
+  }
+  EXPECT_EQ(vulkan["role"], "limit");
+  EXPECT_TRUE(vulkan["accuracy"].is_null());
+  EXPECT_EQ(vulkan["figures"]["bytes"], 4 * 64 * 32 * 12);  // xyz, floats
+  EXPECT_GT(vulkan["read_back"]["min_s"].get<double>(), 0.0);
+  EXPECT_GT(vulkan["upload"]["min_s"].get<double>(), 0.0);
+  const json& strategy = results["records"][2];
+  ASSERT_EQ(strategy["status"], "ok") << strategy.dump();
+  EXPECT_EQ(strategy["device"]["name"], vulkan["device"]["name"]);
+  const std::string report = tmp / "report";
+  ASSERT_EQ(run_cli({"report", "--results", out, "--out", report, "--error-images", "0"}).exit_code,
+            0);
+  const std::string md = read_text(fs::path(report) / "REPORT.md");
+  EXPECT_NE(md.find("read_back of link"), std::string::npos) << md;
+  // The strategy's row has a percentage in the column (the limit rows have '-').
+  const double fraction = vulkan["read_back"]["median_s"].get<double>() /
+                          strategy["read_back"]["median_s"].get<double>();
+  EXPECT_NE(md.find(fmt::format("{:.1f}%", 100 * fraction)), std::string::npos) << md;
 }
 
 // The device-copy ceiling likewise, and alone: a run of only limit rows is a valid run.

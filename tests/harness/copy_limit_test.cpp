@@ -85,7 +85,8 @@ Record row(std::string strategy, std::string role, std::string device, double po
   r.scene = "patch144";
   r.strategy = std::move(strategy);
   r.role = std::move(role);
-  r.device = {std::move(device), "gpu", {}};
+  const std::string kind = device == "host CPU" ? "cpu" : "gpu";
+  r.device = {std::move(device), kind, {}};
   r.precision = "f32";
   r.samples = "4096x4096";
   r.points = 4096u * 4096;
@@ -108,6 +109,8 @@ TEST(DeviceCopyLimit, FractionIsOfTheCopyOnTheSameDeviceOnly) {
   EXPECT_FALSE(fraction_of_device_copy_limit(copy, records));
   ASSERT_TRUE(fraction_of_store_limit(on_host, records));
   EXPECT_DOUBLE_EQ(*fraction_of_store_limit(on_host, records), 0.5);
+  // A GPU does not write through the host's stores: no store fraction for it.
+  EXPECT_FALSE(fraction_of_store_limit(on_gpu, records));
   // Under the stated size the copy times the submission, not the memory.
   Record small = copy;
   small.points = 64 * 64;
