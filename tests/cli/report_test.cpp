@@ -422,7 +422,10 @@ TEST_F(CliReport, ShowsLodFullBaselineAndLevelDraws) {
   EXPECT_NE(md.find("| tan21x23 | 128x128 | 1 | 64x64 | 1e-06 | 3.5 | 6 ms | 23814 | 188671 |"),
             std::string::npos)
       << md;
-  // Against the evaluate-only column the claim would read 2x and fail; the full baseline: 5x, 4x.
+  // The paper's comparison keeps both sides on the device: 2x, within 2x of its 3-5x. Through the
+  // host (the full baseline, a second line): 5x, 4x.
+  EXPECT_NE(md.find("re-evaluation on the device 2 ms / Haar 1 ms = 2×"), std::string::npos) << md;
+  EXPECT_NE(md.find("| holds within 2× |"), std::string::npos) << md;
   EXPECT_NE(md.find("full re-evaluation 5 ms / Haar 1 ms = 5×"), std::string::npos) << md;
   EXPECT_NE(md.find("full re-evaluation 8 ms / Haar 2 ms = 4×"), std::string::npos) << md;
 }
@@ -739,8 +742,8 @@ TEST(ReportClaims, ACpuStandInSlowerThanTheCpuDoesNotHoldAndSaysWhyFromTheRecord
 TEST(ReportClaims, CpuSidesOnDifferentThreadCountsAreQualified) {
   std::vector<Record> records =
       fig7_records("cpu-coxdeboor", {"host CPU, 1 thread", "cpu", {}}, 1e-6, 0.2);
-  for (const Record& r :
-       fig7_records("cpu-tensor", {"host CPU, 2 threads (OpenMP)", "cpu", {}}, 1e-6, 0.01))
+  for (const Record& r : fig7_records(
+           "cpu-tensor", {"host CPU, 2 threads (OpenMP)", "cpu", {{"threads", "2"}}}, 1e-6, 0.01))
     records.push_back(r);
   const auto rows = claims_of(records);
   const auto macri = rows.find("no figure (Tessellation; Optimizations) To speed up the calc");
@@ -749,6 +752,75 @@ TEST(ReportClaims, CpuSidesOnDifferentThreadCountsAreQualified) {
   EXPECT_EQ(macri->second.at(kOn), "CPU (host)");
   EXPECT_NE(macri->second.at(kWhy).find("different devices"), std::string::npos)
       << macri->second.at(kWhy);
+  // 20x on 2 threads against 1: 10x per thread, shown beside the factor.
+  EXPECT_NE(macri->second.at(kMeasured).find(
+                "= 20× (cpu-tensor on 2 threads, cpu-coxdeboor on 1: 10× per thread)"),
+            std::string::npos)
+      << macri->second.at(kMeasured);
+}
+
+// The paper's own factor decides, in three classes: Fig 7's "about 50" holds at 50x, holds within
+// 2x from 25x, and does not hold below.
+TEST(ReportClaims, VerdictClassesAreOfThePapersOwnFactor) {
+  for (const auto& [cpu_s, verdict] : {std::pair{0.6, "holds"}, std::pair{0.3, "holds within 2×"},
+                                       std::pair{0.2, "does not hold"}}) {
+    std::vector<Record> records =
+        fig7_records("cpu-coxdeboor", {"host CPU, 1 thread", "cpu", {}}, 1e-6, cpu_s);
+    for (const Record& r : fig7_records("gl-pingpong", {"Test GPU", "gpu", {}}, 1e-3, 0.01))
+      records.push_back(r);
+    const ClaimRow row = claims_of(records).at(kFig7Large);
+    EXPECT_EQ(row.at(kHolds), verdict) << row.at(kMeasured);
+    EXPECT_NE(row.at("holds when").find("≥ 50×"), std::string::npos);
+    EXPECT_NE(row.at("clock").find("wall clock"), std::string::npos);
+  }
+}
+
+// Fig 14 compares two GPU passes by the device's clock: at 256² the host's cost per call would
+// decide a wall-clock ratio (2x here), the device's says 20x.
+TEST(ReportClaims, Fig14IsReadFromTheDevicesClock) {
+  std::vector<Record> records;
+  for (const auto& [strategy, wall_s, device_s] :
+       {std::tuple{"glsl-deboor", 0.010, 0.001}, std::tuple{"gl-pingpong", 0.020, 0.020}}) {
+    Record r = synthetic(strategy, 1e6, 1);
+    r.scene = "tan64";
+    r.samples = "256x256";
+    r.device = {"Test GPU", "gpu", {}};
+    r.evaluate = {wall_s, wall_s, wall_s};
+    r.device_evaluate_median_s = device_s;
+    records.push_back(r);
+  }
+  const ClaimRow row = claims_of(records).at("Fig 14 The figure shows tha");
+  EXPECT_EQ(row.at(kHolds), "holds") << row.at(kMeasured);
+  EXPECT_NE(row.at(kMeasured).find("= 20×"), std::string::npos) << row.at(kMeasured);
+  EXPECT_NE(row.at("clock").find("device timestamps"), std::string::npos) << row.at("clock");
+}
+
+// RPNS's frame is update + evaluate with the points left on the device; the frame phase's
+// read-back is the second, labelled line's.
+TEST(ReportClaims, RpnsFrameLeavesTheReadBackOut) {
+  std::vector<Record> records;
+  for (const auto& [strategy, update_s, evaluate_s, read_back_s] :
+       {std::tuple{"vk-ksquad", 0.0001, 0.0009, 0.025},
+        std::tuple{"cpu-bezier", 0.05, 0.05, 0.001}}) {
+    Record r = synthetic(strategy, 1e6, 1);
+    r.scene = "many-256";
+    r.samples = "64x64";
+    const bool gpu = strategy == std::string("vk-ksquad");
+    r.device = {gpu ? "Test GPU" : "host CPU", gpu ? "gpu" : "cpu", {}};
+    r.upload = {update_s, update_s, update_s};
+    r.evaluate = {evaluate_s, evaluate_s, evaluate_s};
+    r.read_back = {read_back_s, read_back_s, read_back_s};
+    const double frame = update_s + evaluate_s + read_back_s;
+    r.extra_phases["frame"] = {frame, frame, frame};
+    records.push_back(r);
+  }
+  const auto rows = claims_of(records);
+  const ClaimRow& on_device = rows.at("§1, §6 (the pipelines of Fig 3) Our experimental tes");
+  EXPECT_EQ(on_device.at(kHolds), "holds") << on_device.at(kMeasured);  // 0.1 / 0.001 = 100x
+  EXPECT_NE(on_device.at(kMeasured).find("= 100×"), std::string::npos) << on_device.at(kMeasured);
+  const ClaimRow& end_to_end =
+      rows.at("§1, §6, end to end (another question: the points on the host) Our experimental tes");
+  EXPECT_EQ(end_to_end.at(kHolds), "does not hold") << end_to_end.at(kMeasured);  // 0.101 / 0.026
 }
 
 // ------------------------------------------------------------------------- several machines
