@@ -67,7 +67,14 @@ log "bundle $nb, budget ${minutes} min, $(nproc) CPU threads, $(sed -n 's/^model
 "$nb" "${drivers[@]}" list >"$out/list.txt" 2>"$out/logs/list.err"
 "$nb" "${drivers[@]}" list --json >"$out/list.json" 2>>"$out/logs/list.err"
 sed -n '/^devices/,$p' "$out/list.txt"
-command -v nvidia-smi >/dev/null && nvidia-smi >"$out/nvidia-smi.txt" 2>&1
+if command -v nvidia-smi >/dev/null; then
+  nvidia-smi >"$out/nvidia-smi.txt" 2>&1
+  # The link and clocks a transfer or bandwidth figure depends on: a GPU in a gen3 slot or at a
+  # lowered clock reads as a slow strategy otherwise.
+  nvidia-smi --query-gpu=name,driver_version,pcie.link.gen.current,pcie.link.gen.max,pcie.link.width.current,pcie.link.width.max,clocks.sm,clocks.mem,clocks.max.sm,clocks.max.mem,power.limit \
+    --format=csv >"$out/gpu-link-and-clocks.csv" 2>&1 &&
+    log "GPU link and clocks: $(tail -n +2 "$out/gpu-link-and-clocks.csv" | head -n1)"
+fi
 
 # The machine tag: the first GPU any API found, else "cpu-stand-in".
 gpu=$(sed -n 's/^    \(#[0-9]* \)\{0,1\}\(.*\) (gpu.*/\2/p' "$out/list.txt" | head -n1)
@@ -128,14 +135,15 @@ if [ "$tiny" = 1 ]; then
   mapping_modes=(uniform adaptive)
   mapping=(--scenes patch144 --samples 16x16 --span-samples 4 --deforming 2 --repetitions 1)
 else
-  fig7=(patch144 4x4,16x16,64x64,256x256,1024x1024 3)
-  fig7_large=(patch144 2048x2048,4096x4096 1)
+  # At least 5 repetitions at every size: a figure's min/median/max rest on them.
+  fig7=(patch144 4x4,16x16,64x64,256x256,1024x1024 5)
+  fig7_large=(patch144 2048x2048,4096x4096 5)
   fig14=(tan16,tan64,tan256 256x256 5)
-  fig8=(many-1,many-4,many-16,many-64,many-256,many-1024,many-4096 16x16 3)
+  fig8=(many-1,many-4,many-16,many-64,many-256,many-1024,many-4096 16x16 5)
   ducks=(many-ducks-1,many-ducks-4,many-ducks-16,many-ducks-64 16x16 5)
   deforming=(teapot,patch144,many-256 16x16 1)
   frames=30
-  fig9=(tspline-tjunction 4x4,16x16,64x64,256x256,1024x1024 3)
+  fig9=(tspline-tjunction 4x4,16x16,64x64,256x256,1024x1024 5)
   accuracy=(default 64x64 1)
   lod=(--samples 128x128,512x512,1024x1024)
   camera=(--scenes teapot --frames 60 --viewport 640x480 --pixels-per-sample 4 --fixed-samples 64x64)
@@ -207,6 +215,7 @@ log "done in $((SECONDS - start))s"
 archive="$out/nurbsbench-gpu-check-$tag.tar.gz"
 parts=(SUMMARY.txt list.txt list.json sets)
 [ -f "$out/nvidia-smi.txt" ] && parts+=(nvidia-smi.txt)
+[ -f "$out/gpu-link-and-clocks.csv" ] && parts+=(gpu-link-and-clocks.csv)
 [ -f "$out/gates.txt" ] && parts+=(gates.txt)
 [ -d "$out/report" ] && parts+=(report)
 tar czf "$archive" -C "$out" "${parts[@]}" logs
