@@ -355,10 +355,36 @@ class GlPingPong final : public Strategy {
       shape_results(out, samples_, Precision::f32, false);
       return;
     }
+    const gl::Functions& gl = context_->gl();
+    if (context_->software()) {
+      // A software renderer's "device" memory is host memory and glReadPixels is itself the
+      // host copy: each tile is read straight into its place in its surface's result, one pass
+      // instead of a copy into the pixel-pack buffer and another out of it. A GPU reads through
+      // the buffer: glReadPixels into pageable memory stalls the pipeline.
+      shape_results(out, samples_, Precision::f32, false);
+      last_copy_s_ = timer_->time("gl-pingpong read-back", [&] {
+        gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+        for (std::size_t i = 0; i < surfaces_.size(); ++i) {
+          const std::size_t nv = samples_[i].v.size();
+          float* to = out.surfaces[i].positions.f32();
+          gl.PixelStorei(GL_PACK_ROW_LENGTH, static_cast<GLint>(nv));
+          for (const Tile& t : surfaces_[i].tiles) {
+            const std::size_t u0 = surfaces_[i].u_begin[static_cast<std::size_t>(t.cu)];
+            const std::size_t v0 = surfaces_[i].v_begin[static_cast<std::size_t>(t.cv)];
+            result_of(t).bind_target();
+            gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+            context_->read_pixels(t.place.x, t.place.y, t.width, t.height, GL_RGB, GL_FLOAT,
+                                  to + (u0 * nv + v0) * 3);
+          }
+        }
+        gl.PixelStorei(GL_PACK_ROW_LENGTH, 0);
+      });
+      context_->check("gl-pingpong read-back");
+      return;
+    }
     // Allocated by the first read-back, not prepare(): 201 MB cost llvmpipe ~120 ms, which
     // prepare() would add to every fresh strategy's upload.
     results_.reserve(bytes);
-    const gl::Functions& gl = context_->gl();
     last_copy_s_ = timer_->time("gl-pingpong read-back", [&] {
       std::size_t first = 0;  // the surface's first point in the buffer
       for (std::size_t i = 0; i < surfaces_.size();) {

@@ -368,8 +368,29 @@ void Evaluator::read_back_into(EvalResult& out) {
     shape_results(out, samples_, Precision::f32, false);
     return;
   }
-  results_.reserve(bytes);
   const gl::Functions& gl = context_.gl();
+  if (context_.software()) {
+    // A software renderer's "device" memory is host memory and glReadPixels is itself the host
+    // copy: each surface is read straight into its result, one pass over the bytes instead of a
+    // copy into the pixel-pack buffer and another out of it (llvmpipe at patch144 4096²: 0.24-0.35
+    // of the GL link row through the buffer). A GPU reads through the buffer: glReadPixels into
+    // pageable memory stalls the pipeline (0.2 GB/s on an H200).
+    shape_results(out, samples_, Precision::f32, false);
+    read_back_device_s_ = timer_.time("glsl-deboor read-back", [&] {
+      gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+      for (const Page& page : pages_) {
+        page.points.bind_target();
+        gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+        for (const SurfaceSlot& s : page.slots)
+          if (s.nv > 0 && s.nu > 0)
+            context_.read_pixels(0, s.output_row0, s.nv, s.nu, GL_RGB, GL_FLOAT,
+                                 out.surfaces[s.surface].positions.f32());
+      }
+    });
+    context_.check("glsl-deboor read-back");
+    return;
+  }
+  results_.reserve(bytes);
   read_back_device_s_ = timer_.time("glsl-deboor read-back", [&] {
     for (const Page& page : pages_) {
       page.points.bind_target();
