@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
+#include <stdexcept>
 
 #include "harness/store_limit.h"
 
@@ -63,6 +65,39 @@ Record measure_link_limit(const Scene& scene, const EvalRequest& request, int re
     r.status = Status::ok;
   });
   return r;
+}
+
+Record measure_fragment_pass_limit(const Scene& scene, const EvalRequest& request,
+                                   int repetitions, LinkCopy& gl_link) {
+  Record r = limit_record(kFragmentPassLimitName, scene, request, repetitions);
+  const Availability& availability = gl_link.availability();
+  if (!availability.available) {
+    r.status = Status::unavailable;
+    r.reason = availability.reason;
+    return r;
+  }
+  measure_on_device(r, [&] {
+    std::optional<PassTiming> t = gl_link.fragment_pass(std::max<std::size_t>(r.points, 1),
+                                                         repetitions);
+    if (!t) throw std::runtime_error("this API has no fragment pass");
+    r.device = std::move(t->device);
+    r.device.details["kernel"] = t->method;
+    r.evaluate = PhaseStats::of(t->seconds);
+    if (!t->device_seconds.empty())
+      r.device_evaluate_median_s = PhaseStats::of(t->device_seconds).median_s;
+    r.throughput_pts_per_s = r.evaluate.median_s > 0 ? r.points / r.evaluate.median_s : 0;
+    r.figures["pixels"] = static_cast<double>(r.points);
+    r.status = Status::ok;
+  });
+  return r;
+}
+
+std::optional<double> fraction_of_fragment_pass(const Record& r,
+                                                const std::vector<Record>& records) {
+  if (link_api_of(r.device) != LinkApi::gl) return std::nullopt;
+  const Record* limit = limit_row_for(r, records, kFragmentPassLimitName);
+  if (!limit || limit->device.name != r.device.name) return std::nullopt;
+  return r.throughput_pts_per_s / limit->throughput_pts_per_s;
 }
 
 std::optional<double> fraction_of_link(const Record& r, const std::vector<Record>& records,

@@ -38,6 +38,19 @@ std::optional<LinkApi> link_api_of(const DeviceInfo& device);
 Record measure_link_limit(const Scene& scene, const EvalRequest& request, int repetitions,
                           LinkCopy& link);
 
+// The GL paths' own ceiling (strategies/link_copy.h, PassTiming): limit-gl-fragment-pass, one
+// trivial fragment pass writing as many RGBA32F pixels as the request has points, on the GL
+// device the GL strategies use. Its evaluate phase is the pass (wall clock, the GL strategies'
+// evaluate clock; the device's timer in device_evaluate_median_s), its points/s the most a GL
+// strategy's evaluate could reach if writing its output pixels once were all it did.
+inline constexpr std::string_view kFragmentPassLimitName = "limit-gl-fragment-pass";
+Record measure_fragment_pass_limit(const Scene& scene, const EvalRequest& request,
+                                   int repetitions, LinkCopy& gl_link);
+// `r`'s points/s over that row's for the same scene, samples and precision, for a GL strategy on
+// the same device; none otherwise.
+std::optional<double> fraction_of_fragment_pass(const Record& r,
+                                                const std::vector<Record>& records);
+
 // Which transfer phase of a strategy a fraction is about.
 enum class LinkPhase { upload, read_back };
 

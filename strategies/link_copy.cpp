@@ -114,9 +114,19 @@ LinkTiming LinkCopy::time(std::size_t bytes, int repetitions) {
   if (bytes == 0 || bytes % 16 != 0)
     throw std::invalid_argument(
         fmt::format("link copy: {} bytes, not a positive multiple of 16", bytes));
+  return on_bench([&](Bench& bench) { return bench.time(bytes, repetitions); });
+}
+
+std::optional<PassTiming> LinkCopy::fragment_pass(std::size_t pixels, int repetitions) {
+  if (pixels == 0) throw std::invalid_argument("fragment pass: no pixels");
+  return on_bench([&](Bench& bench) { return bench.fragment_pass(pixels, repetitions); });
+}
+
+template <typename F>
+auto LinkCopy::on_bench(F&& f) -> decltype(f(std::declval<Bench&>())) {
   try {
     if (!bench_) bench_ = make_bench(api_, options_);
-    return bench_->time(bytes, repetitions);
+    return f(*bench_);
   } catch (const DeviceTimeout& e) {
     // A device that stopped answering cannot be torn down without an unbounded wait: it is left
     // as it is, and the run's later rows for this API are unavailable instead of each waiting out

@@ -19,6 +19,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "strategies/strategy.h"
@@ -38,6 +39,18 @@ struct LinkTiming {
   std::string method;               // what was timed, in words, for the record
 };
 
+// A device's own ceiling for the work of a strategy's kind, where the API has one: for GL, one
+// trivial fragment pass (a constant colour, no reads) writing as many RGBA32F pixels as the
+// request has points, the format the GL strategies' passes write. Its points/s are the most a GL
+// strategy's evaluate could reach if writing its output pixels once were all it did: a GPU's
+// graphics part can be far smaller than its compute (3.3-3.5 G fragments/s on an H200).
+struct PassTiming {
+  DeviceInfo device;
+  std::vector<double> seconds;         // wall clock, all the pixels, one per repetition
+  std::vector<double> device_seconds;  // the device's timer for the same passes, where it has one
+  std::string method;
+};
+
 // One API's copies for a run: the device is opened on the first use and kept with its buffers
 // (grown for a larger request, never shrunk); a copy that throws drops them, so the next use opens
 // a fresh device, and one that timed out leaves the device alone and makes the later rows
@@ -53,6 +66,12 @@ class LinkCopy {
     // error, not a fast row). Throws std::runtime_error, RefusedError (does not fit),
     // DeviceTimeout.
     virtual LinkTiming time(std::size_t bytes, int repetitions) = 0;
+    // `repetitions` passes writing `pixels` pixels after an untimed one, their output checked;
+    // nullopt where the API has no such ceiling (only GL has one).
+    virtual std::optional<PassTiming> fragment_pass(std::size_t pixels, int repetitions) {
+      (void)pixels, (void)repetitions;
+      return std::nullopt;
+    }
   };
 
   LinkCopy(LinkApi api, StrategyOptions options);
@@ -64,8 +83,16 @@ class LinkCopy {
   // Whether the API has a device here ("not built with ...", or the API's probe's reason).
   const Availability& availability();
   LinkTiming time(std::size_t bytes, int repetitions);
+  // The API's fragment-pass ceiling on the same device (Bench::fragment_pass), with time()'s
+  // handling of failures and timeouts.
+  std::optional<PassTiming> fragment_pass(std::size_t pixels, int repetitions);
 
  private:
+  // Runs `f` on the bench (made on the first use); a timeout leaves the device alone and makes
+  // the later rows unavailable, any other failure drops the bench for the next use to remake.
+  template <typename F>
+  auto on_bench(F&& f) -> decltype(f(std::declval<Bench&>()));
+
   LinkApi api_;
   StrategyOptions options_;
   std::optional<Availability> availability_;

@@ -125,6 +125,9 @@ int list_command(const ListOptions& options) {
                             fmt::format("host->device and device->host copies of the request's "
                                         "output through pinned, reused memory on {}",
                                         where));
+  limit_rows.emplace_back(kFragmentPassLimitName,
+                          "a trivial GL fragment pass writing one RGBA32F pixel per point of the "
+                          "request: the GL strategies' own ceiling (a CPU figure on llvmpipe)");
   text += "limits:\n";
   nlohmann::json limits = nlohmann::json::array();
   for (const auto& [name, description] : limit_rows) {

@@ -38,13 +38,17 @@ struct StrategySelection {
   bool store_limit = false;          // the limit-store-bandwidth row (harness/store_limit.h)
   bool device_copy_limit = false;    // the limit-device-copy row (harness/copy_limit.h)
   std::vector<LinkApi> link_limits;  // the limit-link-<api> rows (harness/link_limit.h)
-  bool any_limit() const { return store_limit || device_copy_limit || !link_limits.empty(); }
+  bool fragment_pass_limit = false;  // limit-gl-fragment-pass (harness/link_limit.h)
+  bool any_limit() const {
+    return store_limit || device_copy_limit || !link_limits.empty() || fragment_pass_limit;
+  }
 };
 
 // Every limit row's name, for --strategies' error.
 std::vector<std::string> limit_names() {
   std::vector<std::string> names{std::string(kStoreLimitName), std::string(kDeviceCopyLimitName)};
   for (const LinkApi api : kLinkApis) names.push_back(link_limit_name(api));
+  names.emplace_back(kFragmentPassLimitName);
   return names;
 }
 
@@ -56,6 +60,7 @@ StrategySelection strategy_list(const std::string& text) {
     out.store_limit = true;
     out.device_copy_limit = true;
     out.link_limits.assign(std::begin(kLinkApis), std::end(kLinkApis));
+    out.fragment_pass_limit = true;
     return out;
   }
   for (const std::string& name : split_list(text)) {
@@ -65,6 +70,10 @@ StrategySelection strategy_list(const std::string& text) {
     }
     if (name == kDeviceCopyLimitName) {
       out.device_copy_limit = true;
+      continue;
+    }
+    if (name == kFragmentPassLimitName) {
+      out.fragment_pass_limit = true;
       continue;
     }
     if (const std::optional<LinkApi> api = link_limit_api(name)) {
@@ -164,6 +173,7 @@ int run_command(const RunOptions& options) {
   if (selection.device_copy_limit) settings["strategies"].push_back(kDeviceCopyLimitName);
   for (const LinkApi api : selection.link_limits)
     settings["strategies"].push_back(link_limit_name(api));
+  if (selection.fragment_pass_limit) settings["strategies"].push_back(kFragmentPassLimitName);
   for (const Sampling& s : samplings) settings["samplings"].push_back(s.label());
   ResultsWriter writer(options.out, machine_record(threads), settings);
   // The limit-device-copy rows' device, opened on the first and kept for the others.
@@ -172,6 +182,17 @@ int run_command(const RunOptions& options) {
   std::vector<std::unique_ptr<LinkCopy>> links;
   for (const LinkApi api : selection.link_limits)
     links.push_back(std::make_unique<LinkCopy>(api, strategy_options));
+  // The fragment pass runs on the GL link's context (one GL context for both rows).
+  LinkCopy* gl_link = nullptr;
+  std::unique_ptr<LinkCopy> gl_link_alone;
+  if (selection.fragment_pass_limit) {
+    for (const std::unique_ptr<LinkCopy>& link : links)
+      if (link->api() == LinkApi::gl) gl_link = link.get();
+    if (!gl_link) {
+      gl_link_alone = std::make_unique<LinkCopy>(LinkApi::gl, strategy_options);
+      gl_link = gl_link_alone.get();
+    }
+  }
 
   RunProgress progress(std::cerr, scenes.size() * samplings.size() * strategies.size(),
                        ::isatty(STDERR_FILENO));
@@ -192,6 +213,9 @@ int run_command(const RunOptions& options) {
       // read-back), so they are measured there as well.
       for (const std::unique_ptr<LinkCopy>& link : links)
         writer.append(measure_link_limit(scene, limit_request, options.repetitions, *link));
+      if (gl_link && !deforming)
+        writer.append(
+            measure_fragment_pass_limit(scene, limit_request, options.repetitions, *gl_link));
       for (const StrategyEntry* entry : strategies) {
         progress.start(fmt::format("{} on {} ({})", entry->name, scene.name, sampling.label()));
         EvalRequest request{sampling, precision, options.normals};

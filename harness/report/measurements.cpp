@@ -40,6 +40,13 @@ ReportSection measurements_section(const SectionInput& in) {
   if (links)
     table.header.insert(std::find(table.header.begin(), table.header.end(), "max_ulp"),
                         {"read_back of link", "upload of link"});
+  bool passes = false;
+  for (const ResultSet& set : sets)
+    for (const Record& r : set.results.records)
+      passes = passes || (r.strategy == kFragmentPassLimitName && r.status == Status::ok);
+  if (passes)
+    table.header.insert(std::find(table.header.begin(), table.header.end(), "max_ulp"),
+                        "of fragment pass");
   if (sets.size() > 1) table.header.insert(table.header.begin(), "set");
   bool any_limit = false, any_too_small = false;
   for (const ResultSet& set : sets)
@@ -77,6 +84,10 @@ ReportSection measurements_section(const SectionInput& in) {
         cells.insert(cells.end() - 2,  // before max_ulp and status, as in the header
                      {percent(LinkPhase::read_back), percent(LinkPhase::upload)});
       }
+      if (passes) {
+        const std::optional<double> f = fraction_of_fragment_pass(r, set.results.records);
+        cells.insert(cells.end() - 2, f ? fmt::format("{:.1f}%", 100 * *f) : std::string("-"));
+      }
       if (trims) cells.insert(cells.end() - 1, r.trimming.empty() ? "-" : trim_text(r));
       if (sets.size() > 1) cells.insert(cells.begin(), label.set_name(set));
       table.rows.push_back(std::move(cells));
@@ -111,6 +122,12 @@ ReportSection measurements_section(const SectionInput& in) {
         "bandwidth (the bytes its prepare sends, device detail bytes_uploaded, over its upload "
         "median) over the row's; '-' where the strategy does not say its bytes. On llvmpipe, "
         "lavapipe and PoCL the link is a memcpy: a CPU figure.");
+  if (passes)
+    s.notes.push_back(
+        "of fragment pass = a GL strategy's points/s (evaluate, wall clock) over the "
+        "limit-gl-fragment-pass row's for the same scene, samples and precision on the same "
+        "device: a constant-colour fragment pass writing one RGBA32F pixel per point, the most a "
+        "GL evaluation could reach if writing its output once were all it did.");
   if (any_too_small)
     s.notes.push_back(fmt::format(
         "—†: the limit row's output is under {} KiB, where a store pass times the threads' fork "

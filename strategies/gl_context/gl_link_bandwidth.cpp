@@ -18,6 +18,10 @@
 #include "strategies/link_copy.h"
 #include "strategies/wall_clock.h"
 
+namespace nurbs::embedded {
+extern const std::string_view gl_fullscreen_triangle_vert;
+}  // namespace nurbs::embedded
+
 namespace nurbs::gl {
 namespace {
 
@@ -50,6 +54,9 @@ class LinkBench final : public LinkCopy::Bench {
   ~LinkBench() override {
     context_->make_current();
     mapping_.reset();
+    triangle_.reset();
+    fill_program_.reset();
+    fill_target_ = Texture();
     texture_ = Texture();
     unpack_ = PixelBuffer();
     pack_ = PixelBuffer();
@@ -88,6 +95,75 @@ class LinkBench final : public LinkCopy::Bench {
       }));
       check_words(bytes, pass_, "a timed copy");
     }
+    return out;
+  }
+
+  // One draw of a constant colour over an RGBA32F target as wide as the link's texture (rows as
+  // needed; several draws where they pass GL_MAX_TEXTURE_SIZE), scaled to the request's pixels
+  // from the whole rows drawn. The colour carries the pass number, read back after the last pass:
+  // a pass that did not happen fails.
+  std::optional<PassTiming> fragment_pass(std::size_t pixels, int repetitions) override {
+    context_->make_current();
+    const Functions& gl = context_->gl();
+    const std::size_t side = static_cast<std::size_t>(context_->max_texture_size());
+    const std::size_t width = std::min(side, pixels);
+    const std::size_t rows = (pixels + width - 1) / width;
+    const std::size_t page_rows = std::min(rows, side);
+    if (!fill_target_.id() || fill_target_.width() != static_cast<int>(width) ||
+        fill_target_.height() < static_cast<int>(page_rows)) {
+      fill_target_ = Texture();
+      fill_target_ = Texture(*context_, GL_RGBA32F, static_cast<int>(width),
+                             static_cast<int>(page_rows), true);
+    }
+    if (!fill_program_) {
+      fill_program_.emplace(*context_, embedded::gl_fullscreen_triangle_vert,
+                            "#version 330 core\n"
+                            "uniform float pass_value;\n"
+                            "out vec4 color;\n"
+                            "void main() { color = vec4(gl_FragCoord.xy, pass_value, 1.0); }\n",
+                            "", "limit fragment pass");
+      triangle_.emplace(*context_);
+    }
+    const GLint value = fill_program_->uniform("pass_value");
+    const auto draw_all = [&](float pass) {
+      fill_target_.bind_target();
+      gl.UseProgram(fill_program_->id());
+      gl.Uniform1fv(value, 1, &pass);
+      for (std::size_t done = 0; done < rows; done += page_rows) {
+        const std::size_t here = std::min(page_rows, rows - done);
+        gl.Viewport(0, 0, static_cast<GLsizei>(width), static_cast<GLsizei>(here));
+        triangle_->draw();
+      }
+    };
+    const double share =
+        static_cast<double>(pixels) / static_cast<double>(rows * width);  // of what was drawn
+    DeviceTimer timer(*context_);
+    float pass = 0;
+    timer.time("limit fragment pass (untimed)", [&] { draw_all(++pass); });
+    PassTiming out;
+    out.device = context_->device_info();
+    out.method = fmt::format(
+        "a constant-colour fragment program (no reads) drawn over an RGBA32F target {} pixels "
+        "wide, one fullscreen triangle per {} rows; wall clock around the draws and glFinish, "
+        "GL_TIME_ELAPSED beside it",
+        width, page_rows);
+    for (int k = 0; k < repetitions; ++k) {
+      double device_s = 0;
+      const double wall_s = wall_seconds([&] {
+        device_s = timer.time("limit fragment pass", [&] { draw_all(++pass); });
+      });
+      out.seconds.push_back(wall_s * share);
+      out.device_seconds.push_back(device_s * share);
+    }
+    float texel[4] = {0, 0, 0, 0};
+    fill_target_.bind_target();
+    gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+    context_->read_pixels(0, 0, 1, 1, GL_RGBA, GL_FLOAT, texel);
+    if (texel[2] != pass)
+      throw std::runtime_error(fmt::format(
+          "limit fragment pass ({}): pixel (0, 0) holds {} after pass {}: the draws did not "
+          "happen",
+          context_->description(), texel[2], pass));
     return out;
   }
 
@@ -199,6 +275,9 @@ class LinkBench final : public LinkCopy::Bench {
   std::unique_ptr<Context> context_;
   double setup_s_ = 0;
   Texture texture_;
+  Texture fill_target_;  // the fragment pass's, kept for the run
+  std::optional<Program> fill_program_;
+  std::optional<FullscreenTriangle> triangle_;
   PixelBuffer unpack_, pack_;
   std::optional<PixelBuffer::Mapping> mapping_;  // the pack buffer, from a timed read-back's map
   std::uint32_t pass_ = 0;

@@ -73,7 +73,8 @@ TEST(CliList, TextNamesStrategiesAndScenes) {
     EXPECT_NE(r.out.find(s.name), std::string::npos) << s.name;
   EXPECT_NE(r.out.find("limits:\n  limit-store-bandwidth"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\n  limit-device-copy"), std::string::npos) << r.out;
-  for (const char* link : {"limit-link-vulkan", "limit-link-opencl", "limit-link-gl"})
+  for (const char* link :
+       {"limit-link-vulkan", "limit-link-opencl", "limit-link-gl", "limit-gl-fragment-pass"})
     EXPECT_NE(r.out.find(std::string("\n  ") + link), std::string::npos) << link << r.out;
 }
 
@@ -83,12 +84,13 @@ TEST(CliList, JsonDescribesEveryStrategyAndScene) {
   const json doc = json::parse(r.out);  // throws (fails the test) when not valid JSON
   ASSERT_TRUE(doc.contains("strategies") && doc["strategies"].is_array());
   ASSERT_TRUE(doc.contains("scenes") && doc["scenes"].is_array());
-  ASSERT_EQ(doc["limits"].size(), 5u);
+  ASSERT_EQ(doc["limits"].size(), 6u);
   EXPECT_EQ(doc["limits"][0]["name"], "limit-store-bandwidth");
   EXPECT_EQ(doc["limits"][1]["name"], "limit-device-copy");
   EXPECT_EQ(doc["limits"][2]["name"], "limit-link-vulkan");
   EXPECT_EQ(doc["limits"][3]["name"], "limit-link-opencl");
   EXPECT_EQ(doc["limits"][4]["name"], "limit-link-gl");
+  EXPECT_EQ(doc["limits"][5]["name"], "limit-gl-fragment-pass");
 
   std::set<std::string> strategies;
   for (const json& s : doc["strategies"]) {
@@ -442,9 +444,9 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
   const CliResult r = run_cli({"run", "--scenes", "patch144,sphere", "--samples", "8x8",
                                "--repetitions", "1", "--out", out});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  // Every strategy plus the five limit rows (store bandwidth, device copy, the three APIs' links),
-  // per scene.
-  const std::size_t measurements = 2 * (strategy_registry().size() + 5);
+  // Every strategy plus the six limit rows (store bandwidth, device copy, the three APIs' links,
+  // the GL fragment pass), per scene.
+  const std::size_t measurements = 2 * (strategy_registry().size() + 6);
 
   const std::vector<std::string> lines = split_lines(read_text(fs::path(out) / "results.csv"));
   ASSERT_EQ(lines.size(), 1 + measurements);
@@ -468,7 +470,8 @@ TEST(CliRun, WritesJsonAndCsvWithOneRowPerMeasurement) {
       EXPECT_EQ(row[18], "") << "a limit row has no accuracy";
     }
     // ok on the software drivers; unavailable without the API
-    if (row[1] == "limit-device-copy" || row[1].starts_with("limit-link-")) {
+    if (row[1] == "limit-device-copy" || row[1].starts_with("limit-link-") ||
+        row[1] == "limit-gl-fragment-pass") {
       EXPECT_TRUE(row[19] == "ok" || row[19] == "unavailable") << lines[k];
     }
   }

@@ -83,6 +83,40 @@ Record record(std::string strategy, std::string role, DeviceInfo device) {
   return r;
 }
 
+// The GL paths' ceiling: a trivial fragment pass over one pixel per point, on the GL link's
+// context, its output checked (a pass that did not draw fails the row).
+TEST(FragmentPassLimit, PassesOverOnePixelPerPointOrSaysWhyNot) {
+  const Scene scene = *make_builtin_scene("many-4");
+  Sampling grid;
+  grid.grid_u = 300;  // 4 x 300 x 200 = 240,000 pixels: several rows of the widest target
+  grid.grid_v = 200;
+  LinkCopy gl(LinkApi::gl, StrategyOptions{});
+  const Record r = measure_fragment_pass_limit(scene, EvalRequest{grid, Precision::f32, false},
+                                               3, gl);
+  EXPECT_EQ(r.strategy, "limit-gl-fragment-pass");
+  EXPECT_EQ(r.role, "limit");
+  if (!gl.availability().available) {
+    EXPECT_EQ(r.status, Status::unavailable);
+    if (std::getenv("NURBSBENCH_REQUIRE_ALL_STRATEGIES")) {
+      ADD_FAILURE() << "no GL device: " << gl.availability().reason;
+    }
+    return;
+  }
+  ASSERT_EQ(r.status, Status::ok) << r.reason;
+  EXPECT_EQ(link_api_of(r.device), LinkApi::gl);
+  EXPECT_GT(r.evaluate.min_s, 0.0);
+  EXPECT_DOUBLE_EQ(r.throughput_pts_per_s, r.points / r.evaluate.median_s);
+  ASSERT_TRUE(r.device_evaluate_median_s);
+  EXPECT_GT(*r.device_evaluate_median_s, 0.0);
+  // Another API has no such ceiling: the row says so instead of timing nothing.
+  LinkCopy vulkan(LinkApi::vulkan, StrategyOptions{});
+  if (vulkan.availability().available) {
+    const Record none =
+        measure_fragment_pass_limit(scene, EvalRequest{grid, Precision::f32, false}, 1, vulkan);
+    EXPECT_EQ(none.status, Status::failed);
+  }
+}
+
 TEST(LinkLimit, ApiOfADeviceIsReadFromWhatEachApiRecords) {
   EXPECT_EQ(link_api_of({"NVIDIA H100", "gpu", {{"api", "Vulkan 1.3.277"}}}), LinkApi::vulkan);
   EXPECT_EQ(link_api_of({"NVIDIA H100",
