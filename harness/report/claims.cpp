@@ -431,6 +431,15 @@ std::string per_thread_text(const Comparison& c, double ratio) {
                      fast == 1 ? "" : "s", c.slow_name, slow, report_number(ratio * slow / fast));
 }
 
+// The command that made the set at `directory` (regenerate_set), the chart's declared one where
+// the set is not among `sets` (a side file's, such as lod.json's).
+std::string command_that_made(const std::string& run, const std::string& directory,
+                              const std::vector<ResultSet>& sets) {
+  for (const ResultSet& set : sets)
+    if (set.directory.string() == directory) return regenerate_set(run, set);
+  return regenerate_in(run, directory);
+}
+
 std::string factor_text(double ratio) {
   const std::string text = report_number(ratio) + "×";
   return ratio < 1 ? fmt::format("{} ({}× the other way)", text, report_number(1 / ratio)) : text;
@@ -482,7 +491,7 @@ ReportSection claims_section(const SectionInput& in) {
       std::vector<std::string> row = head;
       row.insert(row.end(), {group_label(group, cs), measured, verdict_text,
                              fmt::format("{}", fmt::join(measured_causes(cs, holds), "; ")),
-                             regenerate_in(run, cs.front().directory)});
+                             command_that_made(run, cs.front().directory, sets)});
       table.rows.push_back(std::move(row));
     }
   }

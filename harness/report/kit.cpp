@@ -207,6 +207,49 @@ std::string regenerate_in(const std::string& run_arguments, const std::string& d
   if (run.starts_with("scripts/")) return run;
   return fmt::format("{}{}nurbsbench report --results {}", run, run.empty() ? "" : " && ", dir);
 }
+std::string regenerate_set(const std::string& run_arguments, const ResultSet& set) {
+  const nlohmann::json& settings = set.results.settings;
+  const std::string dir = set.directory.string();
+  const auto list = [&](const char* key) {
+    std::vector<std::string> items;
+    if (settings.contains(key) && settings[key].is_array())
+      for (const nlohmann::json& item : settings[key])
+        if (item.is_string()) items.push_back(item.get<std::string>());
+    return items;
+  };
+  const std::vector<std::string> scenes = list("scenes"), strategies = list("strategies"),
+                                 samplings = list("samplings");
+  if (scenes.empty() || strategies.empty() || samplings.empty())
+    return regenerate_in(run_arguments, dir);
+  std::vector<std::string> grids, spans;
+  for (const std::string& s : samplings) {
+    if (s.starts_with("span"))
+      spans.push_back(s.substr(4));
+    else if (s.find('x') != std::string::npos)
+      grids.push_back(s);
+    else
+      return regenerate_in(run_arguments, dir);  // an explicit list: its file is not recorded
+  }
+  std::string run = fmt::format("nurbsbench run --scenes {} --strategies {}",
+                                fmt::join(scenes, ","), fmt::join(strategies, ","));
+  if (!grids.empty()) run += fmt::format(" --samples {}", fmt::join(grids, ","));
+  if (!spans.empty()) run += fmt::format(" --span-samples {}", fmt::join(spans, ","));
+  if (settings.contains("repetitions") && settings["repetitions"].is_number_integer())
+    run += fmt::format(" --repetitions {}", settings["repetitions"].get<long long>());
+  if (settings.contains("precision") && settings["precision"].is_string() &&
+      settings["precision"].get<std::string>() != "f32")
+    run += fmt::format(" --precision {}", settings["precision"].get<std::string>());
+  if (settings.value("normals", false)) run += " --normals";
+  if (settings.contains("threads") && settings["threads"].is_number_integer())
+    run += fmt::format(" --threads {}", settings["threads"].get<long long>());
+  if (settings.contains("deforming_frames") && settings["deforming_frames"].is_number_integer() &&
+      settings["deforming_frames"].get<long long>() > 0)
+    run += fmt::format(" --deforming {}", settings["deforming_frames"].get<long long>());
+  for (const std::string& option : list("strategy_options"))
+    run += fmt::format(" --strategy-option {}", option);
+  return regenerate_in(run + " --out DIR", dir);
+}
+
 std::string regenerate(const std::string& run_arguments, const std::vector<ResultSet>& sets) {
   return regenerate_in(run_arguments, sets.empty() ? "DIR" : sets.front().directory.string());
 }
@@ -269,7 +312,7 @@ bool show_rows(ReportSection& s, const std::vector<Row>& rows, const std::string
   const ResultSet* most = rows.front().set;
   for (const auto& [set, n] : rows_of_set)
     if (n > rows_of_set[most]) most = set;
-  s.command = regenerate_in(run, most->directory.string());
+  s.command = regenerate_set(run, *most);
   return true;
 }
 

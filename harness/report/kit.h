@@ -130,6 +130,13 @@ ReportTable category_table(const std::string& caption, const std::string& first,
                            const std::function<std::string(double)>& format);
 
 std::string regenerate_in(const std::string& run_arguments, const std::string& dir);
+// The `nurbsbench run` command that made `set`, rebuilt from the settings its results.json
+// recorded (scenes, strategies, samplings, repetitions, precision, normals, threads, deforming
+// frames, strategy options), then the report on it; the chart's declared `run_arguments` where the
+// set recorded no run settings (a side file's set, results from before they were recorded). The
+// declared command is what a chart needs; this one is what ran: a GPU check drops or shrinks steps
+// for its budget, and a set run by hand has its own lists.
+std::string regenerate_set(const std::string& run_arguments, const ResultSet& set);
 std::string regenerate(const std::string& run_arguments, const std::vector<ResultSet>& sets);
 std::string points_text(double x);
 
