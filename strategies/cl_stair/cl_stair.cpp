@@ -126,7 +126,7 @@ class ClStair final : public Strategy {
     const std::unique_ptr<std::remove_pointer_t<cl_event>, decltype(&clReleaseEvent)> owned(
         done, clReleaseEvent);
     opencl::wait(done, "kernel evaluate_ksquads");
-    kernel_s_ = opencl::event_seconds(done);
+    times_.evaluate_s = opencl::event_seconds(done);
   }
 
   // One launch per trimmed surface over its grid, waited for once; the mask and the cost counter
@@ -164,7 +164,7 @@ class ClStair final : public Strategy {
                                            &local, 0, nullptr, launches.next()),
                     "clEnqueueNDRangeKernel (classify_trim)");
     }
-    classify_s_ = launches.wait("kernel classify_trim");
+    times_.classify_s = launches.wait("kernel classify_trim");
     classified_ = true;
     cost_pending_ = !trim_launches_.empty();
     return true;
@@ -181,8 +181,8 @@ class ClStair final : public Strategy {
   void read_back_into(EvalResult& out) override {
     static const std::vector<opencl::MaskPiece> no_masks;
     const bool masks = classified_ && !trim_launches_.empty();
-    read_back_s_ = reader_.read(out, samples_, request_.precision, out_, nullptr, inside_,
-                                masks ? mask_pieces_ : no_masks);
+    times_.read_back_s = reader_.read(out, samples_, request_.precision, out_, nullptr, inside_,
+                                      masks ? mask_pieces_ : no_masks);
   }
 
   // Only the homogeneous control points move (003 §5): the tables, knots, parameters, KSQuads and
@@ -194,14 +194,7 @@ class ClStair final : public Strategy {
       write_points<double>(scene);
   }
 
-  DeviceTimes device_times() const override {
-    DeviceTimes t;
-    t.evaluate_s = kernel_s_;
-    t.upload_s = upload_s_;
-    t.classify_s = classify_s_;
-    t.read_back_s = read_back_s_;
-    return t;
-  }
+  DeviceTimes device_times() const override { return times_; }
 
  private:
   // A program and its one kernel, built once per precision.
@@ -285,7 +278,7 @@ class ClStair final : public Strategy {
     opencl::Batch batch;
     opencl::enqueue_write(batch, ctx_, points_, 0, points.data(), points.size() * sizeof(T),
                           "control points");
-    upload_s_ = batch.wait("control points");
+    times_.upload_s = batch.wait("control points");
     record_.details["bytes_updated"] = std::to_string(batch.bytes());
   }
 
@@ -380,7 +373,7 @@ class ClStair final : public Strategy {
       opencl::check(clSetKernelArg(kernel_, k, sizeof(cl_mem), &args[k]), "clSetKernelArg");
     opencl::check(clSetKernelArg(kernel_, 6, cp_bytes_, nullptr), "clSetKernelArg (local cache)");
     last_cp_bytes_ = cp_bytes_;
-    upload_s_ = upload_s_.value_or(0) + batch.wait("upload");
+    times_.upload_s = times_.upload_s.value_or(0) + batch.wait("upload");
     bytes_uploaded_ += batch.bytes();
   }
 
@@ -429,7 +422,7 @@ class ClStair final : public Strategy {
                           std::max<std::size_t>(out, 1) * sizeof(cl_int), "trim cost counter");
     record_.details["trim_pieces"] = std::to_string(tables.pieces);
     record_.details["trim_rows"] = std::to_string(tables.rows);
-    upload_s_ = upload_s_.value_or(0) + batch.wait("upload (trims)");
+    times_.upload_s = times_.upload_s.value_or(0) + batch.wait("upload (trims)");
     bytes_uploaded_ += batch.bytes();
   }
 
@@ -463,9 +456,9 @@ class ClStair final : public Strategy {
       *m = nullptr;
     }
     classified_ = cost_pending_ = false;
-    upload_s_.reset();
-    classify_s_.reset();
-    read_back_s_.reset();
+    times_.upload_s.reset();
+    times_.classify_s.reset();
+    times_.read_back_s.reset();
     bytes_uploaded_ = 0;
   }
 
@@ -502,7 +495,7 @@ class ClStair final : public Strategy {
          params_ = nullptr, out_ = nullptr;
   std::size_t out_bytes_ = 0, tiles_ = 0, total_ = 0, bytes_uploaded_ = 0;
   // Profiling events of the phases' last calls (DeviceTimes).
-  std::optional<double> kernel_s_, upload_s_, classify_s_, read_back_s_;
+  DeviceTimes times_;  // each phase's last device time (device_times())
 };
 
 }  // namespace

@@ -102,7 +102,7 @@ class ClTSplineBezier final : public Strategy {
     const std::unique_ptr<std::remove_pointer_t<cl_event>, decltype(&clReleaseEvent)> owned(
         done, clReleaseEvent);
     opencl::wait(done, "kernel evaluate_samples");
-    kernel_s_ = opencl::event_seconds(done);
+    times_.evaluate_s = opencl::event_seconds(done);
   }
 
   EvalResult read_back() override {
@@ -114,8 +114,8 @@ class ClTSplineBezier final : public Strategy {
   // Into `out`'s storage (opencl::ResultReader: straight into it, or through the pinned staging
   // area), positions and normals in one completion wait.
   void read_back_into(EvalResult& out) override {
-    read_back_s_ = reader_.read(out, samples_, request_.precision, positions_,
-                                request_.normals ? normals_ : nullptr, nullptr, {});
+    times_.read_back_s = reader_.read(out, samples_, request_.precision, positions_,
+                                      request_.normals ? normals_ : nullptr, nullptr, {});
   }
 
   // Only the control points move: the operators, CSR lists, breaks and parameters of prepare()
@@ -142,13 +142,7 @@ class ClTSplineBezier final : public Strategy {
     decompose();
   }
 
-  DeviceTimes device_times() const override {
-    DeviceTimes t;
-    t.evaluate_s = kernel_s_;
-    t.upload_s = upload_s_;
-    t.read_back_s = read_back_s_;
-    return t;
-  }
+  DeviceTimes device_times() const override { return times_; }
 
  private:
   struct Built {
@@ -289,7 +283,7 @@ class ClTSplineBezier final : public Strategy {
     for (cl_uint k = 0; k < 10; ++k)
       opencl::check(clSetKernelArg(b.evaluate, k, args[k].first, args[k].second),
                     "clSetKernelArg (evaluate_samples)");
-    upload_s_ = batch.wait("upload");
+    times_.upload_s = batch.wait("upload");
     bytes_uploaded_ = batch.bytes();
   }
 
@@ -318,7 +312,7 @@ class ClTSplineBezier final : public Strategy {
     opencl::Batch batch;
     opencl::enqueue_write(batch, ctx_, points_, 0, points.data(), points.size() * sizeof(T),
                           "control points");
-    upload_s_ = batch.wait("control points");
+    times_.upload_s = batch.wait("control points");
     record_.details["bytes_updated"] = std::to_string(batch.bytes());
   }
 
@@ -331,8 +325,8 @@ class ClTSplineBezier final : public Strategy {
       *m = nullptr;
     }
     total_ = element_count_ = points_count_ = bytes_uploaded_ = 0;
-    upload_s_.reset();
-    read_back_s_.reset();
+    times_.upload_s.reset();
+    times_.read_back_s.reset();
   }
 
   opencl::Context ctx_;
@@ -349,7 +343,7 @@ class ClTSplineBezier final : public Strategy {
   std::size_t patches_bytes_ = 0, positions_bytes_ = 0, normals_bytes_ = 0;
   std::size_t total_ = 0, element_count_ = 0, max_n_ = 1, points_count_ = 0, bytes_uploaded_ = 0;
   // Profiling events of the phases' last calls (DeviceTimes).
-  std::optional<double> kernel_s_, upload_s_, read_back_s_;
+  DeviceTimes times_;  // each phase's last device time (device_times())
 };
 
 }  // namespace

@@ -152,7 +152,7 @@ class GlPingPong final : public Strategy {
     bytes_uploaded_ = bytes_updated_ = 0;
     passes_ = basis_passes_ = 0;
     tile_count_ = 0;
-    device_upload_s_ = timer_->time("gl-pingpong upload", [&] {
+    times_.upload_s = timer_->time("gl-pingpong upload", [&] {
       place_control(scene);
       bytes_uploaded_ += upload_control(scene);
       make_grids();
@@ -181,24 +181,18 @@ class GlPingPong final : public Strategy {
     view_ = gl::orthographic_view(scene);  // as prepare() would frame the moved scene
     context_->make_current();
     bytes_updated_ = 0;
-    device_upload_s_ = timer_->time("gl-pingpong control point update",
-                                    [&] { bytes_updated_ = upload_control(scene); });
+    times_.upload_s = timer_->time("gl-pingpong control point update",
+                                   [&] { bytes_updated_ = upload_control(scene); });
   }
 
   void evaluate() override {
     const gl::DrawCounts before = context_->draw_counts();
     basis_passes_ = 0;
-    device_evaluate_s_ = timer_->time("gl-pingpong evaluate", [&] { evaluate_surfaces(); });
+    times_.evaluate_s = timer_->time("gl-pingpong evaluate", [&] { evaluate_surfaces(); });
     passes_ = (context_->draw_counts() - before).passes;
   }
 
-  DeviceTimes device_times() const override {
-    DeviceTimes t;
-    t.evaluate_s = device_evaluate_s_;
-    t.upload_s = device_upload_s_;
-    t.read_back_s = device_read_back_s_;
-    return t;
-  }
+  DeviceTimes device_times() const override { return times_; }
 
   bool classify() override { return trims_->classify(); }
 
@@ -251,7 +245,7 @@ class GlPingPong final : public Strategy {
 
   void read_back_into(EvalResult& out) override {
     read_positions_into(out);
-    device_read_back_s_ = last_copy_s_;
+    times_.read_back_s = last_copy_s_;
     for (std::size_t i = 0; i < out.surfaces.size(); ++i)
       out.surfaces[i].inside = trims_->read_mask(i);
   }
@@ -647,8 +641,8 @@ class GlPingPong final : public Strategy {
   std::vector<gl::Texture> control_pages_;
   BasisAtlas basis_;
   std::vector<SumPage> sum_pages_;
-  double device_evaluate_s_ = 0, last_copy_s_ = 0;
-  std::optional<double> device_upload_s_, device_read_back_s_;
+  double last_copy_s_ = 0;
+  DeviceTimes times_;  // each phase's last device time (device_times())
   std::size_t bytes_uploaded_ = 0, bytes_updated_ = 0, tile_count_ = 0;
   std::uint64_t passes_ = 0, basis_passes_ = 0;  // of the last evaluate()
 };

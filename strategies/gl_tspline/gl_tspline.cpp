@@ -147,7 +147,7 @@ class GlTSpline final : public Strategy {
     bytes_uploaded_ = 0;
     accumulation_passes_ = regions_ = draws_ = 0;
     max_active_ = 0;
-    device_upload_s_ = timer_->time("gl-tspline upload", [&] {
+    times_.upload_s = timer_->time("gl-tspline upload", [&] {
       for (std::size_t i = 0; i < scene.surfaces.size(); ++i)
         surfaces_.push_back(upload_surface(scene.surfaces[i], samples_[i]));
     });
@@ -156,19 +156,13 @@ class GlTSpline final : public Strategy {
   // `passes` is what the context counted: render targets the last evaluate() drew into.
   void evaluate() override {
     const gl::DrawCounts before = context_->draw_counts();
-    device_evaluate_s_ = timer_->time("gl-tspline evaluate", [&] {
+    times_.evaluate_s = timer_->time("gl-tspline evaluate", [&] {
       for (SurfaceOnGpu& s : surfaces_) evaluate_surface(s);
     });
     draws_ = static_cast<std::size_t>((context_->draw_counts() - before).passes);
   }
 
-  DeviceTimes device_times() const override {
-    DeviceTimes t;
-    t.evaluate_s = device_evaluate_s_;
-    t.upload_s = device_upload_s_;
-    t.read_back_s = device_read_back_s_;
-    return t;
-  }
+  DeviceTimes device_times() const override { return times_; }
 
   // Moved points (same T-splines otherwise: knots, weights' count, samples): the region tables,
   // knots and sample textures of prepare() stay; only the homogeneous points are re-uploaded.
@@ -184,7 +178,7 @@ class GlTSpline final : public Strategy {
             fmt::format("{}: update_control_points: surface '{}' is not the prepared T-spline",
                         kName, surface.name));
     }
-    device_upload_s_ = timer_->time("gl-tspline update", [&] {
+    times_.upload_s = timer_->time("gl-tspline update", [&] {
       for (std::size_t i = 0; i < surfaces_.size(); ++i) {
         const std::vector<float> points =
             gl_tspline::homogeneous_points(*scene.surfaces[i].tspline);
@@ -214,7 +208,7 @@ class GlTSpline final : public Strategy {
       return;
     }
     results_.reserve(bytes);
-    device_read_back_s_ = timer_->time("gl-tspline read-back", [&] {
+    times_.read_back_s = timer_->time("gl-tspline read-back", [&] {
       std::size_t first = 0;  // the surface's first point in the block
       for (const SurfaceOnGpu& s : surfaces_) {
         for (int target = 0; target < (normals_ ? 2 : 1); ++target)
@@ -352,8 +346,7 @@ class GlTSpline final : public Strategy {
   std::vector<SurfaceSamples> samples_;
   std::vector<SurfaceOnGpu> surfaces_;
   gl::PixelBuffer results_;  // read-backs land here; grown, never shrunk
-  double device_evaluate_s_ = 0;
-  std::optional<double> device_upload_s_, device_read_back_s_;
+  DeviceTimes times_;        // each phase's last device time (device_times())
   std::size_t bytes_uploaded_ = 0, accumulation_passes_ = 0, regions_ = 0, draws_ = 0;
   int max_active_ = 0;
 };

@@ -83,7 +83,7 @@ class GlslDeBoor final : public Strategy {
     evaluated_ = {};
     evaluated_quads_ = 0;
     bytes_updated_ = 0;
-    device_upload_s_ = timer_->time("glsl-deboor upload", [&] {
+    times_.upload_s = timer_->time("glsl-deboor upload", [&] {
       bytes_uploaded_ = evaluator_->prepare(scene, samples_);
       trims_->prepare(scene, samples_);
     });
@@ -91,7 +91,7 @@ class GlslDeBoor final : public Strategy {
 
   // The trim textures stay: a deforming scene moves points, never trims or samples.
   void update_control_points(const Scene& scene) override {
-    device_upload_s_ = timer_->time("glsl-deboor control point update", [&] {
+    times_.upload_s = timer_->time("glsl-deboor control point update", [&] {
       bytes_updated_ = evaluator_->update_control_points(scene);
     });
     view_ = gl::orthographic_view(scene);  // as prepare() would frame the moved scene
@@ -99,18 +99,12 @@ class GlslDeBoor final : public Strategy {
 
   void evaluate() override {
     const gl::DrawCounts before = context_->draw_counts();
-    device_evaluate_s_ =
+    times_.evaluate_s =
         timer_->time("glsl-deboor evaluate", [&] { evaluated_quads_ = evaluator_->evaluate(); });
     evaluated_ = context_->draw_counts() - before;
   }
 
-  DeviceTimes device_times() const override {
-    DeviceTimes t;
-    t.evaluate_s = device_evaluate_s_;
-    t.upload_s = device_upload_s_;
-    t.read_back_s = device_read_back_s_;
-    return t;
-  }
+  DeviceTimes device_times() const override { return times_; }
 
   bool render() override {
     context_->make_current();
@@ -143,7 +137,7 @@ class GlslDeBoor final : public Strategy {
   void read_back_into(EvalResult& out) override {
     context_->make_current();
     evaluator_->read_back_into(out);
-    device_read_back_s_ = evaluator_->read_back_device_s();
+    times_.read_back_s = evaluator_->read_back_device_s();
     for (std::size_t i = 0; i < out.surfaces.size(); ++i)
       out.surfaces[i].inside = trims_->read_mask(i);
   }
@@ -164,8 +158,7 @@ class GlslDeBoor final : public Strategy {
   std::array<float, 16> view_{};
   int tile_ = 0;
   std::vector<SurfaceSamples> samples_;
-  double device_evaluate_s_ = 0;
-  std::optional<double> device_upload_s_, device_read_back_s_;
+  DeviceTimes times_;  // each phase's last device time (device_times())
   std::size_t bytes_uploaded_ = 0, bytes_updated_ = 0;
   glsl_deboor::DrawMode draw_;
   gl::DrawCounts evaluated_;  // by the last evaluate()
