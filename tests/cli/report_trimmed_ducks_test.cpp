@@ -53,8 +53,15 @@ TEST(CliReportTrimmedDucks, FramesPerSecondAreTheRecordsPhasesAndSayWhatTheyHold
             std::string::npos)
       << section;
   EXPECT_NE(section.find("| glu-nurbs | evaluate (no draw path), untrimmed |"), std::string::npos);
-  // The untrimmed scene is not a point of this chart.
-  EXPECT_EQ(section.find("sphere"), std::string::npos);
+  // The untrimmed scene is not a point of this chart (the run that made the set, shown as the
+  // command to regenerate it, did measure it).
+  const std::size_t code = section.find("```sh\n");
+  ASSERT_NE(code, std::string::npos) << section;
+  const std::string shown =
+      section.substr(0, code) + section.substr(section.find("```\n", code + 6));
+  EXPECT_EQ(shown.find("sphere"), std::string::npos) << section;
+  EXPECT_NE(section.find("--scenes many-ducks-1,many-ducks-2,sphere"), std::string::npos)
+      << section;
 }
 
 }  // namespace

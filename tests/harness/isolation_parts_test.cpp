@@ -116,8 +116,8 @@ Record record_of(const std::string& strategy, Status status, const std::string& 
 
 // The record strings are exactly the CTS-ordered names, and the order is the enum's.
 TEST(Status, NamesInCtsOrderRoundTrip) {
-  const std::vector<std::string> names = {"ok",     "refused", "unavailable",
-                                          "failed", "crashed", "timed_out"};
+  const std::vector<std::string> names = {
+      "ok", "refused", "unavailable", "failed", "out_of_memory", "crashed", "timed_out"};
   ASSERT_EQ(std::size(kAllStatuses), names.size());
   for (std::size_t k = 0; k < names.size(); ++k) {
     EXPECT_EQ(to_string(kAllStatuses[k]), names[k]);
