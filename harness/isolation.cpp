@@ -603,10 +603,9 @@ std::optional<ChildFailure> run_isolated(const IsolationSettings& isolation, Chi
     return ChildFailure{Status::timed_out, fmt::format("no answer within {:g} s (--timeout) {}",
                                                        isolation.timeout_s, in_phase)};
   if (end.out_of_memory)
-    return ChildFailure{
-        Status::out_of_memory,
-        fmt::format("held more than {} MiB resident (--memory-limit) {}",
-                    isolation.memory_limit_bytes / kMiB, in_phase)};
+    return ChildFailure{Status::out_of_memory,
+                        fmt::format("held more than {} MiB resident (--memory-limit) {}",
+                                    isolation.memory_limit_bytes / kMiB, in_phase)};
   if (WIFSIGNALED(end.status))
     return ChildFailure{Status::crashed,
                         fmt::format("{} {}", signal_text(WTERMSIG(end.status)), in_phase)};

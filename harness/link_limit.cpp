@@ -67,8 +67,8 @@ Record measure_link_limit(const Scene& scene, const EvalRequest& request, int re
   return r;
 }
 
-Record measure_fragment_pass_limit(const Scene& scene, const EvalRequest& request,
-                                   int repetitions, LinkCopy& gl_link) {
+Record measure_fragment_pass_limit(const Scene& scene, const EvalRequest& request, int repetitions,
+                                   LinkCopy& gl_link) {
   Record r = limit_record(kFragmentPassLimitName, scene, request, repetitions);
   const Availability& availability = gl_link.availability();
   if (!availability.available) {
@@ -77,8 +77,8 @@ Record measure_fragment_pass_limit(const Scene& scene, const EvalRequest& reques
     return r;
   }
   measure_on_device(r, [&] {
-    std::optional<PassTiming> t = gl_link.fragment_pass(std::max<std::size_t>(r.points, 1),
-                                                         repetitions);
+    std::optional<PassTiming> t =
+        gl_link.fragment_pass(std::max<std::size_t>(r.points, 1), repetitions);
     if (!t) throw std::runtime_error("this API has no fragment pass");
     r.device = std::move(t->device);
     r.device.details["kernel"] = t->method;

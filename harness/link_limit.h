@@ -44,8 +44,8 @@ Record measure_link_limit(const Scene& scene, const EvalRequest& request, int re
 // evaluate clock; the device's timer in device_evaluate_median_s), its points/s the most a GL
 // strategy's evaluate could reach if writing its output pixels once were all it did.
 inline constexpr std::string_view kFragmentPassLimitName = "limit-gl-fragment-pass";
-Record measure_fragment_pass_limit(const Scene& scene, const EvalRequest& request,
-                                   int repetitions, LinkCopy& gl_link);
+Record measure_fragment_pass_limit(const Scene& scene, const EvalRequest& request, int repetitions,
+                                   LinkCopy& gl_link);
 // `r`'s points/s over that row's for the same scene, samples and precision, for a GL strategy on
 // the same device; none otherwise.
 std::optional<double> fraction_of_fragment_pass(const Record& r,

@@ -149,9 +149,8 @@ class LinkBench final : public LinkCopy::Bench {
         width, page_rows);
     for (int k = 0; k < repetitions; ++k) {
       double device_s = 0;
-      const double wall_s = wall_seconds([&] {
-        device_s = timer.time("limit fragment pass", [&] { draw_all(++pass); });
-      });
+      const double wall_s = wall_seconds(
+          [&] { device_s = timer.time("limit fragment pass", [&] { draw_all(++pass); }); });
       out.seconds.push_back(wall_s * share);
       out.device_seconds.push_back(device_s * share);
     }

@@ -91,8 +91,8 @@ TEST(FragmentPassLimit, PassesOverOnePixelPerPointOrSaysWhyNot) {
   grid.grid_u = 300;  // 4 x 300 x 200 = 240,000 pixels: several rows of the widest target
   grid.grid_v = 200;
   LinkCopy gl(LinkApi::gl, StrategyOptions{});
-  const Record r = measure_fragment_pass_limit(scene, EvalRequest{grid, Precision::f32, false},
-                                               3, gl);
+  const Record r =
+      measure_fragment_pass_limit(scene, EvalRequest{grid, Precision::f32, false}, 3, gl);
   EXPECT_EQ(r.strategy, "limit-gl-fragment-pass");
   EXPECT_EQ(r.role, "limit");
   if (!gl.availability().available) {
