@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace nurbs {
@@ -25,6 +27,14 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
     std::filesystem::remove(temporary, error);
     throw std::runtime_error(fmt::format("{}: cannot replace file", path.string()));
   }
+}
+
+std::string read_whole_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot read", path.string()));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 }  // namespace nurbs

@@ -12,13 +12,7 @@ Record measure_device_copy_limit(const Scene& scene, const EvalRequest& request,
   Record r = limit_record(kDeviceCopyLimitName, scene, request, repetitions);
   const std::size_t bytes_per_point = result_bytes_per_point(request);
   const std::size_t bytes = store_pass_bytes(r.points * bytes_per_point);
-  const Availability& availability = device_copy.availability();
-  if (!availability.available) {
-    r.status = Status::unavailable;
-    r.reason = availability.reason;
-    return r;
-  }
-  measure_on_device(r, [&] {
+  measure_on_device(r, device_copy.availability(), [&] {
     DeviceCopyTiming copy = device_copy.time(bytes, repetitions);
     r.device = std::move(copy.device);
     r.device.details["kernel"] =
@@ -35,8 +29,8 @@ Record measure_device_copy_limit(const Scene& scene, const EvalRequest& request,
 
 std::optional<double> fraction_of_device_copy_limit(const Record& r,
                                                     const std::vector<Record>& records) {
-  const Record* limit = limit_row_for(r, records, kDeviceCopyLimitName);
-  if (!limit || limit_too_small(*limit) || limit->device.name != r.device.name) return std::nullopt;
+  const Record* limit = limit_row_on_device(r, records, kDeviceCopyLimitName);
+  if (!limit || limit_too_small(*limit)) return std::nullopt;
   return r.throughput_pts_per_s / limit->throughput_pts_per_s;
 }
 

@@ -149,14 +149,6 @@ class Reader {
   std::size_t at_ = 0;
 };
 
-std::string read_file(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot read", file.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // ------------------------------------------------------------------------------- the spec
 
 json sampling_to_json(const Sampling& s) {
@@ -524,7 +516,7 @@ EvalOutcome run_spec_in_child(const IsolationSettings& isolation, const Measurem
     return out;
   }
   try {
-    r = record_from_json(json::parse(read_file(record_file)));
+    r = record_from_json(json::parse(read_whole_file(record_file)));
     const fs::path result_file = dir.path() / "result.bin";
     if (r.status == Status::ok && fs::exists(result_file))
       out.result = read_eval_result(result_file);
@@ -612,7 +604,7 @@ std::optional<ChildFailure> run_isolated(const IsolationSettings& isolation, Chi
   if (WEXITSTATUS(end.status) == 0) return std::nullopt;
   const fs::path error_file = directory / "error.txt";
   std::string error;
-  if (fs::exists(error_file)) error = ": " + read_file(error_file);
+  if (fs::exists(error_file)) error = ": " + read_whole_file(error_file);
   return ChildFailure{Status::failed,
                       plugin_text(fmt::format("measurement process exited with status {} {}{}",
                                               WEXITSTATUS(end.status), in_phase, error),
@@ -667,7 +659,7 @@ void write_eval_result(const fs::path& file, const EvalResult& result) {
 }
 
 EvalResult read_eval_result(const fs::path& file) {
-  Reader in(read_file(file), file.string());
+  Reader in(read_whole_file(file), file.string());
   if (std::string_view(in.take(kResultMagic.size()), kResultMagic.size()) != kResultMagic)
     throw std::runtime_error(fmt::format("{}: not a {} file", file.string(), kResultMagic));
   EvalResult result;
@@ -727,7 +719,7 @@ int measure_server(int socket) {
 int measure_child(const fs::path& directory) {
   share_phase_board(directory / "phase");
   injected_fault();
-  const json spec_json = json::parse(read_file(directory / "spec.json"));
+  const json spec_json = json::parse(read_whole_file(directory / "spec.json"));
   const MeasurementSpec spec = spec_from_json(spec_json);
   const Scene scene = load_scene_file(directory / "scene.json");
   if (surface_extras(scene) != spec_json.at("surfaces"))

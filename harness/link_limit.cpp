@@ -37,13 +37,7 @@ Record measure_link_limit(const Scene& scene, const EvalRequest& request, int re
   // is mostly the call's fixed cost, which a strategy's read-back of the same result pays too.
   const std::size_t result_bytes = r.points * bytes_per_point;
   const std::size_t bytes = (std::max<std::size_t>(result_bytes, 16) + 15) / 16 * 16;
-  const Availability& availability = link.availability();
-  if (!availability.available) {
-    r.status = Status::unavailable;
-    r.reason = availability.reason;
-    return r;
-  }
-  measure_on_device(r, [&] {
+  measure_on_device(r, link.availability(), [&] {
     LinkTiming t = link.time(bytes, repetitions);
     r.device = std::move(t.device);
     r.device.details["kernel"] = t.method;
@@ -70,13 +64,7 @@ Record measure_link_limit(const Scene& scene, const EvalRequest& request, int re
 Record measure_fragment_pass_limit(const Scene& scene, const EvalRequest& request, int repetitions,
                                    LinkCopy& gl_link) {
   Record r = limit_record(kFragmentPassLimitName, scene, request, repetitions);
-  const Availability& availability = gl_link.availability();
-  if (!availability.available) {
-    r.status = Status::unavailable;
-    r.reason = availability.reason;
-    return r;
-  }
-  measure_on_device(r, [&] {
+  measure_on_device(r, gl_link.availability(), [&] {
     std::optional<PassTiming> t =
         gl_link.fragment_pass(std::max<std::size_t>(r.points, 1), repetitions);
     if (!t) throw std::runtime_error("this API has no fragment pass");
@@ -95,8 +83,8 @@ Record measure_fragment_pass_limit(const Scene& scene, const EvalRequest& reques
 std::optional<double> fraction_of_fragment_pass(const Record& r,
                                                 const std::vector<Record>& records) {
   if (link_api_of(r.device) != LinkApi::gl) return std::nullopt;
-  const Record* limit = limit_row_for(r, records, kFragmentPassLimitName);
-  if (!limit || limit->device.name != r.device.name) return std::nullopt;
+  const Record* limit = limit_row_on_device(r, records, kFragmentPassLimitName);
+  if (!limit) return std::nullopt;
   return r.throughput_pts_per_s / limit->throughput_pts_per_s;
 }
 
@@ -104,8 +92,8 @@ std::optional<double> fraction_of_link(const Record& r, const std::vector<Record
                                        LinkPhase phase) {
   const std::optional<LinkApi> api = link_api_of(r.device);
   if (!api) return std::nullopt;
-  const Record* limit = limit_row_for(r, records, link_limit_name(*api));
-  if (!limit || limit->device.name != r.device.name) return std::nullopt;
+  const Record* limit = limit_row_on_device(r, records, link_limit_name(*api));
+  if (!limit) return std::nullopt;
   if (phase == LinkPhase::read_back) {
     if (!(r.read_back.median_s > 0) || !(limit->read_back.median_s > 0)) return std::nullopt;
     return limit->read_back.median_s / r.read_back.median_s;

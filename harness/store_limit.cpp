@@ -135,7 +135,13 @@ Record measure_store_limit(const Scene& scene, const EvalRequest& request, int r
   return r;
 }
 
-void measure_on_device(Record& r, const std::function<void()>& measure) {
+void measure_on_device(Record& r, const Availability& availability,
+                       const std::function<void()>& measure) {
+  if (!availability.available) {
+    r.status = Status::unavailable;
+    r.reason = availability.reason;
+    return;
+  }
   try {
     measure();
   } catch (const RefusedError& e) {
@@ -159,6 +165,12 @@ const Record* limit_row_for(const Record& r, const std::vector<Record>& records,
         l.samples == r.samples && l.precision == r.precision && l.throughput_pts_per_s > 0)
       found = &l;
   return found;
+}
+
+const Record* limit_row_on_device(const Record& r, const std::vector<Record>& records,
+                                  std::string_view limit_name) {
+  const Record* limit = limit_row_for(r, records, limit_name);
+  return limit && limit->device.name == r.device.name ? limit : nullptr;
 }
 
 bool limit_too_small(const Record& limit) {

@@ -62,13 +62,19 @@ Record limit_record(std::string_view name, const Scene& scene, const EvalRequest
 void set_limit_seconds(Record& r, std::vector<double> seconds, std::size_t pass_bytes,
                        std::size_t bytes_per_point);
 // Runs `measure`, which fills the limit row `r` on a device, and records what a device can do
-// instead as the row's status: a refused allocation refused, a wait that expired timed_out, any
-// other error failed, each with its reason. Never throws.
-void measure_on_device(Record& r, const std::function<void()>& measure);
+// instead as the row's status: no device (`availability`) unavailable, a refused allocation
+// refused, a wait that expired timed_out, any other error failed, each with its reason. Never
+// throws.
+void measure_on_device(Record& r, const Availability& availability,
+                       const std::function<void()>& measure);
 // The last ok row named `limit_name` for `r`'s scene, samples and precision; none when `r` is a
 // limit row or not ok.
 const Record* limit_row_for(const Record& r, const std::vector<Record>& records,
                             std::string_view limit_name);
+// limit_row_for, when that row ran on `r`'s device (same device name): a device's own ceiling
+// (a copy, a link, a pass) is no ceiling for a strategy on another device.
+const Record* limit_row_on_device(const Record& r, const std::vector<Record>& records,
+                                  std::string_view limit_name);
 // Whether `limit` wrote under kStoreLimitMinBytes for its request: a pass that small times the
 // launch (threads' fork and join, a queue submission), not the memory.
 bool limit_too_small(const Record& limit);

@@ -489,14 +489,6 @@ std::shared_ptr<Library> library_file(const fs::path& given) {
   return library;
 }
 
-std::string read_text_file(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot read", file.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // The probe's bound: a library's load and its entry point must be quick (the header says so), and
 // `list` waits for them.
 constexpr double kProbeTimeoutCap = 60;
@@ -637,7 +629,7 @@ const StrategyEntry& load_plugin(const fs::path& given, const IsolationSettings&
   std::string problem, name, version, description;
   TableCapabilities table;
   try {
-    const nlohmann::json answer = nlohmann::json::parse(read_text_file(answer_file));
+    const nlohmann::json answer = nlohmann::json::parse(read_whole_file(answer_file));
     problem = answer.at("problem");
     if (problem.empty()) {
       name = answer.at("name");
