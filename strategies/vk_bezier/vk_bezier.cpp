@@ -177,7 +177,7 @@ class VkBezier final : public Strategy {
                              VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                              VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
     });
-    evaluate_s_ = queries_.elapsed_s();
+    times_.evaluate_s = queries_.elapsed_s();
   }
 
   EvalResult read_back() override {
@@ -192,11 +192,7 @@ class VkBezier final : public Strategy {
                                     request_.normals ? &normals_ : nullptr);
   }
 
-  DeviceTimes device_times() const override {
-    DeviceTimes t;
-    t.evaluate_s = evaluate_s_;
-    return t;
-  }
+  DeviceTimes device_times() const override { return times_; }
 
  private:
   bool span_grid() const { return request_.sampling.mode == SamplingMode::span_grid; }
@@ -331,7 +327,7 @@ class VkBezier final : public Strategy {
   vk_ksquad::ModeConstants mode_{};
   vulkan::Buffer placeholder_, surfaces_buf_, patches_buf_, points_buf_, params_buf_, positions_,
       normals_, sample_params_;
-  std::optional<double> evaluate_s_;
+  DeviceTimes times_;  // the phases' last device times (device_times())
 };
 
 }  // namespace

@@ -315,7 +315,7 @@ class VkCompute final : public Strategy {
                      VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                      VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
     });
-    evaluate_s_ = queries_.elapsed_s();
+    times_.evaluate_s = queries_.elapsed_s();
     evaluated_ = true;
   }
 
@@ -354,11 +354,7 @@ class VkCompute final : public Strategy {
       update_nets<double>(scene);
   }
 
-  DeviceTimes device_times() const override {
-    DeviceTimes t;
-    t.evaluate_s = evaluate_s_;
-    return t;
-  }
+  DeviceTimes device_times() const override { return times_; }
 
  private:
   Buffer storage(const void* data, std::size_t bytes, const char* what) {
@@ -497,7 +493,7 @@ class VkCompute final : public Strategy {
   std::size_t net_bytes_ = 0;
   std::uint32_t param_count_ = 0, tile_count_ = 0;
   bool paired_ = false, classified_ = false, evaluated_ = false;
-  std::optional<double> evaluate_s_;
+  DeviceTimes times_;  // the phases' last device times (device_times())
 };
 
 // The options' positive counts (absent: `otherwise`). extra["vk-tile-points"] = N (16 or more): at

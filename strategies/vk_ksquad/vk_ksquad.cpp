@@ -212,7 +212,7 @@ void VkKsquad::evaluate() {
                    VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
                    VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
   });
-  evaluate_s_ = queries_.elapsed_s();
+  times_.evaluate_s = queries_.elapsed_s();
   const auto counts = queries_.statistics();
   stats_.control_patches = counts.size() > 0 ? counts[0] : 0;
   stats_.evaluation_invocations = counts.size() > 1 ? counts[1] : 0;

@@ -52,11 +52,7 @@ class VkKsquad final : public Strategy {
 
   void update_control_points(const Scene& scene) override;
 
-  DeviceTimes device_times() const override {
-    DeviceTimes t;
-    t.evaluate_s = evaluate_s_;
-    return t;
-  }
+  DeviceTimes device_times() const override { return times_; }
 
   bool render() override;
 
@@ -163,7 +159,7 @@ class VkKsquad final : public Strategy {
   KsquadSettings settings_;
   ModeConstants mode_{};
   vk_ksquad::Corners corner_table_;
-  std::optional<double> evaluate_s_;
+  DeviceTimes times_;  // the phases' last device times (device_times())
   KsquadStatistics stats_;
 };
 
